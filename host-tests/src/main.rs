@@ -1,0 +1,2 @@
+//! The `curvicast` command.
+fn main() {}

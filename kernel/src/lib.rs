@@ -1,0 +1,60 @@
+//! # curvicast
+//!
+//! Ray casting through curved coordinate systems, for constrained targets: `#![no_std]`, no `alloc`, no
+//! `unsafe`, no panics, fixed memory.
+//!
+//! * [`surface`]: ray ∩ sphere/spheroid, axial cone, half-plane through the z axis, plane `z = c` — the one
+//!   geometry layer that every traversal shares.
+//! * [`ray`]: the ray and its invariants; [`real`]: the scalar trait (`f64`, `f32`, and a fast-math `f32`).
+//!
+//! The papers this crate implements are cited in each module's docs: Hannasch, *Spherical Ray-Tracing*
+//! (seed 001) for marching; Wartell, Ribarsky, Hodges, *Efficient Ray Intersection with Global Terrain using
+//! Spheroidal Height-Augmented Quadtrees* (seeds 000, 003) for terrain; a thesis on rational corner-cutting
+//! and edge-beveling (seed 004) for tessellation.
+//!
+//! ```
+//! use curvicast::{ray::Ray, surface::{AxialCone, Surface}};
+//! // Where does a ray cross the 60° zenith cone?
+//! let ray = Ray::new([-4.0_f64, 0.0, 1.0], [1.0, 0.0, 0.0])?;
+//! let cone = AxialCone::from_zenith(0.0, core::f64::consts::FRAC_PI_3)?;
+//! let ts: Vec<f64> = cone.crossings(&ray).iter().map(|c| c.t).collect();
+//! assert_eq!(ts.len(), 2);
+//! # Ok::<(), Box<dyn core::error::Error>>(())
+//! ```
+#![no_std]
+#![forbid(unsafe_code)]
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing,
+    clippy::arithmetic_side_effects,
+    clippy::unreachable,
+    clippy::todo,
+    clippy::unimplemented
+)]
+// `!(x >= 0)` is how the kernel says "negative or NaN": intended, not a readability slip.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+#![cfg_attr(
+    test,
+    allow(
+        clippy::unwrap_used,
+        clippy::indexing_slicing,
+        clippy::arithmetic_side_effects
+    )
+)]
+#![warn(missing_docs)]
+
+#[cfg(test)]
+extern crate std;
+
+pub mod ray;
+pub mod real;
+pub mod surface;
+pub mod vec3;
+
+pub use ray::{Ray, RayError};
+#[cfg(feature = "fast-math")]
+pub use real::F32Fast;
+pub use real::Real;
+pub use vec3::V3;

@@ -1,0 +1,274 @@
+//! The ray `p + t d` for `t_min <= t <= t_max`, and its per-ray invariants.
+//!
+//! Seed 001 (Hannasch) writes every conversion in terms of `‖d‖²`, `⟨p|d⟩` and the closest approach
+//! (Lemma 8); this type computes them once per ray. Two numerical choices are made here so that every surface
+//! solver inherits them:
+//!
+//! * **Scale-free direction.** `d` is stored multiplied by a power of two so that its largest component lies in
+//!   `[1, 2)`. The scaling is exact, so a direction of length `1e-30` or `1e30` (which would underflow or overflow
+//!   `‖d‖²` in `f32`) behaves exactly like a unit-sized one; solvers work in the scaled parameter and
+//!   [`Ray::t_from_scaled`] converts back, again exactly.
+//! * **No cancellation in the closest approach.** `|p × d|²` is kept, so the squared distance of the line from the
+//!   origin is `|p × d|² / ‖d‖²`, never `‖p‖²‖d‖² − ⟨p|d⟩²` (the form Lemma 8 and §4.3 warn against).
+//!
+//! ```
+//! use curvicast::ray::Ray;
+//! use glam::DVec3;
+//! let ray = Ray::new(DVec3::new(0.0, -5.0, 0.0), DVec3::new(0.0, 2.0, 0.0))?.with_interval(0.0, 10.0)?;
+//! assert_eq!(ray.at(1.5), [0.0, -2.0, 0.0]);
+//! // the hinge of r (closest approach to the origin, Lemma 8) in the caller's units of t:
+//! assert_eq!(ray.t_closest(), 2.5);
+//! # Ok::<(), curvicast::ray::RayError>(())
+//! ```
+
+use crate::real::Real;
+use crate::vec3::V3;
+
+/// Why a ray was rejected.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RayError {
+    /// The origin has a NaN or infinite component.
+    NonFiniteOrigin,
+    /// The direction has a NaN or infinite component.
+    NonFiniteDirection,
+    /// The direction is the zero vector.
+    ZeroDirection,
+    /// `t_min` or `t_max` is NaN, or `t_min > t_max`, or `t_min` is +∞ or `t_max` is −∞.
+    InvalidInterval,
+}
+
+impl core::fmt::Display for RayError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            RayError::NonFiniteOrigin => "ray origin is not finite",
+            RayError::NonFiniteDirection => "ray direction is not finite",
+            RayError::ZeroDirection => "ray direction is zero",
+            RayError::InvalidInterval => "ray interval is invalid (NaN, or t_min > t_max)",
+        })
+    }
+}
+
+impl core::error::Error for RayError {}
+
+/// A ray (or segment) `p + t d`, `t_min <= t <= t_max`, with its invariants precomputed.
+///
+/// `t` is in the caller's units of `d` (`d` need not be unit length).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ray<T> {
+    origin: V3<T>,
+    dir: V3<T>,
+    t_min: T,
+    t_max: T,
+    /// `dir * 2^-e`, largest component in `[1, 2)`.
+    d: V3<T>,
+    /// The exponent `e` of the exact rescaling: `t = t_scaled * 2^-e`.
+    e: i32,
+    /// `‖d‖²` of the scaled direction, in `[1, 12)`.
+    dd: T,
+    /// `⟨p|d⟩` with the scaled direction.
+    pd: T,
+    /// `p × d` with the scaled direction.
+    w: V3<T>,
+}
+
+impl<T: Real> Ray<T> {
+    /// A ray from `origin` along `dir`, for `0 <= t < +∞`.
+    ///
+    /// Accepts `glam::DVec3` / `glam::Vec3`, arrays, or [`V3`].
+    pub fn new(origin: impl Into<V3<T>>, dir: impl Into<V3<T>>) -> Result<Self, RayError> {
+        let origin = origin.into();
+        let dir = dir.into();
+        if !origin.is_finite() {
+            return Err(RayError::NonFiniteOrigin);
+        }
+        if !dir.is_finite() {
+            return Err(RayError::NonFiniteDirection);
+        }
+        let m = dir.max_abs();
+        if m == T::ZERO {
+            return Err(RayError::ZeroDirection);
+        }
+        // m = 2^ilogb(m) * [1, 2): dividing by 2^ilogb(m) is exact.
+        let e = m.ilogb();
+        let d = dir.scalbn(e.saturating_neg());
+        let dd = d.length_squared();
+        let pd = origin.dot(d);
+        let w = origin.cross(d);
+        Ok(Ray {
+            origin,
+            dir,
+            t_min: T::ZERO,
+            t_max: T::INFINITY,
+            d,
+            e,
+            dd,
+            pd,
+            w,
+        })
+    }
+
+    /// The same ray restricted to `t_min <= t <= t_max` (either may be infinite).
+    pub fn with_interval(mut self, t_min: T, t_max: T) -> Result<Self, RayError> {
+        let ok = !t_min.is_nan()
+            && !t_max.is_nan()
+            && t_min <= t_max
+            && t_min < T::INFINITY
+            && t_max > T::NEG_INFINITY;
+        if !ok {
+            return Err(RayError::InvalidInterval);
+        }
+        self.t_min = t_min;
+        self.t_max = t_max;
+        Ok(self)
+    }
+
+    /// The segment from `a` (t = 0) to `b` (t = 1).
+    pub fn segment(a: impl Into<V3<T>>, b: impl Into<V3<T>>) -> Result<Self, RayError> {
+        let a = a.into();
+        let b = b.into();
+        if !b.is_finite() {
+            return Err(RayError::NonFiniteDirection);
+        }
+        Self::new(a, b.minus(a))?.with_interval(T::ZERO, T::ONE)
+    }
+
+    /// The same ray with its origin moved by `-center` (the ray in coordinates centred at `center`).
+    pub fn relative_to(&self, center: impl Into<V3<T>>) -> Result<Self, RayError> {
+        Self::new(self.origin.minus(center.into()), self.dir)?.with_interval(self.t_min, self.t_max)
+    }
+
+    /// The origin `p`.
+    #[inline]
+    pub fn origin(&self) -> V3<T> {
+        self.origin
+    }
+    /// The direction `d`, as given.
+    #[inline]
+    pub fn dir(&self) -> V3<T> {
+        self.dir
+    }
+    /// The lower end of the interval.
+    #[inline]
+    pub fn t_min(&self) -> T {
+        self.t_min
+    }
+    /// The upper end of the interval.
+    #[inline]
+    pub fn t_max(&self) -> T {
+        self.t_max
+    }
+    /// True when `t_min <= t <= t_max`.
+    #[inline]
+    pub fn contains_t(&self, t: T) -> bool {
+        self.t_min <= t && t <= self.t_max
+    }
+    /// The point `p + t d`.
+    #[inline]
+    pub fn at(&self, t: T) -> [T; 3] {
+        self.origin.add_scaled(t, self.dir).to_array()
+    }
+
+    /// The direction rescaled exactly so that its largest component is in `[1, 2)`.
+    #[inline]
+    pub fn scaled_dir(&self) -> V3<T> {
+        self.d
+    }
+    /// `‖d‖²` of the scaled direction (in `[1, 12)`).
+    #[inline]
+    pub fn dd(&self) -> T {
+        self.dd
+    }
+    /// `⟨p|d⟩` with the scaled direction.
+    #[inline]
+    pub fn pd(&self) -> T {
+        self.pd
+    }
+    /// `p × d` with the scaled direction; `|p × d|² / ‖d‖²` is the squared distance of the line from the origin.
+    #[inline]
+    pub fn p_cross_d(&self) -> V3<T> {
+        self.w
+    }
+    /// Converts a parameter of the scaled direction to the caller's `t` (exact: a multiplication by a power of 2).
+    #[inline]
+    pub fn t_from_scaled(&self, s: T) -> T {
+        s.scalbn(self.e.saturating_neg())
+    }
+    /// Converts the caller's `t` to the parameter of the scaled direction (exact).
+    #[inline]
+    pub fn t_to_scaled(&self, t: T) -> T {
+        t.scalbn(self.e)
+    }
+
+    /// The hinge of `r`: the `t` of the closest approach to the origin, `−⟨p|d⟩/‖d‖²` (seed 001, Lemma 8).
+    #[inline]
+    pub fn t_closest(&self) -> T {
+        self.t_from_scaled(-self.pd / self.dd)
+    }
+    /// The squared distance of the line from the origin, `|p × d|²/‖d‖²` (seed 001, Lemma 8, without cancellation).
+    #[inline]
+    pub fn closest_distance_squared(&self) -> T {
+        self.w.length_squared() / self.dd
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Ray, RayError};
+
+    #[test]
+    fn rejects_bad_input() {
+        assert_eq!(
+            Ray::new([f64::NAN, 0.0, 0.0], [1.0, 0.0, 0.0]),
+            Err(RayError::NonFiniteOrigin)
+        );
+        assert_eq!(
+            Ray::new([0.0, 0.0, 0.0], [1.0, f64::INFINITY, 0.0]),
+            Err(RayError::NonFiniteDirection)
+        );
+        assert_eq!(
+            Ray::new([0.0, 0.0, 0.0], [0.0, 0.0, 0.0]),
+            Err(RayError::ZeroDirection)
+        );
+        let r = Ray::new([0.0, 0.0, 0.0], [1.0, 0.0, 0.0]).unwrap();
+        assert_eq!(r.with_interval(2.0, 1.0), Err(RayError::InvalidInterval));
+        assert_eq!(
+            r.with_interval(f64::NAN, 1.0),
+            Err(RayError::InvalidInterval)
+        );
+        assert_eq!(
+            r.with_interval(f64::INFINITY, f64::INFINITY),
+            Err(RayError::InvalidInterval)
+        );
+        assert!(r.with_interval(f64::NEG_INFINITY, f64::INFINITY).is_ok());
+    }
+
+    #[test]
+    fn tiny_and_huge_directions_scale_exactly() {
+        for s in [1e-30_f32, 1e30, 3.0e-38, 1.0e38] {
+            let r = Ray::new([1.0_f32, 2.0, 3.0], [s, -s, 0.5 * s]).unwrap();
+            assert!(r.dd() >= 1.0 && r.dd() < 12.0);
+            // the rescaling is exact both ways
+            let t = 0.75_f32 / s;
+            assert_eq!(r.t_from_scaled(r.t_to_scaled(t)), t);
+        }
+    }
+
+    #[test]
+    fn closest_approach_has_no_cancellation() {
+        // A ray nearly through the origin from far away: |p|²|d|² − ⟨p|d⟩² cancels completely in f64.
+        let r = Ray::new([1e8_f64, 0.0, 0.0], [-1.0, 1e-9, 0.0]).unwrap();
+        let m2 = r.closest_distance_squared();
+        let exact = 0.01 / (1.0 + 1e-18); // (1e8 · 1e-9)² / (1 + 1e-18)
+        assert!(
+            (m2 - exact).abs() <= 4.0 * f64::EPSILON * exact,
+            "{m2} vs {exact}"
+        );
+    }
+
+    #[test]
+    fn segment_runs_from_a_to_b() {
+        let s = Ray::segment([1.0_f64, 1.0, 1.0], [3.0, 1.0, -1.0]).unwrap();
+        assert_eq!(s.at(1.0), [3.0, 1.0, -1.0]);
+        assert_eq!((s.t_min(), s.t_max()), (0.0, 1.0));
+    }
+}

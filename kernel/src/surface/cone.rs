@@ -1,0 +1,395 @@
+//! Ray ∩ axial cone: the points whose zenith angle, seen from an apex `(0, 0, k)` on the z axis, is θ.
+//!
+//! With `k = 0` this is Hannasch's zenith cone (seed 001 §4.4, Lemma 10; §4.5 notes that a single nappe is what a
+//! grid needs). With `θ = π/2 − ψ` and `k = −N(ψ) e² sin ψ` it is Wartell's latitude cone `z = m r + k` of seed 000
+//! §3.4 (eq. 3.4-1: `m = tan ψ`, `k = Z_ψ − X_ψ m`), the locus of the spheroid normals at geodetic latitude ψ.
+//! Only the cone's own nappe counts: `z > k` for θ < π/2, `z < k` for θ > π/2; θ = π/2 is the plane `z = k`.
+//!
+//! Writing `q = p − (0, 0, k)`, `c = cos θ`, `s = sin θ`, the double cone is `Q = c²(x² + y²) − s² z² = 0`, so
+//!
+//! ```text
+//! A s² + 2 B s + C = 0,   A = c²(d_x² + d_y²) − s² d_z²,  B = c²(q_x d_x + q_y d_y) − s² q_z d_z,
+//!                         C = c²(q_x² + q_y²) − s² q_z²,
+//! B² − A C = c² (s² (w_x² + w_y²) − c² w_z²),   w = q × d.
+//! ```
+//!
+//! The last identity (derived again here; Lemma 10 writes it as `‖p_z d − d_z p‖² − cos²θ (‖p‖²‖d‖² − ⟨p|d⟩²)`) is
+//! what keeps the discriminant free of cancellation: `w_x, w_y` are the components of `p_z d − d_z p`, and
+//! `w_z² + w_x² + w_y² = |q × d|²` replaces `‖p‖²‖d‖² − ⟨p|d⟩²`. The roots come from the stable formula; when the
+//! ray is parallel to a generator (`A = 0`), the same formula gives the single linear root `−C / 2B` without a
+//! special case. The side is decided from `Q`'s slope at the root and the nappe from the sign of `z − k` there.
+//!
+//! **Error bound** (S = max(|q|, |q + t d|)): `c², s²` are within 2ε of the true values (computed from θ, not as
+//! `1 − c²`); `A, B, C` and the discriminant are sums of a few products with relative errors of a few ε of their
+//! largest term, so each root is the exact root of a cone whose opening differs by O(ε) and whose apex moves by
+//! O(ε·S): the computed point lies within about `8ε·S` of the cone (backward error). Forward error along the ray
+//! grows as the ray approaches tangency or the apex (both ill-conditioned). Measured by the host oracle.
+
+use super::{Crossings, Side, Surface, SurfaceError, side_of_sign, stable_quadratic};
+use crate::ray::Ray;
+use crate::real::Real;
+use crate::vec3::V3;
+
+/// A single-nappe cone of zenith angle θ around the z axis with its apex at `(0, 0, apex_z)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxialCone<T> {
+    apex_z: T,
+    cos: T,
+    sin: T,
+    cos2: T,
+    sin2: T,
+}
+
+impl<T: Real> AxialCone<T> {
+    /// The cone of zenith angle `theta` ∈ [0, π] with apex `(0, 0, apex_z)`.
+    ///
+    /// `theta` equal to π/2 (the nearest representable value, `T::FRAC_PI_2`) gives exactly the plane `z = apex_z`:
+    /// its cosine is taken as 0, not as the rounding residue `6e-17`.
+    pub fn from_zenith(apex_z: T, theta: T) -> Result<Self, SurfaceError> {
+        if !theta.is_finite() || !apex_z.is_finite() {
+            return Err(SurfaceError::NonFinite);
+        }
+        if !(theta >= T::ZERO && theta <= T::PI) {
+            return Err(SurfaceError::AngleOutOfRange);
+        }
+        let (cos, sin) = if theta == T::FRAC_PI_2 {
+            (T::ZERO, T::ONE)
+        } else if theta == T::PI {
+            (-T::ONE, T::ZERO)
+        } else {
+            (theta.cos(), theta.sin())
+        };
+        Self::from_cos_sin(apex_z, cos, sin)
+    }
+
+    /// The cone whose zenith angle has cosine `cos` and sine `sin ≥ 0` (renormalised if `cos² + sin²` is not 1).
+    pub fn from_cos_sin(apex_z: T, cos: T, sin: T) -> Result<Self, SurfaceError> {
+        if !cos.is_finite() || !sin.is_finite() || !apex_z.is_finite() {
+            return Err(SurfaceError::NonFinite);
+        }
+        let n2 = cos * cos + sin * sin;
+        if sin < T::ZERO || !(n2 > T::ZERO) {
+            return Err(SurfaceError::AngleOutOfRange);
+        }
+        let (cos, sin) = if n2 == T::ONE {
+            (cos, sin)
+        } else {
+            let n = n2.sqrt();
+            (cos / n, sin / n)
+        };
+        Ok(AxialCone {
+            apex_z,
+            cos,
+            sin,
+            cos2: cos * cos,
+            sin2: sin * sin,
+        })
+    }
+
+    /// The height of the apex on the z axis.
+    #[inline]
+    pub fn apex_z(&self) -> T {
+        self.apex_z
+    }
+    /// cos θ.
+    #[inline]
+    pub fn cos(&self) -> T {
+        self.cos
+    }
+    /// sin θ.
+    #[inline]
+    pub fn sin(&self) -> T {
+        self.sin
+    }
+
+    /// The side of a point given relative to the apex.
+    fn side_of_relative(&self, q: V3<T>) -> Option<Side> {
+        let (c, s) = (self.cos, self.sin);
+        let rho2 = q.x * q.x + q.y * q.y;
+        if rho2 == T::ZERO && q.z == T::ZERO {
+            return None; // the apex
+        }
+        if s == T::ZERO {
+            // θ = 0 (c = 1): only the +z half-axis is on the cone; θ = π: only the −z half-axis.
+            let on_axis = rho2 == T::ZERO && (q.z > T::ZERO) == (c > T::ZERO);
+            return if on_axis {
+                None
+            } else {
+                Some(Side::from_bool(c > T::ZERO))
+            };
+        }
+        if c == T::ZERO {
+            return side_of_sign(-q.z); // larger θ is below the plane
+        }
+        // θ(q) > θ_cone  ⇔  cos θ(q) < c  ⇔  q_z < c |q|.
+        let q_ang = self.cos2 * rho2 - self.sin2 * q.z * q.z; // > 0 ⇔ |cos θ(q)| < |c|
+        if c > T::ZERO {
+            if q.z <= T::ZERO {
+                Some(Side::Positive)
+            } else {
+                side_of_sign(q_ang)
+            }
+        } else if q.z >= T::ZERO {
+            Some(Side::Negative)
+        } else {
+            side_of_sign(-q_ang)
+        }
+    }
+}
+
+impl<T: Real> Surface<T> for AxialCone<T> {
+    fn crossings(&self, ray: &Ray<T>) -> Crossings<T> {
+        let (c2, s2) = (self.cos2, self.sin2);
+        let d = ray.scaled_dir();
+        let (q, w) = if self.apex_z == T::ZERO {
+            (ray.origin(), ray.p_cross_d())
+        } else {
+            let mut q = ray.origin();
+            q.z -= self.apex_z;
+            (q, q.cross(d))
+        };
+        if self.sin == T::ZERO {
+            return Crossings::NONE; // a half-axis: a line can touch it but never changes side
+        }
+        if w == V3::ZERO {
+            // The line passes through the apex (or starts there): Q = A (s − s_apex)², no simple root. It changes
+            // side at the apex exactly when the directions −d and +d lie on different sides.
+            let before = self.side_of_relative(d.negated());
+            let after = self.side_of_relative(d);
+            return match (before, after) {
+                (Some(b), Some(a)) if a != b => {
+                    let s_apex = -q.dot(d) / ray.dd();
+                    Crossings::from_scaled_roots(ray, &[(s_apex, a)])
+                }
+                _ => Crossings::NONE,
+            };
+        }
+        if self.cos == T::ZERO {
+            // θ = π/2: the plane z = k, with the larger θ below it.
+            if d.z == T::ZERO {
+                return Crossings::NONE;
+            }
+            return Crossings::from_scaled_roots(
+                ray,
+                &[(-q.z / d.z, Side::from_bool(d.z < T::ZERO))],
+            );
+        }
+        let a = c2 * (d.x * d.x + d.y * d.y) - s2 * d.z * d.z;
+        let b = c2 * (q.x * d.x + q.y * d.y) - s2 * q.z * d.z;
+        let cc = c2 * (q.x * q.x + q.y * q.y) - s2 * q.z * q.z;
+        let disc = s2 * (w.x * w.x + w.y * w.y) - c2 * w.z * w.z;
+        if !(disc >= T::ZERO) {
+            return Crossings::NONE;
+        }
+        let root_d = self.cos.abs() * disc.sqrt();
+        let (s_dec, s_inc) = stable_quadratic(a, b, cc, root_d);
+        // On the upper nappe (c > 0) the positive side (larger θ) is Q > 0; on the lower nappe it is Q < 0.
+        let upper = self.cos > T::ZERO;
+        let into_when_q_rises = Side::from_bool(upper);
+        let on_nappe = |s: T| {
+            let z = q.z + s * d.z;
+            if upper { z > T::ZERO } else { z < T::ZERO }
+        };
+        let mut roots = [(T::ZERO, Side::Negative); 2];
+        let mut n = 0usize;
+        if root_d == T::ZERO {
+            // Tangent along a generator: a touch, from the side the line is on (the sign of A) and back.
+            if on_nappe(s_dec) {
+                let line_side = if a > T::ZERO {
+                    into_when_q_rises
+                } else {
+                    into_when_q_rises.flip()
+                };
+                roots = [(s_dec, line_side.flip()), (s_dec, line_side)];
+                n = 2;
+            }
+        } else {
+            let (lo, hi) = if s_dec <= s_inc {
+                (
+                    (s_dec, into_when_q_rises.flip()),
+                    (s_inc, into_when_q_rises),
+                )
+            } else {
+                (
+                    (s_inc, into_when_q_rises),
+                    (s_dec, into_when_q_rises.flip()),
+                )
+            };
+            for (s, side) in [lo, hi] {
+                if s.is_finite() && on_nappe(s) {
+                    if let Some(slot) = roots.get_mut(n) {
+                        *slot = (s, side);
+                        n = n.saturating_add(1);
+                    }
+                }
+            }
+        }
+        Crossings::from_scaled_roots(ray, roots.get(..n).unwrap_or(&[]))
+    }
+
+    fn side_of(&self, point: V3<T>) -> Option<Side> {
+        self.side_of_relative(V3::new(point.x, point.y, point.z - self.apex_z))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+
+    fn list(c: &Crossings<f64>) -> ([f64; 2], [Side; 2], usize) {
+        let mut t = [f64::NAN; 2];
+        let mut s = [Side::Negative; 2];
+        for (i, x) in c.iter().enumerate() {
+            t[i] = x.t;
+            s[i] = x.into;
+        }
+        (t, s, c.len())
+    }
+
+    #[test]
+    fn horizontal_ray_through_45_degree_cone() {
+        // cone θ = 45°, apex at origin; ray along x at height z = 1 crosses it at x = −1 and x = +1.
+        let cone = AxialCone::from_zenith(0.0, FRAC_PI_4).unwrap();
+        let r = Ray::new([-3.0, 0.0, 1.0], [1.0, 0.0, 0.0]).unwrap();
+        let (t, s, n) = list(&cone.crossings(&r));
+        assert_eq!(n, 2);
+        assert!(
+            (t[0] - 2.0).abs() < 1e-15 && (t[1] - 4.0).abs() < 1e-15,
+            "{t:?}"
+        );
+        // outside the cone (θ > 45°) → inside (θ < 45°) → outside
+        assert_eq!(s, [Side::Negative, Side::Positive]);
+    }
+
+    #[test]
+    fn lower_nappe_only() {
+        // θ = 135°: only z < 0. A ray at z = +1 never meets it.
+        let cone = AxialCone::from_zenith(0.0, 3.0 * FRAC_PI_4).unwrap();
+        let r = Ray::new([-3.0, 0.0, 1.0], [1.0, 0.0, 0.0]).unwrap();
+        assert!(cone.crossings(&r).is_empty());
+        let r = Ray::new([-3.0, 0.0, -1.0], [1.0, 0.0, 0.0]).unwrap();
+        let (t, s, n) = list(&cone.crossings(&r));
+        assert_eq!(n, 2);
+        assert!((t[0] - 2.0).abs() < 1e-15 && (t[1] - 4.0).abs() < 1e-15);
+        // at z < 0, far from the axis θ < 135° (negative side), near the axis θ > 135° (positive side)
+        assert_eq!(s, [Side::Positive, Side::Negative]);
+    }
+
+    #[test]
+    fn ray_along_z_axis_through_apex() {
+        let cone = AxialCone::from_zenith(0.0, FRAC_PI_4).unwrap();
+        let down = Ray::new([0.0, 0.0, 2.0], [0.0, 0.0, -1.0]).unwrap();
+        let (t, s, n) = list(&cone.crossings(&down));
+        assert_eq!((n, t[0], s[0]), (1, 2.0, Side::Positive));
+        let up = Ray::new([0.0, 0.0, -2.0], [0.0, 0.0, 1.0]).unwrap();
+        let (t, s, n) = list(&cone.crossings(&up));
+        assert_eq!((n, t[0], s[0]), (1, 2.0, Side::Negative));
+    }
+
+    #[test]
+    fn ray_through_apex_staying_outside() {
+        // Horizontal through the apex of a 45° cone: θ = 90° on both sides: no crossing.
+        let cone = AxialCone::from_zenith(0.0, FRAC_PI_4).unwrap();
+        let r = Ray::new([-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]).unwrap();
+        assert!(cone.crossings(&r).is_empty());
+    }
+
+    #[test]
+    fn ray_parallel_to_generator_is_linear() {
+        // Generator direction of the 45° cone is (1, 0, 1); a parallel ray offset in y crosses once.
+        let cone = AxialCone::from_zenith(0.0, FRAC_PI_4).unwrap();
+        let r = Ray::new([0.0, 1.0, -1.0], [1.0, 0.0, 1.0]).unwrap();
+        let (t, s, n) = list(&cone.crossings(&r));
+        // point p + t d = (t, 1, t − 1): c²(t² + 1) = s²(t − 1)² ⇒ t² + 1 = t² − 2t + 1 ⇒ t = 0, but z = −1 < 0
+        // (lower nappe): no crossing of the upper nappe.
+        assert_eq!(n, 0, "{t:?} {s:?}");
+        let r = Ray::new([0.0, 1.0, 3.0], [1.0, 0.0, 1.0]).unwrap();
+        // (t, 1, t + 3): t² + 1 = (t + 3)² ⇒ 1 = 6t + 9 ⇒ t = −4/3, z = 5/3 > 0 but t < 0: filtered. Full line:
+        let r = r.with_interval(-10.0, 10.0).unwrap();
+        let (t, s, n) = list(&cone.crossings(&r));
+        assert_eq!(n, 1);
+        assert!((t[0] + 4.0 / 3.0).abs() < 1e-15, "{t:?}");
+        // moving along +d the point goes from θ > 45° ... to inside: (t→∞: direction (1,0,1) is on the cone) —
+        // Q = c²ρ² − s²z² = (t² + 1 − (t + 3)²)/2 = (−6t − 8)/2 decreases: into the negative side.
+        assert_eq!(s[0], Side::Negative);
+    }
+
+    #[test]
+    fn ray_along_generator_reports_nothing() {
+        let cone = AxialCone::from_zenith(0.0, FRAC_PI_4).unwrap();
+        let r = Ray::new([1.0, 0.0, 1.0], [1.0, 0.0, 1.0])
+            .unwrap()
+            .with_interval(-5.0, 5.0)
+            .unwrap();
+        assert!(cone.crossings(&r).is_empty());
+    }
+
+    #[test]
+    fn half_pi_is_exactly_the_plane() {
+        let cone = AxialCone::from_zenith(0.5, FRAC_PI_2).unwrap();
+        assert_eq!(cone.cos(), 0.0);
+        let r = Ray::new([0.3, 0.2, 2.0], [0.1, 0.0, -1.0]).unwrap();
+        let (t, s, n) = list(&cone.crossings(&r));
+        assert_eq!((n, t[0], s[0]), (1, 1.5, Side::Positive));
+    }
+
+    #[test]
+    fn apex_offset_latitude_cone() {
+        // ψ = 30° latitude cone of a sphere-like setup with apex at z = −1: θ = 60°.
+        let cone = AxialCone::from_zenith(-1.0, PI / 3.0).unwrap();
+        // the generator through (√3, 0, 0) (since tan 30° · √3 = 1 = z − k): a radial ray from far outside
+        let r = Ray::new([10.0, 0.0, 0.0], [-1.0, 0.0, 0.0]).unwrap();
+        let (t, s, n) = list(&cone.crossings(&r));
+        assert_eq!(n, 2);
+        let x0 = 3.0_f64.sqrt();
+        assert!(
+            (t[0] - (10.0 - x0)).abs() < 1e-14 && (t[1] - (10.0 + x0)).abs() < 1e-14,
+            "{t:?}"
+        );
+        assert_eq!(s, [Side::Negative, Side::Positive]);
+    }
+
+    #[test]
+    fn tangent_touch_is_two_crossings() {
+        // A line in the tangent plane of the 45° cone along the generator through (1, 0, 1). (cos, sin) = (1, 1)
+        // normalised gives exactly equal cos² and sin², so the double root is exact.
+        let cone = AxialCone::from_cos_sin(0.0, 1.0, 1.0).unwrap();
+        let r = Ray::new([1.0, -2.0, 1.0], [0.0, 1.0, 0.0]).unwrap();
+        // points (1, t − 2, 1): ρ² = 1 + (t−2)² ≥ 1 = z²: touches at t = 2 from the outside (θ ≥ 45°).
+        let (t, s, n) = list(&cone.crossings(&r));
+        assert_eq!(n, 2, "{t:?}");
+        assert_eq!(t, [2.0, 2.0]);
+        assert_eq!(s, [Side::Negative, Side::Positive]);
+    }
+
+    #[test]
+    fn side_of_points() {
+        let cone = AxialCone::from_cos_sin(0.0, 1.0, 1.0).unwrap();
+        assert_eq!(cone.side_of(V3::new(0.0, 0.0, 1.0)), Some(Side::Negative));
+        assert_eq!(cone.side_of(V3::new(1.0, 0.0, 0.0)), Some(Side::Positive));
+        assert_eq!(cone.side_of(V3::new(1.0, 0.0, 1.0)), None);
+        assert_eq!(cone.side_of(V3::new(1.0, 0.0, -1.0)), Some(Side::Positive));
+        assert_eq!(cone.side_of(V3::ZERO), None);
+    }
+
+    #[test]
+    fn bad_angles_are_errors() {
+        assert_eq!(
+            AxialCone::from_zenith(0.0, -0.1),
+            Err(SurfaceError::AngleOutOfRange)
+        );
+        assert_eq!(
+            AxialCone::from_zenith(0.0, 4.0),
+            Err(SurfaceError::AngleOutOfRange)
+        );
+        assert_eq!(
+            AxialCone::from_zenith(f64::NAN, 1.0),
+            Err(SurfaceError::NonFinite)
+        );
+        assert_eq!(
+            AxialCone::from_cos_sin(0.0, 0.5, -0.5),
+            Err(SurfaceError::AngleOutOfRange)
+        );
+    }
+}

@@ -1,0 +1,78 @@
+//! Ray ∩ plane `z = c`: the z facets of the cylindrical grid (seed 001 §3.3) and any horizontal plane.
+//!
+//! `t = (c − p_z) / d_z`: one subtraction and one division, so the computed point is within `ε(|c| + |p_z|)` of
+//! the plane in z (backward error ≤ 2ε·S), and the crossing side is the sign of `d_z`.
+
+use super::{Crossings, Side, Surface, SurfaceError, side_of_sign};
+use crate::ray::Ray;
+use crate::real::Real;
+use crate::vec3::V3;
+
+/// The plane `z = c`; its positive side is `z > c`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlaneZ<T> {
+    z: T,
+}
+
+impl<T: Real> PlaneZ<T> {
+    /// The plane `z = c`.
+    pub fn new(c: T) -> Result<Self, SurfaceError> {
+        if !c.is_finite() {
+            return Err(SurfaceError::NonFinite);
+        }
+        Ok(PlaneZ { z: c })
+    }
+    /// Its height.
+    #[inline]
+    pub fn z(&self) -> T {
+        self.z
+    }
+    /// The crossing in the ray's scaled parameter, or `None` for a horizontal ray.
+    #[inline]
+    pub(crate) fn scaled_root(&self, ray: &Ray<T>) -> Option<(T, Side)> {
+        let dz = ray.scaled_dir().z;
+        if dz == T::ZERO {
+            return None;
+        }
+        Some((
+            (self.z - ray.origin().z) / dz,
+            Side::from_bool(dz > T::ZERO),
+        ))
+    }
+}
+
+impl<T: Real> Surface<T> for PlaneZ<T> {
+    fn crossings(&self, ray: &Ray<T>) -> Crossings<T> {
+        match self.scaled_root(ray) {
+            Some(root) => Crossings::from_scaled_roots(ray, &[root]),
+            None => Crossings::NONE,
+        }
+    }
+    fn side_of(&self, point: V3<T>) -> Option<Side> {
+        side_of_sign(point.z - self.z)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crossing_up_and_down() {
+        let p = PlaneZ::new(1.0).unwrap();
+        let up = Ray::new([0.0, 0.0, 0.0], [0.0, 3.0, 4.0]).unwrap();
+        let c = p.crossings(&up);
+        assert_eq!((c[0].t, c[0].into), (0.25, Side::Positive));
+        let down = Ray::new([5.0, 0.0, 3.0], [0.0, 0.0, -1.0]).unwrap();
+        assert_eq!(p.crossings(&down)[0].into, Side::Negative);
+        let flat = Ray::new([0.0, 0.0, 1.0], [1.0, 0.0, 0.0]).unwrap();
+        assert!(p.crossings(&flat).is_empty());
+    }
+
+    #[test]
+    fn ray_starting_on_plane_is_at_t0() {
+        let p = PlaneZ::new(2.0).unwrap();
+        let r = Ray::new([1.0, 1.0, 2.0], [0.0, 0.0, -1.0]).unwrap();
+        assert_eq!(p.crossings(&r)[0].t, 0.0);
+    }
+}

@@ -1,0 +1,221 @@
+//! Ray ∩ spheroid `(x² + y²)/a² + z²/b² = 1` centred at the origin, `a ≥ b > 0`; a sphere when `a = b`.
+//!
+//! Seed 001 §4.3 (Lemma 9) gives the sphere's roots as `t = −⟨p|d⟩/‖d‖² ± sqrt(...)`; we use the same pair in the
+//! cancellation-free form. With the half-discriminant written through the closest approach,
+//!
+//! ```text
+//! ‖d‖² t² + 2⟨p|d⟩ t + (‖p‖² − R²) = 0,      ⟨p|d⟩² − ‖d‖²(‖p‖² − R²) = ‖d‖² R² − |p × d|²,
+//! ```
+//!
+//! the square root is taken of `‖d‖²R² − |p × d|²` (never of `⟨p|d⟩² − ‖d‖²‖p‖² + …`), and the two roots come from
+//! one square root and two divisions by the stable formula. A spheroid is the sphere of radius `a` after scaling
+//! z by `a/b` (seed 000 §3.1.2 builds its bounds B^h this way), which leaves `t` unchanged.
+//!
+//! **Error bound** (f64 or f32, correctly rounded sqrt; ε the unit roundoff of the type, S = max(|p|, |p + t d|, R)):
+//! the inputs of the square root carry absolute errors below `6ε·‖d‖²·S²`, and each root is the exact root of a
+//! quadratic whose coefficients are perturbed by at most that. The computed point therefore lies within about
+//! `4ε·S` of the sphere (backward error); along the ray the error is that divided by the sine of the angle
+//! between ray and surface, so it grows only in the near-tangent band, where the problem itself is
+//! ill-conditioned. For `a ≠ b` the scaling of z adds one rounding (`ε·S`). The host oracle measures both.
+
+use super::{Crossings, Side, Surface, SurfaceError, side_of_sign, stable_quadratic};
+use crate::ray::Ray;
+use crate::real::Real;
+use crate::vec3::V3;
+
+/// An origin-centred spheroid with equatorial semi-axis `a` and polar semi-axis `b` (`a ≥ b > 0`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spheroid<T> {
+    a: T,
+    b: T,
+    /// `a²`.
+    a2: T,
+    /// `a / b`, the factor that turns the spheroid into the sphere of radius `a`; exactly 1 for a sphere.
+    k: T,
+}
+
+impl<T: Real> Spheroid<T> {
+    /// The spheroid with semi-axes `a` (equatorial) and `b` (polar).
+    pub fn new(a: T, b: T) -> Result<Self, SurfaceError> {
+        if !a.is_finite() || !b.is_finite() {
+            return Err(SurfaceError::NonFinite);
+        }
+        if !(b > T::ZERO && a >= b) {
+            return Err(SurfaceError::BadAxes);
+        }
+        let a2 = a * a;
+        if !a2.is_finite() || a2 == T::ZERO {
+            return Err(SurfaceError::BadAxes);
+        }
+        Ok(Spheroid {
+            a,
+            b,
+            a2,
+            k: if a == b { T::ONE } else { a / b },
+        })
+    }
+
+    /// The sphere of radius `r > 0`.
+    pub fn sphere(r: T) -> Result<Self, SurfaceError> {
+        Self::new(r, r)
+    }
+
+    /// The equatorial semi-axis.
+    #[inline]
+    pub fn a(&self) -> T {
+        self.a
+    }
+    /// The polar semi-axis.
+    #[inline]
+    pub fn b(&self) -> T {
+        self.b
+    }
+    /// True when `a = b`.
+    #[inline]
+    pub fn is_sphere(&self) -> bool {
+        self.k == T::ONE
+    }
+
+    /// Both roots of the ray with the spheroid in the ray's scaled parameter, `(entering, leaving)`, or `None` when
+    /// the line misses it. Costs one square root and two divisions (plus the scaling of z for `a ≠ b`).
+    #[inline]
+    pub(crate) fn scaled_roots(&self, ray: &Ray<T>) -> Option<(T, T)> {
+        let (p, dd, pd, w) = if self.is_sphere() {
+            (ray.origin(), ray.dd(), ray.pd(), ray.p_cross_d())
+        } else {
+            let mut p = ray.origin();
+            let mut d = ray.scaled_dir();
+            p.z *= self.k;
+            d.z *= self.k;
+            (p, d.length_squared(), p.dot(d), p.cross(d))
+        };
+        // ⟨p|d⟩² − ‖d‖²(‖p‖² − R²) = ‖d‖² R² − |p × d|²: closest approach from the cross product.
+        let disc = dd * self.a2 - w.length_squared();
+        if !(disc >= T::ZERO) {
+            return None;
+        }
+        let c = p.length_squared() - self.a2;
+        // ‖d‖² grows toward outside ⇒ the root where the quadratic decreases is the entry into the ball.
+        Some(stable_quadratic(dd, pd, c, disc.sqrt()))
+    }
+}
+
+impl<T: Real> Surface<T> for Spheroid<T> {
+    fn crossings(&self, ray: &Ray<T>) -> Crossings<T> {
+        match self.scaled_roots(ray) {
+            Some((s_in, s_out)) => Crossings::from_scaled_roots(
+                ray,
+                &[(s_in, Side::Negative), (s_out, Side::Positive)],
+            ),
+            None => Crossings::NONE,
+        }
+    }
+
+    fn side_of(&self, point: V3<T>) -> Option<Side> {
+        let z = point.z * self.k;
+        side_of_sign(point.x * point.x + point.y * point.y + z * z - self.a2)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ts<T: Real>(c: &Crossings<T>) -> [(f64, Side); 2] {
+        let mut out = [(f64::NAN, Side::Negative); 2];
+        for (o, x) in out.iter_mut().zip(c.iter()) {
+            *o = (x.t.to_f64(), x.into);
+        }
+        out
+    }
+
+    #[test]
+    fn unit_sphere_through_center() {
+        let r = Ray::new([-2.0, 0.0, 0.0], [1.0, 0.0, 0.0]).unwrap();
+        let c = Spheroid::sphere(1.0).unwrap().crossings(&r);
+        assert_eq!(ts(&c), [(1.0, Side::Negative), (3.0, Side::Positive)]);
+    }
+
+    #[test]
+    fn starting_inside_reports_only_the_exit() {
+        let r = Ray::new([0.0, 0.0, 0.0], [0.0, 0.0, 2.0]).unwrap();
+        let c = Spheroid::sphere(1.0).unwrap().crossings(&r);
+        assert_eq!(c.len(), 1);
+        assert_eq!((c[0].t, c[0].into), (0.5, Side::Positive));
+    }
+
+    #[test]
+    fn ray_starting_exactly_on_sphere_includes_t0() {
+        let r = Ray::new([3.0, 4.0, 0.0], [-3.0, -4.0, 0.0]).unwrap();
+        let c = Spheroid::sphere(5.0).unwrap().crossings(&r);
+        assert_eq!(ts(&c), [(0.0, Side::Negative), (2.0, Side::Positive)]);
+    }
+
+    #[test]
+    fn tangent_ray_touches_twice_at_one_t() {
+        let r = Ray::new([-5.0, 1.0, 0.0], [1.0, 0.0, 0.0]).unwrap();
+        let c = Spheroid::sphere(1.0).unwrap().crossings(&r);
+        assert_eq!(ts(&c), [(5.0, Side::Negative), (5.0, Side::Positive)]);
+        let r = Ray::new([-5.0, 1.0 + 1e-12, 0.0], [1.0, 0.0, 0.0]).unwrap();
+        assert!(Spheroid::sphere(1.0).unwrap().crossings(&r).is_empty());
+    }
+
+    #[test]
+    fn interval_filters_roots() {
+        let r = Ray::new([-2.0, 0.0, 0.0], [1.0, 0.0, 0.0])
+            .unwrap()
+            .with_interval(1.5, 10.0)
+            .unwrap();
+        let c = Spheroid::sphere(1.0).unwrap().crossings(&r);
+        assert_eq!(c.len(), 1);
+        assert_eq!(c[0].t, 3.0);
+    }
+
+    #[test]
+    fn spheroid_poles_and_equator() {
+        let s = Spheroid::new(2.0, 1.0).unwrap();
+        let down = Ray::new([0.0, 0.0, 5.0], [0.0, 0.0, -1.0]).unwrap();
+        assert_eq!(
+            ts(&s.crossings(&down)),
+            [(4.0, Side::Negative), (6.0, Side::Positive)]
+        );
+        let across = Ray::new([-5.0, 0.0, 0.0], [1.0, 0.0, 0.0]).unwrap();
+        assert_eq!(
+            ts(&s.crossings(&across)),
+            [(3.0, Side::Negative), (7.0, Side::Positive)]
+        );
+        assert_eq!(s.side_of(V3::new(0.0, 0.0, 1.0)), None);
+        assert_eq!(s.side_of(V3::new(1.9, 0.0, 0.1)), Some(Side::Negative));
+    }
+
+    #[test]
+    fn huge_and_tiny_scales() {
+        for scale in [1e8_f64, 1e-8] {
+            let r = Ray::new([-3.0 * scale, 0.6 * scale, 0.0], [1.0, 0.0, 0.0]).unwrap();
+            let c = Spheroid::sphere(scale).unwrap().crossings(&r);
+            assert_eq!(c.len(), 2);
+            assert!((c[0].t - 2.2 * scale).abs() <= 4.0 * f64::EPSILON * 3.0 * scale);
+            assert!((c[1].t - 3.8 * scale).abs() <= 4.0 * f64::EPSILON * 3.0 * scale);
+        }
+    }
+
+    #[test]
+    fn direction_length_does_not_matter() {
+        let s = Spheroid::sphere(1.0_f32).unwrap();
+        for len in [1e-30_f32, 1.0, 1e30] {
+            let r = Ray::new([-2.0, 0.0, 0.0], [len, 0.0, 0.0]).unwrap();
+            let c = s.crossings(&r);
+            assert_eq!(c.len(), 2);
+            assert!((c[0].t * len - 1.0).abs() <= 2.0 * f32::EPSILON);
+            assert!((c[1].t * len - 3.0).abs() <= 6.0 * f32::EPSILON);
+        }
+    }
+
+    #[test]
+    fn bad_axes_are_errors() {
+        assert_eq!(Spheroid::new(1.0, 2.0), Err(SurfaceError::BadAxes));
+        assert_eq!(Spheroid::sphere(0.0), Err(SurfaceError::BadAxes));
+        assert_eq!(Spheroid::sphere(f64::NAN), Err(SurfaceError::NonFinite));
+        assert_eq!(Spheroid::sphere(1e200), Err(SurfaceError::BadAxes));
+    }
+}
