@@ -389,7 +389,7 @@ mod tests {
         assert_eq!(T::ONE.scalbn(10), T::from_f64(1024.0));
         assert_eq!(T::from_f64(1000.0).ilogb(), 9);
         assert_eq!(T::from_f64(3.0).min(T::from_f64(-1.0)), T::from_f64(-1.0));
-        assert_eq!(T::from_f64(3.0).maxT::NAN, T::from_f64(3.0));
+        assert_eq!(T::from_f64(3.0).max(T::NAN), T::from_f64(3.0));
         assert_eq!(
             T::from_f64(2.0).with_sign_of(T::from_f64(-0.1)),
             T::from_f64(-2.0)
