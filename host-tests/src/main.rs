@@ -1,2 +1,60 @@
-//! The `curvicast` command.
-fn main() {}
+//! The `curvicast` command: `report`, and (as they land) `march`, `pick`, `tessellate`.
+//! See the command-line contract in the README.
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "curvicast",
+    version,
+    about = "Ray casting through curved coordinate systems"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run the scene suite: speed-against-error tables on stdout, report.md and plots in DIR.
+    Report {
+        /// Small sizes (under a minute on two cores).
+        #[arg(long)]
+        quick: bool,
+        /// Output directory.
+        #[arg(long, default_value = "out")]
+        out: PathBuf,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::SUCCESS
+            };
+        }
+    };
+    let result = match cli.command {
+        Command::Report { quick, out } => {
+            curvicast_host::report::run(&curvicast_host::report::Options {
+                quick,
+                out_dir: out,
+            })
+            .map(|_| ())
+        }
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("curvicast: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}

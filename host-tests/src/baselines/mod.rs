@@ -1,0 +1,1 @@
+//! Baselines: what a user would otherwise do, measured in the same run as the kernel.

@@ -1,0 +1,48 @@
+//! The report: speed-against-error tables for every mode of the kernel, written to stdout and `DIR/report.md`.
+//!
+//! Each section lives in its own module and returns a [`Section`]; [`run`] runs them in order.
+
+use std::path::Path;
+
+/// One section of the report.
+#[derive(Debug, Clone, Default)]
+pub struct Section {
+    /// The heading.
+    pub title: String,
+    /// Markdown body (tables, notes, links to files written into the output directory).
+    pub markdown: String,
+}
+
+/// Options shared by all sections.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Small sizes: the whole report in under a minute on two cores.
+    pub quick: bool,
+    /// Where files (plots, images) go.
+    pub out_dir: std::path::PathBuf,
+}
+
+/// Runs every section, prints each to stdout as it completes, and writes `report.md` into `opts.out_dir`.
+pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
+    std::fs::create_dir_all(&opts.out_dir)?;
+    type SectionFn = fn(&Options) -> anyhow::Result<Section>;
+    let sections: &[SectionFn] = &[];
+    let mut done = Vec::new();
+    let mut md = String::from("# curvicast report\n\n");
+    md.push_str(&format!(
+        "Mode: {}.\n\n",
+        if opts.quick { "quick" } else { "full" }
+    ));
+    for f in sections {
+        let s = f(opts)?;
+        println!("## {}\n\n{}", s.title, s.markdown);
+        md.push_str(&format!("## {}\n\n{}\n", s.title, s.markdown));
+        done.push(s);
+    }
+    write(&opts.out_dir.join("report.md"), &md)?;
+    Ok(done)
+}
+
+fn write(path: &Path, text: &str) -> anyhow::Result<()> {
+    std::fs::write(path, text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+}

@@ -1,0 +1,4 @@
+//! Scenes: the JSON input formats of the command-line contract, analytic fields, real datasets and generators of
+//! hard cases.
+
+pub mod spec;
