@@ -6,8 +6,9 @@
 //! oracle's own and deliberately naive, because in high precision naivety costs nothing:
 //!
 //! * each surface is an implicit polynomial `F(x) = 0` expanded along the ray into `A t² + 2 B t + C` term by term
-//!   (no cross-product identity for the discriminant, no stable quadratic formula: at 512 bits the cancellation in
-//!   `−B ± √(B² − AC)` loses at most a few hundred bits of a budget far beyond `f64`);
+//!   (no cross-product identity for the discriminant, no stable quadratic formula: at 256 bits the cancellation in
+//!   `−B ± √(B² − AC)` costs a root only as many bits as its smallness relative to the ray's scale, far below
+//!   the 200-bit margin over `f64` for any case that is not contrived);
 //! * the spheroid is `b²(x² + y²) + a² z² − a² b²` (no rescaling of z);
 //! * the cone's nappe is checked by evaluating the crossing point's height above the apex, its side by the sign of
 //!   `d/dt cos θ(t)` (the zenith angle of the moving point), not by the slope of the quadratic;
@@ -521,14 +522,18 @@ impl PreparedSurface {
         }
     }
 
-    /// The distance from `p + t d` to the surface's edge, where its own decisions switch: a cone's apex, a
-    /// half-plane's bounding z axis; `+∞` for a spheroid or a plane (no edge).
+    /// The distance from `p + t d` to where the surface's own decisions switch: for a cone the plane `z = k`
+    /// through its apex, which separates its nappe from the other one (near the apex, and anywhere near that plane
+    /// for a cone close to θ = π/2, the nappe of a crossing is decided by the sign of a tiny `z − k`); for a
+    /// half-plane its bounding z axis; `+∞` for a spheroid, a plane, or the cone at exactly θ = π/2 (no edge).
     pub fn edge_distance_at(&self, ray: &OracleRay, t: f64) -> f64 {
         let x = point(&hv(ray.origin), &hv(ray.dir), &H::f(t));
         match &self.p {
-            Prepared::Cone { k, .. } => {
-                norm_f64([x[0].to_f64(), x[1].to_f64(), x[2].sub(k).to_f64()])
-            }
+            Prepared::Cone {
+                shape: ConeShape::Plane,
+                ..
+            } => f64::INFINITY, // θ = π/2 exactly: a plane, no nappe to decide
+            Prepared::Cone { k, .. } => x[2].sub(k).abs().to_f64(),
             Prepared::HalfPlane { .. } => norm_f64([x[0].to_f64(), x[1].to_f64(), 0.0]),
             Prepared::Spheroid { .. } | Prepared::PlaneZ { .. } => f64::INFINITY,
         }

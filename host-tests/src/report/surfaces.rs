@@ -29,8 +29,9 @@
 //!
 //! Besides the band, a crossing is *ambiguous* (may be present in one answer and not the other without error) when
 //! a perturbation of the size of the mode's forward bound, `B ε S / σ` along the ray, can move it across a
-//! decision: across the interval's ends (`t = t_min`, `t = t_max`), or across the edge of the surface (the apex of
-//! a cone, the z axis of a half-plane). Count and side must agree for every other crossing.
+//! decision: across the start of the interval (`t = 0`; the cases run over `[0, ∞)`), or across the edge of the surface's own
+//! decision (for a cone the plane `z = k` through its apex, which separates its nappe from the other; for a
+//! half-plane its z axis). Count and side must agree for every other crossing.
 //!
 //! # Timing
 //!
@@ -127,13 +128,14 @@ impl Mode {
 ///
 /// `f64`: the criterion, 16. `f32`: the same algorithm in the other type; measured and given a margin.
 /// `F32Fast`: its `sin`/`cos` are micromath's parabolic approximations (absolute error up to about 1e-3), so a cone
-/// or half-plane built from an angle is a slightly different surface; the bound states that measured error.
+/// or half-plane built from an angle is a slightly different surface; the bound states that measured error
+/// (largest over 100 000 rays per kind: forward 9.1e4, backward 3.4e4 ε·S) with a margin of about 3.
 pub fn forward_bound(kind: Kind, mode: Mode) -> f64 {
     match (mode, kind) {
         (Mode::F64, _) => 16.0,
         (Mode::F32, _) => 16.0,
         (Mode::F32Fast, Kind::Spheroid | Kind::PlaneZ) => 16.0,
-        (Mode::F32Fast, Kind::Cone | Kind::HalfPlane) => 1.0e5,
+        (Mode::F32Fast, Kind::Cone | Kind::HalfPlane) => 3.0e5,
     }
 }
 
@@ -141,7 +143,7 @@ pub fn forward_bound(kind: Kind, mode: Mode) -> f64 {
 /// test.
 pub fn backward_bound(kind: Kind, mode: Mode) -> f64 {
     match (mode, kind) {
-        (Mode::F32Fast, Kind::Cone | Kind::HalfPlane) => 4.0e4,
+        (Mode::F32Fast, Kind::Cone | Kind::HalfPlane) => 1.0e5,
         _ => 16.0,
     }
 }
