@@ -426,6 +426,38 @@ fn sphere_ray_starting_on_the_surface_includes_t0() {
 }
 
 #[test]
+fn spheroid_ray_starting_on_the_pole_and_the_equator() {
+    // (0, 0, b) and (a, 0, 0) lie exactly on the spheroid a = 2, b = 1
+    check(
+        case(
+            Kind::Spheroid,
+            [2.0, 1.0],
+            [0.0, 0.0, 1.0],
+            [0.5, 0.0, -1.0],
+        ),
+        Some(&[false, true]),
+    );
+    check(
+        case(
+            Kind::Spheroid,
+            [2.0, 1.0],
+            [2.0, 0.0, 0.0],
+            [-1.0, 0.25, 0.5],
+        ),
+        Some(&[false, true]),
+    );
+    check(
+        case(
+            Kind::Spheroid,
+            [2.0, 1.0],
+            [2.0, 0.0, 0.0],
+            [1.0, 0.25, 0.5],
+        ),
+        Some(&[true]),
+    );
+}
+
+#[test]
 fn half_plane_and_plane_ray_starting_on_the_surface() {
     check(
         case(

@@ -20,6 +20,16 @@
 //!
 //! Asserted: f64 forward ≤ 16 ε S outside the band (the criterion) and backward ≤ 16 ε S everywhere; the
 //! f32 modes against `forward_bound` / `backward_bound` (measured, with margin); no count/side mismatch.
+//!
+//! Measured by `full_sweep_all_modes` (100 000 rays per kind and mode; largest forward error outside the band /
+//! largest backward error, in ε·S):
+//!
+//! | kind | f64 | f32 | F32Fast |
+//! | --- | --- | --- | --- |
+//! | spheroid | 3.2 / 3.0 | 3.4 / 3.1 | 3.4 / 3.4 |
+//! | cone | 3.2 / 1.2 | 3.3 / 1.9 | 9.1e4 / 3.4e4 (micromath sin/cos of θ) |
+//! | half-plane | 3.1 / 1.3 | 2.8 / 1.5 | 3.5e4 / 9.2e3 (micromath sin/cos of φ) |
+//! | plane z | 1.3 / 1.1 | 1.7 / 1.4 | 1.7 / 1.4 |
 
 use curvicast_host::report::surfaces::{
     Kind, Mode, Stats, backward_bound, evaluate, forward_bound, random_cases,
