@@ -548,10 +548,10 @@ fn tiny_scale_1e_8_every_kind() {
 
 #[test]
 fn direction_length_1e_30_every_kind() {
-    // t = distance / |d| must stay inside the f32 range (3.4e38): at scale 1e8 a crossing at 3.8e8 / 1e-30 is not
-    // representable in f32, so the largest scale here is 1e4.
+    // At scale 1e8 a crossing at t = 3.8e8 / 1e-30 lies beyond the f32 range (3.4e38): the f32 kernel reports
+    // its correctly rounded value, +∞, which `compare` accepts only when the oracle's t is indeed out of range.
     for kind in Kind::ALL {
-        for s in [1e-8, 1.0, 1e4] {
+        for s in [1e-8, 1.0, 1e4, 1e8] {
             for c in typical(kind, s, 1e-30) {
                 check(c, None);
             }
@@ -568,6 +568,22 @@ fn direction_length_1e30_every_kind() {
             }
         }
     }
+}
+
+#[test]
+fn f32_crossing_beyond_the_f32_range_is_infinite() {
+    let c = case(
+        Kind::Spheroid,
+        sphere(1e8),
+        [-3e8, 6e7, 0.0],
+        [1e-30, 0.0, 0.0],
+    );
+    let k = kernel_crossings_in(Mode::F32, &c).unwrap();
+    assert_eq!(k.len(), 2);
+    assert!(k[0].t.is_finite() && k[1].t == f64::INFINITY, "{k:?}");
+    let o = oracle_answer(&c.to_f32(), AngleType::F32);
+    assert!(o.crossings[1].t_f64 > f32::MAX as f64);
+    check(c, Some(&[false, true]));
 }
 
 #[test]

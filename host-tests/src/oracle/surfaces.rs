@@ -693,10 +693,12 @@ fn cone_roots(k: &H, shape: &ConeShape, p: &V, d: &V) -> Vec<(H, bool, f64)> {
         ConeShape::Proper { c, s, c2, s2 } => (c, s, c2, s2),
     };
     let _ = s;
-    // Does the line pass exactly through the apex? Then q and d are parallel: q = λ d.
-    let dd = dot(d, d);
-    let lambda = dot(&q, d).div(&dd);
-    let through_apex = (0..3).all(|i| q[i].sub(&lambda.mul(&d[i])).is_zero());
+    // Does the line pass exactly through the apex? Then q × d = 0 (exact: products of f64 data), and the apex is
+    // at t = −λ with q = λ d.
+    let through_apex = q[1].mul(&d[2]).sub(&q[2].mul(&d[1])).is_zero()
+        && q[2].mul(&d[0]).sub(&q[0].mul(&d[2])).is_zero()
+        && q[0].mul(&d[1]).sub(&q[1].mul(&d[0])).is_zero();
+    let lambda = dot(&q, d).div(&dot(d, d));
     if through_apex {
         let before = cone_side_of(c, &[d[0].neg(), d[1].neg(), d[2].neg()]);
         let after = cone_side_of(c, d);
@@ -831,6 +833,24 @@ mod tests {
             let c = h.crossings(&OracleRay::new([-1.0, -1.0, 5.0], [1.0, 1.0, 0.0]));
             assert_eq!(c.len(), 1, "phi {phi}");
         }
+    }
+
+    #[test]
+    fn cone_line_through_the_apex_at_a_non_dyadic_ratio() {
+        // q = d / 3 exactly in direction (q = (1, 2, 3), d = (3, 6, 9)): through the apex at t = −1/3 (behind the
+        // origin), so nothing for t ≥ 0; on [−1, 1] one crossing, into the cone (d is 37° from +z).
+        let cone = OracleSurface::Cone {
+            apex_z: 0.0,
+            theta: 1.0,
+            angles: AngleType::F64,
+        }
+        .prepare();
+        let mut ray = OracleRay::new([1.0, 2.0, 3.0], [3.0, 6.0, 9.0]);
+        assert!(cone.crossings(&ray).is_empty());
+        ray.t_min = -1.0;
+        let c = cone.crossings(&ray);
+        assert_eq!(c.len(), 1);
+        assert_eq!((c[0].t_f64, c[0].into_positive), (-1.0 / 3.0, false));
     }
 
     #[test]

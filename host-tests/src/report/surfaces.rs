@@ -15,7 +15,9 @@
 //!   the sine of the crossing angle is the same quantity to first order.
 //!
 //! The inputs of an `f32` mode are the `f64` case rounded to `f32`, and the oracle answers for those rounded inputs:
-//! the error measured is the kernel's, not the rounding of the data.
+//! the error measured is the kernel's, not the rounding of the data. A crossing whose `t` lies beyond the type's
+//! range (possible in `f32`: a distance of 1e8 along a direction of length 1e-30) is correctly reported as `±∞`
+//! and is matched without an error measure.
 //!
 //! # The near-tangent band
 //!
@@ -54,8 +56,8 @@ use std::time::Instant;
 
 /// The near-tangent band: crossings with `sin(angle between ray and surface)` below this are excluded from the
 /// forward-error bound and from the count/side agreement (see the module docs for why). Measured justification
-/// (100 000 rays per kind): the f64 kernel's backward error stays below 4 ε S everywhere, so outside the band its
-/// forward error cannot exceed 4 / SIN_BAND = 16 ε S (measured: below 4.1 ε S).
+/// (100 000 rays per kind, three seeds): the f64 kernel's backward error stays below 4 ε S everywhere, so outside
+/// the band its forward error cannot exceed 4 / SIN_BAND = 16 ε S (measured: at most 4.3 ε S).
 pub const SIN_BAND: f64 = 0.25;
 
 /// The surface families of the kernel's `surface` layer.
@@ -114,6 +116,13 @@ impl Mode {
             Mode::F32 | Mode::F32Fast => f32::EPSILON as f64,
         }
     }
+    /// The largest finite value of the mode's scalar type (a `t` beyond it rounds to ±∞).
+    pub fn max_finite(self) -> f64 {
+        match self {
+            Mode::F64 => f64::MAX,
+            Mode::F32 | Mode::F32Fast => f32::MAX as f64,
+        }
+    }
     /// Which type's special angles the kernel treats exactly in this mode.
     pub fn angles(self) -> AngleType {
         match self {
@@ -129,13 +138,14 @@ impl Mode {
 /// `f64`: the criterion, 16. `f32`: the same algorithm in the other type; measured and given a margin.
 /// `F32Fast`: its `sin`/`cos` are micromath's parabolic approximations (absolute error up to about 1e-3), so a cone
 /// or half-plane built from an angle is a slightly different surface; the bound states that measured error
-/// (largest over 100 000 rays per kind: forward 9.1e4, backward 3.4e4 ε·S) with a margin of about 3.
+/// (largest over 100 000 rays per kind and three seeds: forward 1.03e5, backward 5.2e4 ε·S) with a margin of
+/// about 4.
 pub fn forward_bound(kind: Kind, mode: Mode) -> f64 {
     match (mode, kind) {
         (Mode::F64, _) => 16.0,
         (Mode::F32, _) => 16.0,
         (Mode::F32Fast, Kind::Spheroid | Kind::PlaneZ) => 16.0,
-        (Mode::F32Fast, Kind::Cone | Kind::HalfPlane) => 3.0e5,
+        (Mode::F32Fast, Kind::Cone | Kind::HalfPlane) => 4.0e5,
     }
 }
 
@@ -143,7 +153,7 @@ pub fn forward_bound(kind: Kind, mode: Mode) -> f64 {
 /// test.
 pub fn backward_bound(kind: Kind, mode: Mode) -> f64 {
     match (mode, kind) {
-        (Mode::F32Fast, Kind::Cone | Kind::HalfPlane) => 1.0e5,
+        (Mode::F32Fast, Kind::Cone | Kind::HalfPlane) => 2.0e5,
         _ => 16.0,
     }
 }
@@ -481,7 +491,21 @@ pub fn compare(
     };
     let eps = mode.eps();
     let bound = forward_bound(kind, mode);
+    // A crossing beyond the range of the mode's type (|t| > its largest finite value) is correctly reported as
+    // ±∞: its rounded value. Such a kernel crossing is matched like any other but has no finite error to measure.
+    let max_t = mode.max_finite();
+    let overflow_ok = |c: &KernelCrossing| {
+        c.t.is_infinite()
+            && o.crossings.iter().any(|x| {
+                x.t_f64.abs() > max_t
+                    && (x.t_f64 > 0.0) == (c.t > 0.0)
+                    && x.into_positive == c.into_positive
+            })
+    };
     for c in k {
+        if overflow_ok(c) {
+            continue;
+        }
         let s = o.ray.scale_at(c.t);
         let b = o.surface.distance_at(&o.ray, c.t) / (eps * s);
         // a NaN error must fail the bound, not vanish in `max`
@@ -562,6 +586,9 @@ pub fn compare(
             for (i, j) in m {
                 let oc = &o.crossings[i];
                 if oc.sin_angle < SIN_BAND {
+                    continue;
+                }
+                if overflow_ok(&k[j]) {
                     continue;
                 }
                 let s = o.ray.scale_at(oc.t_f64);
