@@ -795,6 +795,24 @@ mod tests {
     }
 
     #[test]
+    fn newton_sqrt_has_full_precision() {
+        for x in [2.0, 0.5, 3.0e-300, 7.0e250, 1.0 / 3.0] {
+            let h = H::f(x);
+            let r = h.sqrt();
+            // r² − x, relative to x, is at the level of the working precision
+            let rel = r.sq().sub(&h).div(&h).abs();
+            let bound = H::f(2f64.powi(-(PRECISION as i32) + 4));
+            assert!(
+                rel.cmp(&bound) != Ordering::Greater,
+                "sqrt({x}) off by {rel:?}"
+            );
+            assert_eq!(r.to_f64(), x.sqrt());
+        }
+        assert_eq!(H::f(4.0).sqrt().to_f64(), 2.0);
+        assert!(H::f(0.0).sqrt().is_zero());
+    }
+
+    #[test]
     fn sphere_tangent_is_a_double_root() {
         let s = OracleSurface::Spheroid { a: 1.0, b: 1.0 }.prepare();
         let c = s.crossings(&OracleRay::new([-5.0, 1.0, 0.0], [1.0, 0.0, 0.0]));
