@@ -21,9 +21,11 @@
 //!
 //! **Error bound** (S = max(|q|, |q + t d|)): `c², s²` are within 2ε of the true values (computed from θ, not as
 //! `1 − c²`); `A, B, C` and the discriminant are sums of a few products with relative errors of a few ε of their
-//! largest term, so each root is the exact root of a cone whose opening differs by O(ε) and whose apex moves by
-//! O(ε·S): the computed point lies within about `8ε·S` of the cone (backward error). Forward error along the ray
-//! grows as the ray approaches tangency or the apex (both ill-conditioned). Measured by the host oracle.
+//! largest term `|q|²`. That alone would leave the point `ε|q|² / |∇Q|` off the cone, unbounded as the crossing
+//! nears the apex (where `|∇Q| → 0`), so each simple root gets one Newton step on `Q` evaluated at the crossing
+//! point; after it the computed point lies within a few `ε·S` of the cone (backward error; the host oracle
+//! measures below `1 ε·S` in f64 over 100 000 random rays). Forward error along the ray is that divided by the
+//! sine of the crossing angle: it grows only near tangency, where the problem itself is ill-conditioned.
 
 use super::{Crossings, Side, Surface, SurfaceError, side_of_sign, stable_quadratic};
 use crate::ray::Ray;
@@ -183,6 +185,30 @@ impl<T: Real> Surface<T> for AxialCone<T> {
         }
         let root_d = self.cos.abs() * disc.sqrt();
         let (s_dec, s_inc) = stable_quadratic(a, b, cc, root_d);
+        // One Newton step on Q at each computed point. A, B, C are evaluated at the origin, where Q's terms are as
+        // large as |q|², so their rounding (ε|q|²) reaches the root divided by |∇Q| at the crossing — which is
+        // proportional to the crossing's distance from the apex. Re-evaluated at the crossing x, Q's rounding is
+        // ε|x|², and the step leaves the point within O(ε S) of the cone however close to the apex it lies. The step
+        // is taken only when it stays within a quarter of the roots' separation (so a near-double root is never
+        // pushed into the other root's basin) and is finite.
+        let (s_dec, s_inc) = if root_d == T::ZERO {
+            (s_dec, s_inc)
+        } else {
+            let gap = (s_inc - s_dec).abs();
+            let refine = |s: T| -> T {
+                let x = V3::new(q.x + s * d.x, q.y + s * d.y, q.z + s * d.z);
+                let qx = c2 * (x.x * x.x + x.y * x.y) - s2 * x.z * x.z;
+                let half_slope = c2 * (x.x * d.x + x.y * d.y) - s2 * x.z * d.z;
+                let step = qx / (half_slope + half_slope);
+                // `gap` is NaN in the linear case (one root is NaN): then any finite step is taken.
+                if step.is_finite() && !(step.abs() * T::from_i32(4) > gap) {
+                    s - step
+                } else {
+                    s
+                }
+            };
+            (refine(s_dec), refine(s_inc))
+        };
         // On the upper nappe (c > 0) the positive side (larger θ) is Q > 0; on the lower nappe it is Q < 0.
         let upper = self.cos > T::ZERO;
         let into_when_q_rises = Side::from_bool(upper);
@@ -361,6 +387,36 @@ mod tests {
         assert_eq!(n, 2, "{t:?}");
         assert_eq!(t, [2.0, 2.0]);
         assert_eq!(s, [Side::Negative, Side::Positive]);
+    }
+
+    #[test]
+    fn crossing_near_apex_seen_from_far_origin_is_refined() {
+        // Regression: the crossing lies 0.022 from the apex while the origin is 1.1 away. Without the Newton step
+        // at the crossing, the rounding of C at the origin (ε|q|²) divided by the small |∇Q| there put the point
+        // 10.8 ε·S off the cone and t 27 ulps off (forward error 24 ε·S). The expected t is the 256-bit oracle's.
+        let cone = AxialCone::from_zenith(0.5267998051560774, 2.0648687785548936).unwrap();
+        let r = Ray::new(
+            [
+                0.6286096275634043,
+                -0.9245109205653476,
+                -0.06658909448084649,
+            ],
+            [-0.48592690623839413, 0.7414626547130231, 0.462718244139454],
+        )
+        .unwrap();
+        let (t, s, n) = list(&cone.crossings(&r));
+        assert_eq!(n, 2);
+        assert_eq!(s, [Side::Positive, Side::Negative]);
+        let scale = 1.1199574159823074;
+        // the first crossing is nearly tangent (sin of the crossing angle 0.0128): its bound is divided by that
+        assert!(
+            (t[0] - 5.998468605465881e-1).abs() <= 4.0 * f64::EPSILON * scale / 0.0128,
+            "{t:?}"
+        );
+        assert!(
+            (t[1] - 1.260267547988992).abs() <= 4.0 * f64::EPSILON * scale,
+            "{t:?}"
+        );
     }
 
     #[test]
