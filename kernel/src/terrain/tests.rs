@@ -291,7 +291,7 @@ fn steep_ray_across_a_latitude_border_at_80_degrees_finds_the_bulging_triangle()
     let dir = V3::new(-0.3, 0.05, -1.0);
     let origin = target.add_scaled(-20_000.0, dir);
     let ray = Ray::new(origin, dir).unwrap();
-    let hit = p.pick(&ray).unwrap().expect("hit");
+    let hit = p.pick(&ray).unwrap().unwrap();
     let brute = dem.brute(&ray).unwrap();
     assert_eq!((hit.t, hit.cell), brute);
     assert_eq!(
@@ -516,7 +516,7 @@ fn ray_from_below_hits_the_chord_dip_of_a_polar_triangle_below_its_lowest_vertex
         .with_interval(0.0, 10_500.0)
         .unwrap();
     assert!(V3::from(ray.at(10_500.0)).length() < dem.e.b());
-    let hit = p.pick(&ray).unwrap().expect("hit from below");
+    let hit = p.pick(&ray).unwrap().unwrap();
     assert!((hit.t - 10_000.0).abs() < 1e-6, "{}", hit.t);
     assert_eq!(hit.cell, [1, 3]);
 }
