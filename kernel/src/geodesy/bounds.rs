@@ -115,7 +115,7 @@ impl<T: Real> LatWall<T> {
     /// `f(p) = (z − k) cos ψ − r sin ψ`, and a magnitude for its rounding tolerance.
     #[inline]
     fn f(&self, p: V3<T>) -> (T, T) {
-        let r = super::hypot(p.x, p.y);
+        let r = (p.x * p.x + p.y * p.y).sqrt();
         let dz = p.z - self.apex;
         (
             dz * self.cos - r * self.sin,
@@ -334,27 +334,37 @@ impl<T: Real> HeightQuadBounds<T> {
         }
         let pts = bp.get_mut(..n).unwrap_or(&mut []);
         insertion_sort(pts);
-        let mut first: Option<T> = None;
-        let mut last: Option<T> = None;
-        for w in pts.windows(2) {
+        if n == 2 && t0 == t1 {
+            return self.contains(V3::from(ray.at(t0))).then_some((t0, t1));
+        }
+        // The first piece inside from the front and the last from the back (the hull between them is
+        // conservative; pieces in between need no test).
+        let inside = |lo: T, hi: T| self.contains(V3::from(ray.at(lo + (hi - lo) * T::HALF)));
+        let mut first: Option<usize> = None;
+        for (k, w) in pts.windows(2).enumerate() {
             if let [lo, hi] = *w {
-                let mid = lo + (hi - lo) * T::HALF;
-                let p = V3::from(ray.at(mid));
-                if self.contains(p) {
-                    if first.is_none() {
-                        first = Some(lo);
-                    }
-                    last = Some(hi);
+                if inside(lo, hi) {
+                    first = Some(k);
+                    break;
                 }
             }
         }
-        if n == 2 && t0 == t1 && self.contains(V3::from(ray.at(t0))) {
-            return Some((t0, t1));
+        let first = first?;
+        let mut last = first;
+        for (k, w) in pts.windows(2).enumerate().rev() {
+            if k <= first {
+                break;
+            }
+            if let [lo, hi] = *w {
+                if inside(lo, hi) {
+                    last = k;
+                    break;
+                }
+            }
         }
-        match (first, last) {
-            (Some(a), Some(b)) => Some((a, b)),
-            _ => None,
-        }
+        let t_in = pts.get(first).copied()?;
+        let t_out = pts.get(last.saturating_add(1)).copied()?;
+        Some((t_in, t_out))
     }
 }
 

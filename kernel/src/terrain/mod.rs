@@ -226,7 +226,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             let Some([lo, hi]) = node.heights else {
                 continue; // a zone without data has no triangles
             };
-            let b = node_bounds(&ellipsoid, &grid, &node, lo, hi)?;
+            let b = match storage.cached_bounds(id) {
+                Some(b) => b,
+                None => node_bounds(&ellipsoid, &grid, &node, lo, hi)?,
+            };
             h_max = h_max.max(hi);
             if let Some(slot) = zones.get_mut(count) {
                 *slot = Some((id, node, b));
@@ -382,7 +385,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 let Some([lo, hi]) = child.heights else {
                     continue;
                 };
-                let b = node_bounds(&self.ellipsoid, &self.grid, &child, lo, hi)?;
+                let b = match self.storage.cached_bounds(*cid) {
+                    Some(b) => b,
+                    None => node_bounds(&self.ellipsoid, &self.grid, &child, lo, hi)?,
+                };
                 if let Some((a, c)) = b.ray_interval(&sub) {
                     if let Some(slot) = kids.get_mut(nk) {
                         *slot = (
@@ -444,7 +450,39 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let tau = T::from_f64(64.0) * T::EPSILON;
         let (_, c_half) = sin_cos_deg(g.dlon * T::HALF);
         let north_up = g.dlat > T::ZERO;
-        for j in node.cols[0]..node.cols[1] {
+        // Per-leaf cache of the row values (sin ψ, cos ψ, cone apex k) for leaves up to ROW_CACHE − 1 cells tall.
+        let mut rows_cache = [(T::ZERO, T::ZERO, T::ZERO); ROW_CACHE];
+        let n_rows = node.rows[1].saturating_sub(node.rows[0]);
+        let cached = usize::try_from(n_rows).is_ok_and(|n| n < ROW_CACHE);
+        let row_vals = |i: u32| -> (T, T, T) {
+            let (sp, cp) = sin_cos_deg(g.lat_deg(i));
+            (sp, cp, e.latitude_cone_apex(sp))
+        };
+        if cached {
+            for (k, slot) in rows_cache.iter_mut().enumerate() {
+                let Some(i) = u32::try_from(k)
+                    .ok()
+                    .and_then(|k| node.rows[0].checked_add(k))
+                else {
+                    break;
+                };
+                if i > node.rows[1] {
+                    break;
+                }
+                *slot = row_vals(i);
+            }
+        }
+        let row_at = |i: u32| -> (T, T, T) {
+            if cached {
+                let k = i.saturating_sub(node.rows[0]);
+                if let Some(v) = usize::try_from(k).ok().and_then(|k| rows_cache.get(k)) {
+                    return *v;
+                }
+            }
+            row_vals(i)
+        };
+        let (j_first, j_end) = self.leaf_columns(node, ray, t_in, t_out);
+        for j in j_first..j_end {
             let j1 = j.saturating_add(1);
             let (sw, cw) = sin_cos_deg(g.lon_deg(j));
             let (se, ce) = sin_cos_deg(g.lon_deg(j1));
@@ -475,8 +513,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             // Row plane i at this column: m = (−sin ψ cos λm, −sin ψ sin λm, cos ψ cos(Δλ/2)), through (0,0,k_i);
             // m·(P − k ẑ) > 0 is north of it.
             let row_plane = |i: u32| -> (T, T, T) {
-                let (sp, cp) = sin_cos_deg(g.lat_deg(i));
-                let k = e.latitude_cone_apex(sp);
+                let (sp, cp, k) = row_at(i);
                 let m = V3::new(-sp * cm, -sp * sm, cp * c_half);
                 let q = V3::new(o.x, o.y, o.z - k);
                 let mag = q.x.abs()
@@ -534,6 +571,52 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         Ok(())
     }
 
+    /// The leaf's columns `[first, end)` that the ray can cross within `[t_in, t_out]`: along a line the
+    /// azimuth is monotone (`dφ/dt = (p × d)_z / r²`) and sweeps less than 180°, so the crossed columns lie
+    /// between the columns of the two end points (plus one column of margin for rounding). Falls back to all
+    /// columns when the leaf spans 180° or more, the line meets the z axis, or the sweep wraps around.
+    fn leaf_columns(&self, node: &Node<T>, ray: &Ray<T>, t_in: T, t_out: T) -> (u32, u32) {
+        let all = (node.cols[0], node.cols[1]);
+        let g = &self.grid;
+        let n_cols = T::from_f64(f64::from(node.cols[1].saturating_sub(node.cols[0])));
+        if !(n_cols * g.dlon < T::from_f64(180.0)) {
+            return all;
+        }
+        let (o, d) = (ray.origin(), ray.dir());
+        let w = o.x * d.y - o.y * d.x;
+        let pa = V3::from(ray.at(t_in));
+        let pb = V3::from(ray.at(t_out));
+        let zero_r = |p: V3<T>| p.x == T::ZERO && p.y == T::ZERO;
+        if w == T::ZERO || zero_r(pa) || zero_r(pb) || !pa.is_finite() || !pb.is_finite() {
+            return all;
+        }
+        let deg = T::from_f64(180.0) / T::PI;
+        let lon_w = g.lon_deg(node.cols[0]);
+        let wrap = |x: T| {
+            let turns = libm::round((x / T::from_f64(360.0)).to_f64());
+            x - T::from_f64(360.0 * turns)
+        };
+        let ua = wrap(pa.y.atan2(pa.x) * deg - lon_w);
+        let ub = wrap(pb.y.atan2(pb.x) * deg - lon_w);
+        let (u_lo, u_hi) = if w > T::ZERO { (ua, ub) } else { (ub, ua) };
+        if !(u_lo <= u_hi) {
+            return all;
+        }
+        let col = |u: T| libm::floor((u / g.dlon).to_f64());
+        let lo = col(u_lo) - 1.0;
+        let hi = col(u_hi) + 2.0;
+        let n = f64::from(node.cols[1].saturating_sub(node.cols[0]));
+        let lo = lo.clamp(0.0, n);
+        let hi = hi.clamp(0.0, n);
+        // Both are integers in [0, n] ⊂ u32 range; the casts are exact.
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        let (lo, hi) = (lo as u32, hi as u32);
+        (
+            node.cols[0].saturating_add(lo),
+            node.cols[0].saturating_add(hi),
+        )
+    }
+
     fn make_hit(&self, ray: &Ray<T>, t: T, cell: [u32; 2], level: u8) -> Hit<T> {
         let p = ray.at(t);
         let geo = self.ellipsoid.ecef_to_geodetic(V3::from(p));
@@ -549,6 +632,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         }
     }
 }
+
+/// Rows of a leaf whose trigonometry is cached per leaf (leaves up to 64 cells tall).
+const ROW_CACHE: usize = 65;
 
 /// Clips `[lo, hi]` to `{t : s0 + t·sd ≥ −tol}`.
 #[inline]
@@ -620,6 +706,20 @@ fn check_child<T: Real>(p: &Node<T>, c: &Node<T>) -> Result<(), TerrainError> {
         Ok(())
     } else {
         Err(TerrainError::MalformedTree)
+    }
+}
+
+/// The conservative bounding volume of a node (module docs; [`HeightQuadBounds`]), as the kernel builds it from
+/// the node's grid ranges and height range. `Ok(None)` for a node without data. Storages that cache volumes
+/// ([`TerrainStorage::cached_bounds`]) must store exactly this value.
+pub fn quad_bounds<T: Real>(
+    e: &Ellipsoid<T>,
+    g: &Grid<T>,
+    n: &Node<T>,
+) -> Result<Option<HeightQuadBounds<T>>, TerrainError> {
+    match n.heights {
+        Some([lo, hi]) => node_bounds(e, g, n, lo, hi).map(Some),
+        None => Ok(None),
     }
 }
 

@@ -12,6 +12,7 @@ struct TestDem {
     heights: Vec<f64>,
     nodes: Vec<Node<f64>>,
     zones: Vec<NodeId>,
+    cache: Vec<Option<HeightQuadBounds<f64>>>,
 }
 
 impl TestDem {
@@ -22,6 +23,7 @@ impl TestDem {
             heights,
             nodes: Vec::new(),
             zones: Vec::new(),
+            cache: Vec::new(),
         };
         let (cr, cc) = (grid.rows - 1, grid.cols - 1);
         for a in 0..zr {
@@ -138,6 +140,9 @@ impl TerrainStorage<f64> for TestDem {
     }
     fn height(&self, i: u32, j: u32) -> Option<f64> {
         self.h(i, j)
+    }
+    fn cached_bounds(&self, id: NodeId) -> Option<HeightQuadBounds<f64>> {
+        self.cache.get(id.0 as usize).copied().flatten()
     }
 }
 
@@ -519,4 +524,42 @@ fn ray_from_below_hits_the_chord_dip_of_a_polar_triangle_below_its_lowest_vertex
     let hit = p.pick(&ray).unwrap().unwrap();
     assert!((hit.t - 10_000.0).abs() < 1e-6, "{}", hit.t);
     assert_eq!(hit.cell, [1, 3]);
+}
+
+#[test]
+fn cached_bounds_give_identical_picks() {
+    let mut r = Lcg(5);
+    let g = grid(40.0, 100.0, -0.25, 0.25, 17, 17);
+    let hs: Vec<f64> = (0..289).map(|_| 3000.0 * r.next()).collect();
+    let mut dem = TestDem::new(g, hs, 2, 2, 2);
+    let plain: Vec<Option<(f64, [u32; 2])>> = {
+        let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+        (0..60)
+            .map(|k| {
+                let ray = radial_ray(
+                    &dem.e,
+                    36.0 + 0.06 * k as f64,
+                    100.0 + 0.065 * k as f64,
+                    5000.0,
+                );
+                p.pick(&ray).unwrap().map(|h| (h.t, h.cell))
+            })
+            .collect()
+    };
+    dem.cache = dem
+        .nodes
+        .iter()
+        .map(|n| quad_bounds(&dem.e, &dem.grid, n).unwrap())
+        .collect();
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    for (k, want) in plain.iter().enumerate() {
+        let ray = radial_ray(
+            &dem.e,
+            36.0 + 0.06 * k as f64,
+            100.0 + 0.065 * k as f64,
+            5000.0,
+        );
+        assert_eq!(p.pick(&ray).unwrap().map(|h| (h.t, h.cell)), *want);
+        assert!(want.is_some());
+    }
 }
