@@ -538,7 +538,7 @@ fn cached_bounds_give_identical_picks() {
             .map(|k| {
                 let ray = radial_ray(
                     &dem.e,
-                    36.0 + 0.06 * k as f64,
+                    36.02 + 0.06 * k as f64,
                     100.0 + 0.065 * k as f64,
                     5000.0,
                 );
@@ -555,11 +555,18 @@ fn cached_bounds_give_identical_picks() {
     for (k, want) in plain.iter().enumerate() {
         let ray = radial_ray(
             &dem.e,
-            36.0 + 0.06 * k as f64,
+            36.02 + 0.06 * k as f64,
             100.0 + 0.065 * k as f64,
             5000.0,
         );
         assert_eq!(p.pick(&ray).unwrap().map(|h| (h.t, h.cell)), *want);
-        assert!(want.is_some());
+        let ray = radial_ray(
+            &dem.e,
+            36.02 + 0.06 * k as f64,
+            100.0 + 0.065 * k as f64,
+            5000.0,
+        );
+        assert_eq!(*want, dem.brute(&ray), "ray {k}");
+        assert!(want.is_some(), "ray {k}");
     }
 }
