@@ -13,6 +13,14 @@
 //!    of those walls (the §3.5 "side interval against `B^h` interval" test, generalised so that a volume entered
 //!    twice yields one hull over both visits). Children are visited nearest entry first, with an explicit stack
 //!    of fixed capacity (the const generic `STACK`; no recursion).
+//!    This replaces the paper's sequential stepping between children (the child entered from `side_in` and the
+//!    internal partition half-spaces, the next child from `side_out`, the 3-or-4-side exit rule): those rules
+//!    assume that the quads' walls partition space, which the *conservative* volumes needed for triangles (item 5
+//!    below) no longer do — inflated neighbours overlap. Ordering by the entry parameter gives the same visiting
+//!    order where the volumes do not overlap (the zone or quad containing the origin has entry `t_min` and is
+//!    visited first; the next one is the one whose wall the ray crosses next), handles a quad the ray enters
+//!    twice (one hull over both visits), and is what the no-miss proof below needs. Traversal ends when no
+//!    pending quad can be entered before the best hit, or at `t_global_exit`.
 //! 4. **Leaf blocks** (§4): in a leaf, each cell (triangle pair) has its own volume bounded by four *planes*: the
 //!    meridian planes of its two columns and, for each of its two rows, the plane through the spheroid normals at
 //!    the row's two grid vertices (both normals of one latitude pass through the latitude cone's apex, so they

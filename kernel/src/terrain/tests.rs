@@ -570,3 +570,57 @@ fn cached_bounds_give_identical_picks() {
         assert!(want.is_some(), "ray {k}");
     }
 }
+
+/// A 3 × 3-vertex DEM in `f32` (one zone, one leaf).
+struct TinyF32([f32; 9]);
+impl TerrainStorage<f32> for TinyF32 {
+    fn ellipsoid(&self) -> Ellipsoid<f32> {
+        Ellipsoid::wgs84()
+    }
+    fn grid(&self) -> Grid<f32> {
+        Grid {
+            lat0: 47.0,
+            lon0: 8.0,
+            dlat: 0.01,
+            dlon: 0.01,
+            rows: 3,
+            cols: 3,
+        }
+    }
+    fn zone_count(&self) -> usize {
+        1
+    }
+    fn zone(&self, k: usize) -> Option<NodeId> {
+        (k == 0).then_some(NodeId(0))
+    }
+    fn node(&self, id: NodeId) -> Option<Node<f32>> {
+        (id == NodeId(0)).then_some(Node {
+            rows: [0, 2],
+            cols: [0, 2],
+            heights: Some([400.0, 2500.0]),
+            children: [None; 4],
+            level: 0,
+        })
+    }
+    fn height(&self, i: u32, j: u32) -> Option<f32> {
+        self.0.get((i * 3 + j) as usize).copied()
+    }
+}
+
+#[test]
+fn f32_pick_of_a_peak() {
+    let dem = TinyF32([
+        400.0, 400.0, 400.0, 400.0, 2500.0, 400.0, 400.0, 400.0, 400.0,
+    ]);
+    let p: Picker<'_, f32, TinyF32> = Picker::new(&dem).unwrap();
+    let e = Ellipsoid::<f32>::wgs84();
+    let top = e.geodetic_deg_to_ecef(47.01, 8.01, 10_000.0);
+    let n = e.normal(47.01_f32.to_radians(), 8.01_f32.to_radians());
+    let hit = p
+        .pick(&Ray::new(top, n.negated()).unwrap())
+        .unwrap()
+        .unwrap();
+    // f32 ECEF coordinates are quantised to 0.5 m at Earth scale.
+    assert!((hit.t - 7500.0).abs() < 3.0, "{}", hit.t);
+    assert!((hit.h - 2500.0).abs() < 3.0, "{}", hit.h);
+}
