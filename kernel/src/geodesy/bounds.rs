@@ -482,4 +482,27 @@ mod tests {
             .unwrap();
         assert_eq!(q.ray_interval(&miss), None);
     }
+
+    #[test]
+    fn volume_entered_twice_yields_one_hull_over_both_visits() {
+        // The band 70°..80° (all longitudes, so no wedge) at heights 0..400 km: a segment over the polar cap
+        // from (75°, 0°, 300 km) to (75°, 180°, 300 km) starts in the band, crosses the cap north of 80° (outside
+        // the band, but above the ground) and enters the band again on the far side.
+        let e = Ellipsoid::<f64>::wgs84();
+        let q = HeightQuadBounds::new(&e, 70.0, 80.0, -180.0, 180.0, 0.0, 4.0e5, 0.5, 0.5).unwrap();
+        let a = e.geodetic_deg_to_ecef(75.0, 0.0, 3.0e5);
+        let b = e.geodetic_deg_to_ecef(75.0, 180.0, 3.0e5);
+        let ray = Ray::segment(a, b).unwrap();
+        let (t_in, t_out) = q.ray_interval(&ray).unwrap();
+        // Both visits lie in the hull, and the middle of the chord is outside the band (north of 80°).
+        assert!(q.contains(V3::from(ray.at(0.0))) && q.contains(V3::from(ray.at(1.0))));
+        assert!(!q.contains(V3::from(ray.at(0.5))));
+        assert!(t_in <= 1e-12 && t_out >= 1.0 - 1e-12, "{t_in} {t_out}");
+        // The gap between the two visits is the latitude wall's doing: the middle is above ground, north of 80°.
+        let mid = e.ecef_to_geodetic(V3::from(ray.at(0.5)));
+        assert!(
+            mid.lat.to_degrees() > 80.0 && mid.h > 0.0 && mid.h < 4.0e5,
+            "{mid:?}"
+        );
+    }
 }
