@@ -94,7 +94,9 @@
 mod storage;
 pub mod triangle;
 
-pub use storage::{Grid, Node, NodeId, TerrainStorage};
+pub use storage::{
+    DEFAULT_ZONE_COLS, DEFAULT_ZONE_ROWS, Grid, Node, NodeId, TerrainStorage, zone_cells,
+};
 
 use crate::geodesy::{Ellipsoid, GeodesyError, HeightQuadBounds, sin_cos_deg, upper_spheroid};
 use crate::ray::{Ray, RayError};

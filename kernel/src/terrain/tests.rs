@@ -624,3 +624,23 @@ fn f32_pick_of_a_peak() {
     assert!((hit.t - 7500.0).abs() < 3.0, "{}", hit.t);
     assert!((hit.h - 2500.0).abs() < 3.0, "{}", hit.h);
 }
+
+#[test]
+fn default_zones_of_a_global_grid_are_45_degree_tiles_on_grid_lines() {
+    // A global 1° grid: 181 rows (pole to pole), 361 columns (the last repeats the first).
+    let g = grid(90.0, -180.0, -1.0, 1.0, 181, 361);
+    let mut count = 0;
+    for k in 0..DEFAULT_ZONE_ROWS * DEFAULT_ZONE_COLS {
+        let (rows, cols) = zone_cells(&g, DEFAULT_ZONE_ROWS, DEFAULT_ZONE_COLS, k).unwrap();
+        assert_eq!((rows[1] - rows[0], cols[1] - cols[0]), (45, 45));
+        assert_eq!(g.lat_deg(rows[0]), 90.0 - 45.0 * (k / 8) as f64);
+        assert_eq!(g.lon_deg(cols[0]), -180.0 + 45.0 * (k % 8) as f64);
+        count += 1;
+    }
+    assert_eq!(count, 32);
+    assert_eq!(zone_cells(&g, 4, 8, 32), None);
+    // More zones than cells: empty zones are None.
+    let tiny = grid(0.0, 0.0, 0.1, 0.1, 3, 3);
+    assert_eq!(zone_cells(&tiny, 4, 1, 0), None);
+    assert_eq!(zone_cells(&tiny, 4, 1, 1), Some(([0, 1], [0, 2])));
+}
