@@ -644,3 +644,99 @@ fn default_zones_of_a_global_grid_are_45_degree_tiles_on_grid_lines() {
     assert_eq!(zone_cells(&tiny, 4, 1, 0), None);
     assert_eq!(zone_cells(&tiny, 4, 1, 1), Some(([0, 1], [0, 2])));
 }
+
+#[test]
+#[cfg_attr(miri, ignore)]
+fn global_grid_with_32_zones_agrees_with_brute_force() {
+    // A global 5° grid from pole to pole whose last column repeats the first (longitudes run to +180),
+    // quads of 2 × 2 cells under 8 × 4 zones; rays from orbit, across the antimeridian, over and through the
+    // poles, from below the surface and toward the center.
+    let g = grid(-90.0, -180.0, 5.0, 5.0, 37, 73);
+    let mut r = Lcg(2024);
+    let mut hs: Vec<f64> = (0..37 * 73).map(|_| -3000.0 + 9000.0 * r.next()).collect();
+    for i in 0..37 {
+        hs[i * 73 + 72] = hs[i * 73]; // the repeated column
+    }
+    for j in 0..73 {
+        hs[j] = hs[0]; // one height per pole
+        hs[36 * 73 + j] = hs[36 * 73];
+    }
+    let mut dem = TestDem::new(g, hs, 2, 1, 1);
+    dem.zones.clear();
+    let nodes_before = dem.nodes.len();
+    for k in 0..32 {
+        let (rows, cols) = zone_cells(&g, DEFAULT_ZONE_ROWS, DEFAULT_ZONE_COLS, k).unwrap();
+        let id = dem.build(rows, cols, 2, 0);
+        dem.zones.push(id);
+    }
+    assert!(dem.nodes.len() > nodes_before);
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let e = dem.e;
+    let mut checked = 0;
+    let mut hits = 0;
+    for k in 0..240 {
+        let (origin, dir) = match k % 6 {
+            // From orbit (4e7 m) toward a random surface point.
+            0 => {
+                let o = e.geodetic_deg_to_ecef(
+                    180.0 * r.next() - 90.0,
+                    360.0 * r.next() - 180.0,
+                    4.0e7,
+                );
+                let t =
+                    e.geodetic_deg_to_ecef(180.0 * r.next() - 90.0, 360.0 * r.next() - 180.0, 0.0);
+                (o, t.minus(o))
+            }
+            // Across the antimeridian at low altitude.
+            1 => {
+                let lat = 160.0 * r.next() - 80.0;
+                let o = e.geodetic_deg_to_ecef(lat, 170.0, 20_000.0 + 50_000.0 * r.next());
+                let t = e.geodetic_deg_to_ecef(lat + 4.0 * r.next() - 2.0, -170.0, 0.0);
+                (o, t.minus(o))
+            }
+            // Over the poles.
+            2 => {
+                let s = if r.next() < 0.5 { 1.0 } else { -1.0 };
+                let o = e.geodetic_deg_to_ecef(s * 75.0, 360.0 * r.next() - 180.0, 1.0e5);
+                let t = e.geodetic_deg_to_ecef(
+                    s * (85.0 + 5.0 * r.next()),
+                    360.0 * r.next() - 180.0,
+                    0.0,
+                );
+                (o, t.minus(o))
+            }
+            // Through the pole's vertex, from above.
+            3 => {
+                let s = if r.next() < 0.5 { 1.0 } else { -1.0 };
+                let o = V3::new(
+                    3.0e5 * (r.next() - 0.5),
+                    3.0e5 * (r.next() - 0.5),
+                    s * 6.5e6,
+                );
+                (o, V3::new(0.0, 0.0, -s))
+            }
+            // From 2 km below the surface, upward or sideways.
+            4 => {
+                let (la, lo) = (170.0 * r.next() - 85.0, 360.0 * r.next() - 180.0);
+                let o = e.geodetic_deg_to_ecef(la, lo, -5000.0);
+                (o, V3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5))
+            }
+            // Toward the Earth's center.
+            _ => {
+                let o = e.geodetic_deg_to_ecef(
+                    180.0 * r.next() - 90.0,
+                    360.0 * r.next() - 180.0,
+                    1.0e6,
+                );
+                (o, o.negated())
+            }
+        };
+        let ray = Ray::new(origin, dir).unwrap();
+        let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
+        assert_eq!(got, dem.brute(&ray), "ray {k}");
+        checked += 1;
+        hits += usize::from(got.is_some());
+    }
+    assert_eq!(checked, 240);
+    assert!(hits > 150, "{hits}");
+}
