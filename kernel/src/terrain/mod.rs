@@ -256,7 +256,39 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         })
     }
 
-    /// The nearest hit of `ray` with the terrain for `t_min ≤ t ≤ t_max`, or `None`.
+    /// The nearest hit of `ray` with the terrain for `t_min ≤ t ≤ t_max`, or `None` (seed 000 §3.5, §4; the
+    /// module docs state what is proven).
+    ///
+    /// ```
+    /// # use curvicast::geodesy::Ellipsoid;
+    /// # use curvicast::ray::Ray;
+    /// # use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainStorage};
+    /// /// Flat terrain at 100 m on a 2 × 2-cell grid straddling the antimeridian, one zone that is a leaf.
+    /// struct Flat;
+    /// impl TerrainStorage<f64> for Flat {
+    ///     fn ellipsoid(&self) -> Ellipsoid<f64> { Ellipsoid::wgs84() }
+    ///     fn grid(&self) -> Grid<f64> {
+    ///         Grid { lat0: -17.0, lon0: 179.99, dlat: 0.01, dlon: 0.01, rows: 3, cols: 3 }
+    ///     }
+    ///     fn zone_count(&self) -> usize { 1 }
+    ///     fn zone(&self, k: usize) -> Option<NodeId> { (k == 0).then_some(NodeId(0)) }
+    ///     fn node(&self, _: NodeId) -> Option<Node<f64>> {
+    ///         Some(Node { rows: [0, 2], cols: [0, 2], heights: Some([100.0, 100.0]), children: [None; 4], level: 0 })
+    ///     }
+    ///     fn height(&self, i: u32, j: u32) -> Option<f64> { (i < 3 && j < 3).then_some(100.0) }
+    /// }
+    /// let picker: Picker<'_, f64, Flat> = Picker::new(&Flat)?;
+    /// let e = Ellipsoid::<f64>::wgs84();
+    /// // A vertex of the grid (lat −16.99°, lon 180.00°), seen straight down from 1 km above the terrain.
+    /// let from = e.geodetic_deg_to_ecef(-16.99, 180.0, 1100.0);
+    /// let down = e.normal((-16.99_f64).to_radians(), 180.0_f64.to_radians()).negated();
+    /// let hit = picker.pick(&Ray::new(from, down)?)?.ok_or("no hit")?;
+    /// assert!((hit.t - 1000.0).abs() < 1e-6 && (hit.h - 100.0).abs() < 1e-6);
+    /// assert!((hit.lon.abs() - 180.0).abs() < 1e-9 && hit.cell[1] <= 1);
+    /// // Looking up from there: nothing.
+    /// assert!(picker.pick(&Ray::new(from, down.negated())?)?.is_none());
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     pub fn pick(&self, ray: &Ray<T>) -> Result<Option<Hit<T>>, TerrainError> {
         let mut stats = PickStats::default();
         self.pick_with_stats(ray, &mut stats)
