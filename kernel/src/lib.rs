@@ -51,6 +51,7 @@ extern crate std;
 pub mod ray;
 pub mod real;
 pub mod surface;
+pub mod tessellate;
 pub mod vec3;
 
 pub use ray::{Ray, RayError};
