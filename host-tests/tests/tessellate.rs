@@ -373,6 +373,10 @@ fn cli_obj_loads_as_a_closed_outward_mesh() {
             [3.0, 2.0, 1.0],
         ),
         (vec!["--sphere", "1", "--max-angle-deg", "10"], [1.0; 3]),
+        (
+            vec!["--ellipsoid", "4", "1", "2", "--max-angle-deg", "10"],
+            [4.0, 1.0, 2.0],
+        ),
     ] {
         let obj = dir.join("mesh.obj");
         let mut all = args.clone();
@@ -411,11 +415,19 @@ fn cli_obj_loads_as_a_closed_outward_mesh() {
         let dev = j["max_deviation"].as_f64().unwrap();
         let dih = j["min_dihedral_deg"].as_f64().unwrap();
         assert!(dev > 0.0 && dih > 90.0 && dih < 180.0);
+        // The level is the smallest that meets the bound: the one below, built here, fails it.
+        let shape = if axes[0] == axes[2] {
+            Shape::Sphere(axes[0])
+        } else {
+            Shape::Ellipsoid(axes)
+        };
+        let below = (k > 0).then(|| build(shape, k - 1).unwrap());
         if args.contains(&"--max-deviation") {
             assert!(dev <= 0.01);
-        }
-        if args.contains(&"--max-angle-deg") {
+            assert!(max_deviation(&below.unwrap(), shape) > 0.01);
+        } else if args.contains(&"--max-angle-deg") {
             assert!(dih >= 170.0);
+            assert!(min_dihedral(&below.unwrap()).to_degrees() < 170.0);
         }
     }
     std::fs::remove_dir_all(&dir).ok();
