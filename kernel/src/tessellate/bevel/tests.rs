@@ -256,3 +256,41 @@ fn center_point_formula_derived_again() {
         assert_eq!(same, (psi - core::f64::consts::FRAC_PI_2).abs() < 1e-12);
     }
 }
+
+#[cfg(feature = "fast-math")]
+#[test]
+fn f32_fast_build_is_tangent() {
+    use crate::real::F32Fast;
+    let level = 2;
+    let mut v = vec![V3::<F32Fast>::ZERO; vertex_count(level)];
+    let mut f = vec![Face::<F32Fast>::EMPTY; face_count(level)];
+    let one = F32Fast::from_f64(1.0);
+    bevel_ellipsoid(level, [one, one, one], &mut v, &mut f).unwrap();
+    check_closed_generic(&f, v.len(), level);
+    let mut worst = 0.0_f64;
+    for face in &f {
+        for &i in face.vertex_indices() {
+            let d = v[i as usize].minus(face.center).dot(face.normal).to_f64();
+            worst = worst.max(d.abs() / f64::from(f32::EPSILON));
+        }
+    }
+    assert!(worst <= 8.0, "{worst} eps");
+}
+
+#[cfg(feature = "fast-math")]
+fn check_closed_generic<T: Real>(f: &[Face<T>], nv: usize, level: u32) {
+    let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
+    for face in f {
+        let r = face.vertex_indices();
+        for k in 0..r.len() {
+            *directed.entry((r[k], r[(k + 1) % r.len()])).or_default() += 1;
+        }
+    }
+    assert!(
+        directed
+            .iter()
+            .all(|(&(a, b), &m)| m == 1 && directed.get(&(b, a)) == Some(&1))
+    );
+    assert_eq!(directed.len() / 2, edge_count(level));
+    assert_eq!(nv, vertex_count(level));
+}
