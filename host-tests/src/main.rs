@@ -27,6 +27,13 @@ enum Command {
         #[arg(long, default_value = "out")]
         out: PathBuf,
     },
+    /// Edge-beveled sphere or ellipsoid as OBJ: (--sphere R | --ellipsoid A B C)
+    /// (--level K | --max-angle-deg X | --max-deviation E) --out FILE.obj
+    Tessellate {
+        /// The options above (parsed by the subcommand itself, so that every error is one line).
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        args: Vec<String>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -48,6 +55,9 @@ fn main() -> ExitCode {
                 out_dir: out,
             })
             .map(|_| ())
+        }
+        Command::Tessellate { args } => {
+            curvicast_host::cli::tessellate::run(&args).map_err(anyhow::Error::from)
         }
     };
     match result {

@@ -57,6 +57,7 @@ pub mod ray;
 pub mod real;
 pub mod surface;
 pub mod terrain;
+pub mod tessellate;
 pub mod vec3;
 
 pub use ray::{Ray, RayError};
