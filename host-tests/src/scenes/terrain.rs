@@ -620,7 +620,7 @@ mod tests {
         d.write_terrain_json(&json).unwrap();
         let back = load_terrain(&json).unwrap();
         assert_eq!(back.rows, 4);
-        assert_eq!(back.heights[7].is_nan(), true);
+        assert!(back.heights[7].is_nan());
         assert_eq!(back.heights[8], 100.0);
         std::fs::write(dir.join("t.f32"), [0u8; 12]).unwrap();
         let e = load_terrain(&json).unwrap_err();
