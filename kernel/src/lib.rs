@@ -48,9 +48,11 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod geodesy;
 pub mod ray;
 pub mod real;
 pub mod surface;
+pub mod terrain;
 pub mod vec3;
 
 pub use ray::{Ray, RayError};

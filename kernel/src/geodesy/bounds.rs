@@ -1,0 +1,475 @@
+//! The bounding volume of a spheroidal height-quad (seed 000 §3.1–3.4), made conservative for the
+//! *triangles* of the quad, and the ray–volume test of §3.5.
+//!
+//! A quad covers the DEM cells with latitudes in `[ψ_S, ψ_N]`, longitudes in `[λ_W, λ_E]` and vertex heights in
+//! `[h_min, h_max]`. Its volume is the intersection of
+//!
+//! 1. the **meridian wedge** between the half-planes λ_W and λ_E (§3.3) — used only when `λ_E − λ_W < 180°`,
+//!    where the wedge is convex. A planar triangle whose vertices lie in a convex set lies in it, so this wall is
+//!    exact for triangles;
+//! 2. the **upper spheroid** `B^{h_max}` of eq. 3.1.2-1: semi-axes `(a + h, b + h a/b)` for `h ≥ 0` and
+//!    `(a + h b/a, b + h)` for `−b²/a < h < 0` (it contains the true parallel surface `TB^h`: Appendix A3).
+//!    The region `{height ≤ H}` is a parallel body of a convex body (outer for `H ≥ 0`, inner for `H < 0`),
+//!    hence convex, so a triangle with vertices at height `≤ h_max` never rises above `h_max`: exact for
+//!    triangles. (For `h > b` the axes of eq. 3.1.2-1 would be prolate; the sphere of the larger axis is used.);
+//! 3. the **lower sphere** of radius `b + h_min − s`, with `s` the [`chord_sagitta_bound`]. §3.2 uses the sphere
+//!    through the closest *vertex*, which is not a lower bound of the *triangles*: the height function is convex
+//!    outside the ellipsoid, so a chord dips below its end points. Proof of the bound: the geodetic height `h` is
+//!    the signed distance to the ellipsoid; for `h > −b²/a` its Hessian has eigenvalues `κᵢ/(1 + κᵢ h)` (κᵢ the
+//!    principal curvatures, `κ ≤ a/b²`) and 0, so it is bounded by `L(h) = a/b²` for `h ≥ 0` and
+//!    `1/(b²/a + h)` for `h < 0`. For `p = Σ wₖ vₖ` in a triangle, the L-smoothness inequality at `p` summed with
+//!    the weights gives `h(p) ≥ Σ wₖ h(vₖ) − (L/2) Σ wₖ |vₖ − p|² ≥ h_min − L D²/6`, since the weighted variance
+//!    is at most the squared radius of the smallest enclosing disc, `≤ D²/3` (Jung), D the longest edge. With
+//!    L taken at the lowest point, `s ≤ D²/(6(c − s))`, `c = b²/a + h_min`, whose smaller root
+//!    `s = (D²/3)/(c + sqrt(c² − 2D²/3))` bounds the dip (continuity from the flat triangle). Every point at
+//!    height `≥ H > −b` is at distance `≥ b + H` from the center (`|foot + H n| ≥ ⟨foot|n⟩ + H ≥ b + H`);
+//! 4. the **latitude walls** (§3.4): with the cone function `f(p) = (z − k) cos ψ − r sin ψ`, `r = sqrt(x² + y²)`
+//!    (positive north of the cone of latitude ψ, apex k), the Hessian of f is `−sin ψ · Hess r`, and
+//!    `Hess r` has eigenvalues `1/r` and 0. So f is concave for ψ > 0, convex for ψ < 0: on the *convex side*
+//!    of a wall (the south wall of a northern quad, the north wall of a southern quad, and ψ = 0) triangles stay
+//!    inside exactly; on the other side they bulge across — the **containment problem** of §4, Fig. 10. By the
+//!    same smoothness argument the bulge is at most `σ = |sin ψ| D² / (6 r_min)` in units of f, where `r_min`
+//!    bounds the distance to the axis over the triangle (`(a + min(h_min, 0)) cos ψ* · cos(Δλ/2)`, ψ* the
+//!    largest |latitude| of the quad); see [`latitude_bulge_bound`]. The wall is moved outward by σ: the cone of
+//!    the same opening with its apex shifted by `σ / cos ψ`. When `r_min = 0` (a quad that reaches a pole and
+//!    also has a non-convex wall) that wall is dropped, which is conservative.
+//!
+//! The quad's triangles therefore lie in the volume (up to the floating-point tolerance of the point tests,
+//! which inflate every wall by `64 ε` relative). [`HeightQuadBounds::ray_interval`] returns the hull `[t_in, t_out]`
+//! of the ray's parameters inside the volume: the breakpoints are the crossings of the six boundary surfaces
+//! (computed by the shared [`crate::surface`] solvers) and each piece between breakpoints is classified by a
+//! point test at its midpoint. A volume the ray enters twice (two crossings of a latitude cone or of the lower
+//! sphere) yields one hull covering both visits.
+
+use super::{Ellipsoid, GeodesyError, sin_cos_deg};
+use crate::ray::Ray;
+use crate::real::Real;
+use crate::surface::{AxialCone, HalfPlane, Spheroid, Surface};
+use crate::vec3::V3;
+
+/// Bound on how far a planar triangle with longest edge ≤ `d` and vertex heights ≥ `h_min` dips below `h_min`
+/// (module docs, item 3). Error [`GeodesyError::HeightTooLow`] when the triangle could reach `−b²/a`.
+pub fn chord_sagitta_bound<T: Real>(e: &Ellipsoid<T>, d: T, h_min: T) -> Result<T, GeodesyError> {
+    if !d.is_finite() || !h_min.is_finite() {
+        return Err(GeodesyError::NonFinite);
+    }
+    let (a, b) = (e.a(), e.b());
+    let d2 = d * d;
+    let s0 = (a / (b * b)) * d2 / T::from_f64(6.0);
+    if h_min - s0 >= T::ZERO {
+        return Ok(s0);
+    }
+    let c = b * (b / a) + h_min;
+    let disc = c * c - T::TWO * d2 / T::from_f64(3.0);
+    if !(c > T::ZERO) || !(disc > T::ZERO) {
+        return Err(GeodesyError::HeightTooLow);
+    }
+    let s = (d2 / T::from_f64(3.0)) / (c + disc.sqrt());
+    // Rounding margin (the bound is used as a safety inflation: a slight overestimate is harmless).
+    Ok(s * (T::ONE + T::from_f64(16.0) * T::EPSILON))
+}
+
+/// The upper bounding spheroid `B^h` of eq. 3.1.2-1: semi-axes `(a + h, b + h a/b)` for `h ≥ 0`,
+/// `(a + h b/a, b + h)` for `−b²/a < h < 0`; for `h > b` (where those axes would be prolate) the sphere of the
+/// larger one. Error [`GeodesyError::HeightTooLow`] for `h ≤ −b²/a` (Appendix A2).
+pub fn upper_spheroid<T: Real>(e: &Ellipsoid<T>, h: T) -> Result<Spheroid<T>, GeodesyError> {
+    if !h.is_finite() {
+        return Err(GeodesyError::NonFinite);
+    }
+    if !(h > e.min_height()) {
+        return Err(GeodesyError::HeightTooLow);
+    }
+    let (a, b) = (e.a(), e.b());
+    if h >= T::ZERO {
+        let (ua, ub) = (a + h, b + h * (a / b));
+        if ua >= ub {
+            Ok(Spheroid::new(ua, ub)?)
+        } else {
+            Ok(Spheroid::sphere(ub)?)
+        }
+    } else {
+        Ok(Spheroid::new(a + h * (b / a), b + h)?)
+    }
+}
+
+/// Bound (in units of the cone function f, i.e. meters across the wall) on how far a triangle with longest edge
+/// ≤ `d`, lying at distance ≥ `r_min` from the z axis, bulges across the latitude wall of latitude ψ on its
+/// non-convex side (module docs, item 4). Infinite when `r_min ≤ 0`.
+pub fn latitude_bulge_bound<T: Real>(sin_lat: T, d: T, r_min: T) -> T {
+    if !(r_min > T::ZERO) {
+        return T::INFINITY;
+    }
+    sin_lat.abs() * d * d / (T::from_f64(6.0) * r_min) * (T::ONE + T::from_f64(16.0) * T::EPSILON)
+}
+
+/// One latitude wall: the cone of latitude ψ with its apex shifted outward by the bulge bound.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct LatWall<T> {
+    cone: AxialCone<T>,
+    apex: T,
+    sin: T,
+    cos: T,
+}
+
+impl<T: Real> LatWall<T> {
+    /// `f(p) = (z − k) cos ψ − r sin ψ`, and a magnitude for its rounding tolerance.
+    #[inline]
+    fn f(&self, p: V3<T>) -> (T, T) {
+        let r = super::hypot(p.x, p.y);
+        let dz = p.z - self.apex;
+        (
+            dz * self.cos - r * self.sin,
+            p.z.abs() + self.apex.abs() + r,
+        )
+    }
+}
+
+/// The conservative bounding volume of a spheroidal height-quad (module docs) and its ray test.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeightQuadBounds<T> {
+    /// (cos, sin) of λ_W and λ_E, when the wedge is convex (span < 180°).
+    wedge: Option<[(T, T); 2]>,
+    south: Option<LatWall<T>>,
+    north: Option<LatWall<T>>,
+    upper: Spheroid<T>,
+    /// Radius of the lower sphere (≤ 0: no lower wall).
+    lower_r: T,
+}
+
+impl<T: Real> HeightQuadBounds<T> {
+    /// The volume of the quad with latitudes `[lat_s, lat_n]`, longitudes `[lon_w, lon_e]` (degrees; `lon_w ≤
+    /// lon_e`, any multiple of 360 offset), vertex heights `[h_min, h_max]`, made of cells `cell_dlat × cell_dlon`
+    /// degrees (their sizes bound the triangle edges for the sagitta and bulge bounds).
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        e: &Ellipsoid<T>,
+        lat_s: T,
+        lat_n: T,
+        lon_w: T,
+        lon_e: T,
+        h_min: T,
+        h_max: T,
+        cell_dlat: T,
+        cell_dlon: T,
+    ) -> Result<Self, GeodesyError> {
+        let all = [
+            lat_s, lat_n, lon_w, lon_e, h_min, h_max, cell_dlat, cell_dlon,
+        ];
+        if all.iter().any(|x| !x.is_finite()) {
+            return Err(GeodesyError::NonFinite);
+        }
+        let ninety = T::from_f64(90.0);
+        if !(lat_s >= -ninety && lat_n <= ninety && lat_s <= lat_n) {
+            return Err(GeodesyError::LatitudeOutOfRange);
+        }
+        if !(h_min > e.min_height()) || !(h_max >= h_min) {
+            return Err(GeodesyError::HeightTooLow);
+        }
+        let (a, b) = (e.a(), e.b());
+        let rad = T::PI / T::from_f64(180.0);
+        let dpsi = cell_dlat.abs() * rad;
+        let dlam = cell_dlon.abs() * rad;
+        // Longest triangle edge: |∂P/∂ψ| = M + h, |∂P/∂λ| = (N + h) cos ψ, both ≤ a²/b + max(h, 0); |∂P/∂h| = 1.
+        let d = (a * (a / b) + h_max.max(T::ZERO)) * (dpsi * dpsi + dlam * dlam).sqrt()
+            + (h_max - h_min);
+        let d = d * (T::ONE + T::from_f64(16.0) * T::EPSILON);
+        let s = chord_sagitta_bound(e, d, h_min)?;
+
+        let upper = upper_spheroid(e, h_max)?;
+        let lower_r = b + h_min - s;
+
+        // Distance to the axis over the quad's triangles.
+        let (s_s, c_s) = sin_cos_deg(lat_s);
+        let (s_n, c_n) = sin_cos_deg(lat_n);
+        let cos_star = c_s.min(c_n);
+        let (_, c_half) = sin_cos_deg(cell_dlon.abs() / T::TWO);
+        let r_min = (a + h_min.min(T::ZERO)) * cos_star * c_half;
+
+        let south = if lat_s <= -ninety {
+            None
+        } else {
+            let sigma = if s_s < T::ZERO {
+                latitude_bulge_bound(s_s, d, r_min)
+            } else {
+                T::ZERO
+            };
+            Self::wall(e, s_s, c_s, -sigma)?
+        };
+        let north = if lat_n >= ninety {
+            None
+        } else {
+            let sigma = if s_n > T::ZERO {
+                latitude_bulge_bound(s_n, d, r_min)
+            } else {
+                T::ZERO
+            };
+            Self::wall(e, s_n, c_n, sigma)?
+        };
+
+        let span = lon_e - lon_w;
+        let wedge = if span >= T::ZERO && span < T::from_f64(180.0) {
+            let (sw, cw) = sin_cos_deg(lon_w);
+            let (se, ce) = sin_cos_deg(lon_e);
+            Some([(cw, sw), (ce, se)])
+        } else if span >= T::ZERO {
+            None
+        } else {
+            return Err(GeodesyError::NonFinite);
+        };
+        Ok(HeightQuadBounds {
+            wedge,
+            south,
+            north,
+            upper,
+            lower_r,
+        })
+    }
+
+    /// The wall of latitude ψ with its apex moved by `shift_f / cos ψ` (f increases by `shift_f`... i.e. the
+    /// region `f ≥ 0` grows when `shift_f < 0` for a south wall, and `f ≤ 0` grows for `shift_f > 0`).
+    fn wall(
+        e: &Ellipsoid<T>,
+        sin: T,
+        cos: T,
+        shift_f: T,
+    ) -> Result<Option<LatWall<T>>, GeodesyError> {
+        if !shift_f.is_finite() {
+            return Ok(None); // unbounded bulge: drop the wall (conservative)
+        }
+        let apex = e.latitude_cone_apex(sin) + shift_f / cos;
+        let cone = AxialCone::from_cos_sin(apex, sin, cos)?;
+        Ok(Some(LatWall {
+            cone,
+            apex,
+            sin,
+            cos,
+        }))
+    }
+
+    /// The upper bounding spheroid `B^{h_max}`.
+    pub fn upper(&self) -> &Spheroid<T> {
+        &self.upper
+    }
+
+    /// The radius of the lower sphere (sagitta included); `≤ 0` means no lower wall.
+    pub fn lower_radius(&self) -> T {
+        self.lower_r
+    }
+
+    /// True when the point lies in the volume (every wall inflated by `64 ε` relative).
+    pub fn contains(&self, p: V3<T>) -> bool {
+        let tau = T::from_f64(64.0) * T::EPSILON;
+        if let Some([(c0, s0), (c1, s1)]) = self.wedge {
+            let tol = tau * (p.x.abs() + p.y.abs());
+            if c0 * p.y - s0 * p.x < -tol || c1 * p.y - s1 * p.x > tol {
+                return false;
+            }
+        }
+        if let Some(w) = self.south {
+            let (f, m) = w.f(p);
+            if f < -(tau * m) {
+                return false;
+            }
+        }
+        if let Some(w) = self.north {
+            let (f, m) = w.f(p);
+            if f > tau * m {
+                return false;
+            }
+        }
+        let (ua, ub) = (self.upper.a(), self.upper.b());
+        let q = (p.x / ua).sq() + (p.y / ua).sq() + (p.z / ub).sq();
+        if q > T::ONE + tau {
+            return false;
+        }
+        if self.lower_r > T::ZERO {
+            let r2 = p.length_squared();
+            if r2 < self.lower_r * self.lower_r * (T::ONE - tau) {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// The hull `[t_in, t_out]` of the ray's parameters (within its finite interval) inside the volume, or `None`.
+    /// An infinite ray interval is an error of the caller: clip to the global bound first (it returns `None`).
+    pub fn ray_interval(&self, ray: &Ray<T>) -> Option<(T, T)> {
+        let (t0, t1) = (ray.t_min(), ray.t_max());
+        if !t0.is_finite() || !t1.is_finite() {
+            return None;
+        }
+        let mut bp = [T::ZERO; 14];
+        let mut n = 0usize;
+        let mut push = |t: T| {
+            if let Some(slot) = bp.get_mut(n) {
+                *slot = t;
+                n = n.saturating_add(1);
+            }
+        };
+        push(t0);
+        push(t1);
+        for c in &self.upper.crossings(ray) {
+            push(c.t);
+        }
+        if self.lower_r > T::ZERO {
+            if let Ok(sph) = Spheroid::sphere(self.lower_r) {
+                for c in &sph.crossings(ray) {
+                    push(c.t);
+                }
+            }
+        }
+        for w in [self.south, self.north].into_iter().flatten() {
+            for c in &w.cone.crossings(ray) {
+                push(c.t);
+            }
+        }
+        if let Some(planes) = self.wedge {
+            for (c, s) in planes {
+                if let Ok(hp) = HalfPlane::from_cos_sin(c, s) {
+                    for x in &hp.crossings(ray) {
+                        push(x.t);
+                    }
+                }
+            }
+        }
+        let pts = bp.get_mut(..n).unwrap_or(&mut []);
+        insertion_sort(pts);
+        let mut first: Option<T> = None;
+        let mut last: Option<T> = None;
+        for w in pts.windows(2) {
+            if let [lo, hi] = *w {
+                let mid = lo + (hi - lo) * T::HALF;
+                let p = V3::from(ray.at(mid));
+                if self.contains(p) {
+                    if first.is_none() {
+                        first = Some(lo);
+                    }
+                    last = Some(hi);
+                }
+            }
+        }
+        if n == 2 && t0 == t1 && self.contains(V3::from(ray.at(t0))) {
+            return Some((t0, t1));
+        }
+        match (first, last) {
+            (Some(a), Some(b)) => Some((a, b)),
+            _ => None,
+        }
+    }
+}
+
+/// Sorts a short slice in place (NaNs, which the solvers never return, would stay where they are).
+fn insertion_sort<T: Real>(v: &mut [T]) {
+    let n = v.len();
+    for i in 1..n {
+        let mut j = i;
+        while j > 0 {
+            let jm = j.saturating_sub(1);
+            let (Some(&x), Some(&y)) = (v.get(jm), v.get(j)) else {
+                break;
+            };
+            if y < x {
+                v.swap(jm, j);
+                j = jm;
+            } else {
+                break;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sagitta_of_a_chord_on_the_sphere_is_bounded() {
+        // Sphere of radius R: a chord of length D between two points at height 0 dips by
+        // R − sqrt(R² − D²/4) ≈ D²/(8R); the bound (for triangles, D²/(6R)) must exceed it.
+        let r = 6.4e6_f64;
+        let e = Ellipsoid::new(r, r).unwrap();
+        for &d in &[10.0, 1000.0, 1.0e5] {
+            let true_dip = r - (r * r - d * d / 4.0).sqrt();
+            let s = chord_sagitta_bound(&e, d, 0.0).unwrap();
+            assert!(s >= true_dip, "{d}: {s} < {true_dip}");
+            assert!(s <= 2.0 * true_dip, "{d}: bound too loose");
+        }
+        // Equilateral triangle inscribed in a circle of radius ρ = D/√3: its centroid dips by
+        // R − sqrt(R² − ρ²) ≈ D²/(6R), which the bound matches to first order.
+        let d = 1.0e5;
+        let dip = r - (r * r - d * d / 3.0).sqrt();
+        let s = chord_sagitta_bound(&e, d, 0.0).unwrap();
+        assert!(s >= dip && s <= dip * 1.01, "{s} vs {dip}");
+    }
+
+    #[test]
+    fn sagitta_rejects_depth_near_evolute() {
+        let e = Ellipsoid::<f64>::wgs84();
+        assert_eq!(
+            chord_sagitta_bound(&e, 1.0e6, e.min_height() + 10.0),
+            Err(GeodesyError::HeightTooLow)
+        );
+        assert_eq!(
+            HeightQuadBounds::new(&e, 0.0, 1.0, 0.0, 1.0, -7.0e6, 0.0, 0.1, 0.1),
+            Err(GeodesyError::HeightTooLow)
+        );
+    }
+
+    #[test]
+    fn upper_bound_eq_3_1_2_1_contains_the_true_parallel_surface() {
+        let e = Ellipsoid::<f64>::wgs84();
+        for &h in &[0.0, 8848.0, 1.0e5, -1.0e4, -5.0e6] {
+            let q = HeightQuadBounds::new(&e, -90.0, 90.0, -180.0, 180.0, h, h, 1.0, 1.0).unwrap();
+            for k in 0..=90 {
+                let lat = -90.0 + 2.0 * k as f64;
+                let p = e.geodetic_deg_to_ecef(lat, 10.0, h);
+                assert!(q.contains(p), "h = {h}, lat = {lat}");
+            }
+        }
+    }
+
+    #[test]
+    fn bulging_triangle_at_80_degrees_is_inside_the_inflated_wall() {
+        // A coarse (1°) cell along the north border at 80°: the midpoint of the border edge lies north of the
+        // cone (the containment problem) but inside the inflated wall.
+        let e = Ellipsoid::<f64>::wgs84();
+        let q = HeightQuadBounds::new(&e, 79.0, 80.0, 10.0, 11.0, 0.0, 0.0, 1.0, 1.0).unwrap();
+        let v0 = e.geodetic_deg_to_ecef(80.0, 10.0, 0.0);
+        let v1 = e.geodetic_deg_to_ecef(80.0, 11.0, 0.0);
+        let mid = v0.plus(v1).scaled(0.5);
+        let g = e.ecef_to_geodetic(mid);
+        assert!(
+            g.lat.to_degrees() > 80.0,
+            "the chord bulges north of the wall"
+        );
+        assert!(q.contains(mid));
+        // The uninflated cone excludes it.
+        let (s, c) = sin_cos_deg(80.0);
+        let cone = e.latitude_cone(s, c).unwrap();
+        assert_eq!(cone.side_of(mid), Some(crate::surface::Side::Negative));
+    }
+
+    #[test]
+    fn radial_ray_interval_matches_heights() {
+        let e = Ellipsoid::<f64>::wgs84();
+        let q =
+            HeightQuadBounds::new(&e, 10.0, 11.0, 20.0, 21.0, -100.0, 500.0, 0.01, 0.01).unwrap();
+        let n = e.normal(10.5_f64.to_radians(), 20.5_f64.to_radians());
+        let top = e.geodetic_deg_to_ecef(10.5, 20.5, 10_000.0);
+        let ray = Ray::new(top, n.negated())
+            .unwrap()
+            .with_interval(0.0, 20_000.0)
+            .unwrap();
+        let (t_in, t_out) = q.ray_interval(&ray).unwrap();
+        // Enters B^500 at about 9500 m (B^h is slightly outside TB^h), leaves below −100 m.
+        assert!(t_in > 9490.0 && t_in <= 9500.0 + 1e-6, "{t_in}");
+        assert!(t_out >= 10_100.0, "{t_out}");
+        // A ray passing outside the wedge misses.
+        let far = e.geodetic_deg_to_ecef(10.5, 25.0, 10_000.0);
+        let miss = Ray::new(far, n.negated())
+            .unwrap()
+            .with_interval(0.0, 20_000.0)
+            .unwrap();
+        assert_eq!(q.ray_interval(&miss), None);
+    }
+}

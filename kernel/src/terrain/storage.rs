@@ -1,0 +1,135 @@
+//! The storage trait: the kernel does not own terrain (seed 000 §3, §5). A storage gives the kernel the DEM's
+//! regular latitude/longitude grid, its vertex heights, and a height-augmented quadtree over the grid's cells.
+
+use crate::geodesy::Ellipsoid;
+use crate::real::Real;
+
+/// The regular geodetic grid of a DEM (`pick` in the CLI contract): vertex `V(i, j)` is at latitude
+/// `lat0 + i·dlat`, longitude `lon0 + j·dlon` (degrees), `0 ≤ i < rows`, `0 ≤ j < cols`. Cell `(i, j)`
+/// (`i < rows − 1`, `j < cols − 1`) is the two triangles `(V(i,j), V(i,j+1), V(i+1,j+1))` and
+/// `(V(i,j), V(i+1,j+1), V(i+1,j))`. `dlat` may be negative; `dlon` must be in `(0°, 180°)`; longitudes may run
+/// past ±180°; latitudes stay within [−90°, 90°] (a row at ±90° is a pole).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Grid<T> {
+    /// Latitude of row 0, degrees.
+    pub lat0: T,
+    /// Longitude of column 0, degrees.
+    pub lon0: T,
+    /// Row spacing, degrees (non-zero, either sign).
+    pub dlat: T,
+    /// Column spacing, degrees (`0 < dlon < 180`).
+    pub dlon: T,
+    /// Number of vertex rows (≥ 2).
+    pub rows: u32,
+    /// Number of vertex columns (≥ 2).
+    pub cols: u32,
+}
+
+impl<T: Real> Grid<T> {
+    /// Latitude of vertex row `i`, degrees, clamped to ±90° (a last row computed as `90.000000000001` is the pole).
+    #[inline]
+    pub fn lat_deg(&self, i: u32) -> T {
+        let ninety = T::from_f64(90.0);
+        (self.lat0 + T::from_f64(f64::from(i)) * self.dlat)
+            .max(-ninety)
+            .min(ninety)
+    }
+    /// Longitude of vertex column `j`, degrees (not wrapped).
+    #[inline]
+    pub fn lon_deg(&self, j: u32) -> T {
+        self.lon0 + T::from_f64(f64::from(j)) * self.dlon
+    }
+    /// Number of cell rows (`rows − 1`).
+    #[inline]
+    pub fn cell_rows(&self) -> u32 {
+        self.rows.saturating_sub(1)
+    }
+    /// Number of cell columns (`cols − 1`).
+    #[inline]
+    pub fn cell_cols(&self) -> u32 {
+        self.cols.saturating_sub(1)
+    }
+    /// Checks the grid: finite, `dlat ≠ 0`, `0 < dlon < 180`, at least 2×2 vertices, latitudes within ±90°
+    /// (a rounding excess up to 1e-9° is accepted and clamped).
+    pub fn validate(&self) -> bool {
+        let finite = self.lat0.is_finite()
+            && self.lon0.is_finite()
+            && self.dlat.is_finite()
+            && self.dlon.is_finite();
+        if !finite || self.rows < 2 || self.cols < 2 {
+            return false;
+        }
+        if self.dlat == T::ZERO || !(self.dlon > T::ZERO && self.dlon < T::from_f64(180.0)) {
+            return false;
+        }
+        let lim = T::from_f64(90.0 + 1e-9);
+        let last = self.lat0 + T::from_f64(f64::from(self.rows.saturating_sub(1))) * self.dlat;
+        self.lat0.abs() <= lim && last.abs() <= lim && self.lon_deg(self.cols).is_finite()
+    }
+}
+
+/// The id of a quadtree node, chosen by the storage (an index into its node array, typically).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct NodeId(pub u32);
+
+/// One node of the height-augmented quadtree (a spheroidal height-quad, §3): the cells it covers, in the DEM's
+/// own grid indices, the range of its vertex heights, and its children.
+///
+/// Invariants the kernel checks (violations are [`super::TerrainError::MalformedTree`]): `rows[0] < rows[1] ≤
+/// grid.rows − 1`, `cols[0] < cols[1] ≤ grid.cols − 1`; a child's ranges lie inside its parent's and are
+/// strictly smaller. Invariants the kernel relies on (the storage must guarantee them): `heights` is
+/// `Some([min, max])` over **every** vertex `V(i, j)` with `rows[0] ≤ i ≤ rows[1]`, `cols[0] ≤ j ≤ cols[1]`
+/// that has data (the cells' corner vertices, boundary rows and columns included), `None` if none has; the
+/// children together cover every cell of the node that has a triangle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Node<T> {
+    /// Cell rows `[rows[0], rows[1])`.
+    pub rows: [u32; 2],
+    /// Cell columns `[cols[0], cols[1])`.
+    pub cols: [u32; 2],
+    /// `[min, max]` of the node's vertex heights, `None` when all are nodata.
+    pub heights: Option<[T; 2]>,
+    /// Up to four children (any order); a node without children is a leaf whose cells the kernel traces
+    /// (§4: a block of triangle pairs).
+    pub children: [Option<NodeId>; 4],
+    /// Depth of the node (zones are level 0); reported in [`super::Hit::level`].
+    pub level: u8,
+}
+
+impl<T> Node<T> {
+    /// True when the node has no children.
+    pub fn is_leaf(&self) -> bool {
+        self.children.iter().all(Option::is_none)
+    }
+}
+
+/// Terrain storage for the kernel's traversal (seed 000 §3.5, §4).
+///
+/// The kernel never allocates and never owns terrain: it asks the storage for the grid, for the zones (the roots
+/// of the quadtrees, §3.5; e.g. 8 × 4 = 32 zones bounded by meridians and parallels for a global DEM, or the
+/// DEM's own extent split as the storage likes — zones must not overlap in cells), for nodes, and for vertex
+/// heights. Zones and quads are ranges of the DEM's own cells, so nothing is resampled and the surface the
+/// kernel intersects is exactly the contract's triangles.
+///
+/// Extension (multi-resolution, paging): [`TerrainStorage::is_resident`] says whether a leaf's heights are in
+/// memory. In this single-resolution kernel a non-resident leaf is an error
+/// ([`super::TerrainError::NotResident`]); the multi-resolution issue adds coarser blocks, `min_level` and
+/// ancestor fallback through new provided methods, so implementations of this trait keep compiling.
+pub trait TerrainStorage<T: Real> {
+    /// The reference ellipsoid.
+    fn ellipsoid(&self) -> Ellipsoid<T>;
+    /// The DEM grid.
+    fn grid(&self) -> Grid<T>;
+    /// The number of zones (quadtree roots).
+    fn zone_count(&self) -> usize;
+    /// The root node of zone `k < zone_count()`.
+    fn zone(&self, k: usize) -> Option<NodeId>;
+    /// A node by id.
+    fn node(&self, id: NodeId) -> Option<Node<T>>;
+    /// The height of vertex `V(i, j)`, `None` for nodata (or NaN), or out of range.
+    fn height(&self, i: u32, j: u32) -> Option<T>;
+    /// Whether the heights of this leaf are in memory (always, unless the storage pages).
+    fn is_resident(&self, _id: NodeId) -> bool {
+        true
+    }
+}

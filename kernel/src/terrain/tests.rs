@@ -1,0 +1,522 @@
+//! Terrain kernel tests: closed-form geometry, the traversal against a brute force over every triangle (same
+//! triangle test, so the two must agree exactly), and typed errors. The independent arbitrary-precision oracle
+//! lives in the host crate.
+
+use super::*;
+use std::vec::Vec;
+
+/// An in-memory DEM with a quadtree built by halving cell ranges down to `block` cells, and `zr × zc` zones.
+struct TestDem {
+    e: Ellipsoid<f64>,
+    grid: Grid<f64>,
+    heights: Vec<f64>,
+    nodes: Vec<Node<f64>>,
+    zones: Vec<NodeId>,
+}
+
+impl TestDem {
+    fn new(grid: Grid<f64>, heights: Vec<f64>, block: u32, zr: u32, zc: u32) -> Self {
+        let mut d = TestDem {
+            e: Ellipsoid::wgs84(),
+            grid,
+            heights,
+            nodes: Vec::new(),
+            zones: Vec::new(),
+        };
+        let (cr, cc) = (grid.rows - 1, grid.cols - 1);
+        for a in 0..zr {
+            for b in 0..zc {
+                let rows = [cr * a / zr, cr * (a + 1) / zr];
+                let cols = [cc * b / zc, cc * (b + 1) / zc];
+                if rows[0] < rows[1] && cols[0] < cols[1] {
+                    let id = d.build(rows, cols, block, 0);
+                    d.zones.push(id);
+                }
+            }
+        }
+        d
+    }
+
+    fn h(&self, i: u32, j: u32) -> Option<f64> {
+        let v = *self
+            .heights
+            .get((i * self.grid.cols + j) as usize)
+            .filter(|_| i < self.grid.rows && j < self.grid.cols)?;
+        (!v.is_nan()).then_some(v)
+    }
+
+    fn build(&mut self, rows: [u32; 2], cols: [u32; 2], block: u32, level: u8) -> NodeId {
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        for i in rows[0]..=rows[1] {
+            for j in cols[0]..=cols[1] {
+                if let Some(h) = self.h(i, j) {
+                    lo = lo.min(h);
+                    hi = hi.max(h);
+                }
+            }
+        }
+        let heights = (lo <= hi).then_some([lo, hi]);
+        let id = NodeId(self.nodes.len() as u32);
+        self.nodes.push(Node {
+            rows,
+            cols,
+            heights,
+            children: [None; 4],
+            level,
+        });
+        let (nr, nc) = (rows[1] - rows[0], cols[1] - cols[0]);
+        if nr > block || nc > block {
+            let rm = rows[0] + nr.div_ceil(2);
+            let cm = cols[0] + nc.div_ceil(2);
+            let mut kids = [None; 4];
+            let mut k = 0;
+            for r in [[rows[0], rm], [rm, rows[1]]] {
+                for c in [[cols[0], cm], [cm, cols[1]]] {
+                    if r[0] < r[1] && c[0] < c[1] {
+                        kids[k] = Some(self.build(r, c, block, level + 1));
+                        k += 1;
+                    }
+                }
+            }
+            self.nodes[id.0 as usize].children = kids;
+        }
+        id
+    }
+
+    fn vertex(&self, i: u32, j: u32) -> Option<V3<f64>> {
+        let h = self.h(i, j)?;
+        let (sl, cl) = sin_cos_deg(self.grid.lat_deg(i));
+        let (so, co) = sin_cos_deg(self.grid.lon_deg(j));
+        Some(self.e.ecef_from_sin_cos(sl, cl, so, co, h))
+    }
+
+    /// Brute force over every triangle with the same watertight test: the nearest `t` and its cell.
+    fn brute(&self, ray: &Ray<f64>) -> Option<(f64, [u32; 2])> {
+        let w = WatertightRay::new(ray.origin(), ray.dir()).unwrap();
+        let mut best: Option<(f64, [u32; 2])> = None;
+        for i in 0..self.grid.rows - 1 {
+            for j in 0..self.grid.cols - 1 {
+                let v = [
+                    self.vertex(i, j),
+                    self.vertex(i, j + 1),
+                    self.vertex(i + 1, j + 1),
+                    self.vertex(i + 1, j),
+                ];
+                for tri in [[v[0], v[1], v[2]], [v[0], v[2], v[3]]] {
+                    let [Some(a), Some(b), Some(c)] = tri else {
+                        continue;
+                    };
+                    let hi = best.map_or(ray.t_max(), |x| x.0);
+                    if let Some((t, _)) = w.intersect(a, b, c, ray.t_min(), hi) {
+                        if best.is_none_or(|x| t < x.0) {
+                            best = Some((t, [i, j]));
+                        }
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
+impl TerrainStorage<f64> for TestDem {
+    fn ellipsoid(&self) -> Ellipsoid<f64> {
+        self.e
+    }
+    fn grid(&self) -> Grid<f64> {
+        self.grid
+    }
+    fn zone_count(&self) -> usize {
+        self.zones.len()
+    }
+    fn zone(&self, k: usize) -> Option<NodeId> {
+        self.zones.get(k).copied()
+    }
+    fn node(&self, id: NodeId) -> Option<Node<f64>> {
+        self.nodes.get(id.0 as usize).copied()
+    }
+    fn height(&self, i: u32, j: u32) -> Option<f64> {
+        self.h(i, j)
+    }
+}
+
+fn grid(lat0: f64, lon0: f64, dlat: f64, dlon: f64, rows: u32, cols: u32) -> Grid<f64> {
+    Grid {
+        lat0,
+        lon0,
+        dlat,
+        dlon,
+        rows,
+        cols,
+    }
+}
+
+/// A small deterministic generator (no external crates in the kernel's tests).
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+fn radial_ray(e: &Ellipsoid<f64>, lat: f64, lon: f64, h0: f64) -> Ray<f64> {
+    let top = e.geodetic_deg_to_ecef(lat, lon, h0);
+    let n = e.normal(lat.to_radians(), lon.to_radians());
+    Ray::new(top, n.negated()).unwrap()
+}
+
+#[test]
+fn flat_terrain_at_h0_hit_by_radial_rays_at_vertices() {
+    let g = grid(45.0, 7.0, 0.01, 0.01, 9, 9);
+    let dem = TestDem::new(g, std::vec![0.0; 81], 2, 1, 1);
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    for i in 0..9 {
+        for j in 0..9 {
+            let (lat, lon) = (g.lat_deg(i), g.lon_deg(j));
+            let hit = p.pick(&radial_ray(&dem.e, lat, lon, 1000.0)).unwrap();
+            let brute = dem.brute(&radial_ray(&dem.e, lat, lon, 1000.0));
+            assert_eq!(hit.map(|h| (h.t, h.cell)), brute, "{i},{j}");
+            // On the DEM's outer boundary a ray through a vertex may pass just outside it (rounding).
+            let Some(hit) = hit else {
+                assert!(i == 0 || j == 0 || i == 8 || j == 8, "{i},{j} missed");
+                continue;
+            };
+            // A vertex at h = 0 lies 1000 m down the normal.
+            assert!((hit.t - 1000.0).abs() < 1e-6, "{i},{j}: {}", hit.t);
+            assert!(
+                hit.h.abs() < 1e-6 && (hit.lat - lat).abs() < 1e-9 && (hit.lon - lon).abs() < 1e-9
+            );
+        }
+    }
+    // Cell centres: the chord plane dips below the ellipsoid by less than the sagitta (≈ D²/(8R) ≈ 0.02 m).
+    let hit = p
+        .pick(&radial_ray(&dem.e, 45.035, 7.045, 1000.0))
+        .unwrap()
+        .unwrap();
+    assert!(hit.h < 0.0 && hit.h > -0.05, "{}", hit.h);
+    assert_eq!(hit.cell, [3, 4]);
+}
+
+#[test]
+fn single_raised_vertex_peak_and_its_slopes() {
+    let g = grid(-33.0, 151.0, -0.001, 0.001, 5, 5);
+    let mut hs = std::vec![0.0; 25];
+    hs[2 * 5 + 2] = 300.0;
+    let dem = TestDem::new(g, hs, 1, 1, 1);
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let (lat, lon) = (g.lat_deg(2), g.lon_deg(2));
+    let hit = p
+        .pick(&radial_ray(&dem.e, lat, lon, 2000.0))
+        .unwrap()
+        .unwrap();
+    assert!((hit.t - 1700.0).abs() < 1e-6 && (hit.h - 300.0).abs() < 1e-6);
+    // Halfway to a neighbouring vertex along a grid line (an edge of the triangulation), the edge is straight:
+    // the hit height is close to 150 m (the chord of the peak's edge, less the tiny curvature term).
+    let hit = p
+        .pick(&radial_ray(&dem.e, lat, lon + 0.0005, 2000.0))
+        .unwrap()
+        .unwrap();
+    assert!((hit.h - 150.0).abs() < 0.5, "{}", hit.h);
+    let b = dem
+        .brute(&radial_ray(&dem.e, lat, lon + 0.0005, 2000.0))
+        .unwrap();
+    assert_eq!(hit.t, b.0);
+}
+
+#[test]
+fn ray_through_the_pole_row() {
+    // A polar cap 80°..90° with 10° × 30° cells: the last row is the pole, where all vertices coincide.
+    let g = grid(80.0, -180.0, 5.0, 30.0, 3, 13);
+    let mut r = Lcg(7);
+    let hs: Vec<f64> = (0..39)
+        .map(|k| {
+            if k >= 26 {
+                250.0
+            } else {
+                100.0 + 900.0 * r.next()
+            }
+        })
+        .collect();
+    let dem = TestDem::new(g, hs, 2, 1, 2);
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    // Straight down the z axis onto the pole vertex.
+    let e = dem.e;
+    let ray = Ray::new([0.0, 0.0, e.b() + 10_000.0], [0.0, 0.0, -1.0]).unwrap();
+    let hit = p.pick(&ray).unwrap().unwrap();
+    assert!((hit.t - (10_000.0 - 250.0)).abs() < 1e-6, "{}", hit.t);
+    assert!((hit.lat - 90.0).abs() < 1e-9);
+    // Rays across the pole, horizontally and obliquely, agree with the brute force.
+    for k in 0..40 {
+        let az = k as f64 * 0.157;
+        let o = [
+            -700_000.0 * az.cos(),
+            -700_000.0 * az.sin(),
+            e.b() - 20_000.0 + 1000.0 * k as f64,
+        ];
+        let d = [az.cos(), az.sin(), -0.02 + 0.001 * k as f64];
+        let ray = Ray::new(o, d).unwrap();
+        let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
+        assert_eq!(got, dem.brute(&ray), "azimuth {az}");
+    }
+}
+
+#[test]
+fn steep_ray_across_a_latitude_border_at_80_degrees_finds_the_bulging_triangle() {
+    // 1° cells, one cell per leaf: the quad border at 80° is a cone, the triangles below it are chords that
+    // bulge north of it (the containment problem). A steep ray from the north aims at the bulge.
+    let g = grid(78.0, 10.0, 1.0, 1.0, 5, 4);
+    let dem = TestDem::new(g, std::vec![0.0; 20], 1, 1, 1);
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let e = dem.e;
+    // The midpoint of the border edge V(2,1)–V(2,2) (lat 80°, lon 11°..12°) and a point just south of it on the
+    // southern cell's triangle.
+    let a = dem.vertex(2, 1).unwrap();
+    let b = dem.vertex(2, 2).unwrap();
+    let c = dem.vertex(1, 2).unwrap();
+    let target = a
+        .scaled(0.49995)
+        .plus(b.scaled(0.49995))
+        .plus(c.scaled(0.0001));
+    let geo = e.ecef_to_geodetic(target);
+    assert!(
+        geo.lat.to_degrees() > 80.0,
+        "the target is north of the 80° cone"
+    );
+    // A steep ray coming from the north-east, above the northern cells.
+    let dir = V3::new(-0.3, 0.05, -1.0);
+    let origin = target.add_scaled(-20_000.0, dir);
+    let ray = Ray::new(origin, dir).unwrap();
+    let hit = p.pick(&ray).unwrap().unwrap();
+    let brute = dem.brute(&ray).unwrap();
+    assert_eq!((hit.t, hit.cell), brute);
+    assert_eq!(
+        hit.cell[0], 1,
+        "the triangle belongs to the southern row of cells"
+    );
+    assert!((hit.t - 20_000.0).abs() < 1e-6);
+}
+
+#[test]
+fn nodata_vertex_removes_its_triangles() {
+    let g = grid(0.0, 0.0, 0.01, 0.01, 3, 3);
+    let mut hs = std::vec![0.0; 9];
+    hs[4] = f64::NAN;
+    let dem = TestDem::new(g, hs, 2, 1, 1);
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    // Every triangle touches the centre vertex: nothing to hit.
+    assert_eq!(
+        p.pick(&radial_ray(&dem.e, 0.005, 0.005, 100.0)).unwrap(),
+        None
+    );
+}
+
+#[test]
+fn line_of_sight_over_and_through_a_ridge() {
+    let g = grid(10.0, 10.0, 0.001, 0.001, 3, 5);
+    let hs = std::vec![
+        0.0, 0.0, 800.0, 0.0, 0.0, 0.0, 0.0, 800.0, 0.0, 0.0, 0.0, 0.0, 800.0, 0.0, 0.0
+    ];
+    let dem = TestDem::new(g, hs, 1, 1, 2);
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let e = dem.e;
+    let west = e.geodetic_deg_to_ecef(10.001, 10.0, 100.0);
+    let east = e.geodetic_deg_to_ecef(10.001, 10.004, 100.0);
+    assert!(!p.line_of_sight(west, east).unwrap());
+    let w_hi = e.geodetic_deg_to_ecef(10.001, 10.0, 1000.0);
+    let e_hi = e.geodetic_deg_to_ecef(10.001, 10.004, 1000.0);
+    assert!(p.line_of_sight(w_hi, e_hi).unwrap());
+}
+
+#[test]
+fn pick_statistics_count_the_work() {
+    let g = grid(0.0, 0.0, 0.01, 0.01, 9, 9);
+    let dem = TestDem::new(g, std::vec![0.0; 81], 2, 1, 1);
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let mut st = PickStats::default();
+    let hit = p
+        .pick_with_stats(&radial_ray(&dem.e, 0.035, 0.045, 100.0), &mut st)
+        .unwrap();
+    assert!(hit.is_some());
+    assert!(st.quads_visited >= 3, "{st:?}");
+    assert!(
+        st.triangle_pairs_visited >= 1 && st.triangle_pairs_visited <= 4,
+        "{st:?}"
+    );
+    assert!(
+        st.triangles_tested >= 1 && st.triangles_tested <= 8,
+        "{st:?}"
+    );
+}
+
+#[test]
+fn typed_errors() {
+    let bad = TestDem::new(grid(0.0, 0.0, 0.0, 0.01, 3, 3), std::vec![0.0; 9], 2, 1, 1);
+    assert_eq!(
+        Picker::<'_, f64, TestDem>::new(&bad).err(),
+        Some(TerrainError::InvalidGrid)
+    );
+    let deep = TestDem::new(
+        grid(0.0, 0.0, 0.01, 0.01, 3, 3),
+        std::vec![-7.0e6; 9],
+        2,
+        1,
+        1,
+    );
+    assert_eq!(
+        Picker::<'_, f64, TestDem>::new(&deep).err(),
+        Some(TerrainError::Geodesy(GeodesyError::HeightTooLow))
+    );
+    let mut malformed = TestDem::new(
+        grid(0.0, 0.0, 0.01, 0.01, 9, 9),
+        std::vec![0.0; 81],
+        1,
+        1,
+        1,
+    );
+    malformed.nodes[1].rows = [0, 8]; // a child as large as its parent
+    malformed.nodes[1].cols = [0, 8];
+    let p: Picker<'_, f64, TestDem> = Picker::new(&malformed).unwrap();
+    assert_eq!(
+        p.pick(&radial_ray(&malformed.e, 0.03, 0.03, 100.0)),
+        Err(TerrainError::MalformedTree)
+    );
+    let ok = TestDem::new(
+        grid(0.0, 0.0, 0.01, 0.01, 17, 17),
+        std::vec![0.0; 289],
+        1,
+        1,
+        1,
+    );
+    let tiny: Picker<'_, f64, TestDem, 2> = Picker::new(&ok).unwrap();
+    assert_eq!(
+        tiny.pick(&radial_ray(&ok.e, 0.03, 0.03, 100.0)),
+        Err(TerrainError::StackFull)
+    );
+    let zones = TestDem::new(
+        grid(0.0, 0.0, 0.01, 0.01, 9, 9),
+        std::vec![0.0; 81],
+        2,
+        4,
+        4,
+    );
+    assert_eq!(
+        Picker::<'_, f64, TestDem, 64, 8>::new(&zones).err(),
+        Some(TerrainError::TooManyZones)
+    );
+}
+
+#[test]
+fn ray_missing_everything_and_ray_starting_below_ground() {
+    let g = grid(0.0, 0.0, 0.01, 0.01, 5, 5);
+    let dem = TestDem::new(g, std::vec![100.0; 25], 2, 1, 1);
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let e = dem.e;
+    let up = radial_ray(&e, 0.02, 0.02, 1000.0);
+    let away = Ray::new(up.origin(), up.dir().negated()).unwrap();
+    assert_eq!(p.pick(&away).unwrap(), None);
+    // From 10 m below the surface, straight up: hits the terrain from underneath at t = 10.
+    let below = e.geodetic_deg_to_ecef(0.02, 0.02, 90.0);
+    let n = e.normal(0.02_f64.to_radians(), 0.02_f64.to_radians());
+    let hit = p.pick(&Ray::new(below, n).unwrap()).unwrap().unwrap();
+    assert!((hit.t - 10.0).abs() < 1e-6);
+}
+
+#[test]
+#[cfg_attr(miri, ignore)]
+fn random_rays_agree_with_brute_force_on_rough_terrain() {
+    let mut r = Lcg(42);
+    for (lat0, dlat, lon0) in [(-30.0, 0.5, 170.0), (60.0, 1.0, -20.0), (-88.0, 1.0, 0.0)] {
+        let g = grid(lat0, lon0, dlat, 0.5, 12, 14);
+        let hs: Vec<f64> = (0..12 * 14)
+            .map(|_| {
+                let u = r.next();
+                if u < 0.03 {
+                    f64::NAN
+                } else {
+                    -400.0 + 9000.0 * u * u
+                }
+            })
+            .collect();
+        let dem = TestDem::new(g, hs, 2, 2, 2);
+        let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+        let e = dem.e;
+        for k in 0..300 {
+            let lat = lat0 + dlat * 11.0 * r.next();
+            let lon = lon0 + 0.5 * 13.0 * r.next();
+            let target = e.geodetic_deg_to_ecef(lat, lon, 3000.0 * r.next());
+            let dir = V3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5);
+            let dist = 100.0 + 3.0e5 * r.next() * r.next();
+            let ray = Ray::new(target.add_scaled(-dist, dir), dir).unwrap();
+            let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
+            assert_eq!(got, dem.brute(&ray), "grid at {lat0}, ray {k}");
+        }
+    }
+}
+
+#[test]
+#[cfg_attr(miri, ignore)]
+fn steep_rays_aimed_at_latitude_borders_from_60_to_89_degrees() {
+    // Coarse 1° × 2° cells, one cell per leaf, so every row border is a quad border with a cone wall; rays aimed
+    // at points just beside the border edges' midpoints (where the chords bulge across the cone), steeply.
+    let mut r = Lcg(99);
+    for (lat0, dlat) in [
+        (60.0, 1.0),
+        (80.0, 1.0),
+        (89.0, -1.0),
+        (-61.0, -1.0),
+        (-85.0, 1.0),
+    ] {
+        let g = grid(lat0, 30.0, dlat, 2.0, 6, 6);
+        let rows = g.rows;
+        let hs: Vec<f64> = (0..36).map(|_| 2000.0 * r.next()).collect();
+        let dem = TestDem::new(g, hs, 1, 1, 1);
+        let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+        for k in 0..200 {
+            let i = 1 + (k % (rows - 2));
+            let j = (k / 3) % 5;
+            let (Some(a), Some(b)) = (dem.vertex(i, j), dem.vertex(i, j + 1)) else {
+                continue;
+            };
+            let w = 0.3 + 0.4 * r.next();
+            let target = a.scaled(w).plus(b.scaled(1.0 - w));
+            let dir = V3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5);
+            let ray = Ray::new(target.add_scaled(-30_000.0 - 1e5 * r.next(), dir), dir).unwrap();
+            let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
+            assert_eq!(got, dem.brute(&ray), "lat0 {lat0}, ray {k}");
+        }
+    }
+}
+
+#[test]
+fn ray_from_below_hits_the_chord_dip_of_a_polar_triangle_below_its_lowest_vertex() {
+    // Flat h = 0 polar cap of 5° × 30° cells: the pole triangles are chords ~500 km long whose centroids dip
+    // kilometres below the sphere through the lowest vertex (radius b): §3.2's lower bound would cull them.
+    let g = grid(80.0, 0.0, 5.0, 30.0, 3, 13);
+    let dem = TestDem::new(g, std::vec![0.0; 39], 1, 1, 1);
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let (a, b, c) = (
+        dem.vertex(1, 3).unwrap(),
+        dem.vertex(1, 4).unwrap(),
+        dem.vertex(2, 4).unwrap(),
+    );
+    let centroid = a.plus(b).plus(c).scaled(1.0 / 3.0);
+    assert!(
+        centroid.length() < dem.e.b() - 1000.0,
+        "the chord dips below radius b"
+    );
+    let up = centroid.scaled(1.0 / centroid.length());
+    // A segment that stays inside the sphere of radius b: only the sagitta-lowered bound lets it in.
+    let ray = Ray::new(centroid.add_scaled(-10_000.0, up), up)
+        .unwrap()
+        .with_interval(0.0, 10_500.0)
+        .unwrap();
+    assert!(V3::from(ray.at(10_500.0)).length() < dem.e.b());
+    let hit = p.pick(&ray).unwrap().unwrap();
+    assert!((hit.t - 10_000.0).abs() < 1e-6, "{}", hit.t);
+    assert_eq!(hit.cell, [1, 3]);
+}

@@ -1,0 +1,176 @@
+//! Watertight ray–triangle intersection (Woop, Benthin, Wald, *Watertight Ray/Triangle Intersection*, JCGT 2013),
+//! derived again here.
+//!
+//! The ray is made the +z axis of a sheared frame: with `k_z` the axis of the largest `|d|` component (and
+//! `k_x, k_y` the next two, swapped when `d[k_z] < 0` to keep the frame right-handed), the shear `S = (d_x/d_z,
+//! d_y/d_z, 1/d_z)` maps `d` to `(0, 0, 1)`. In that frame the ray pierces the triangle iff the origin lies inside
+//! its 2-D projection, which is decided by the three edge functions `U, V, W` (twice the signed areas of the
+//! sub-triangles). Each edge function depends only on the two vertices of its edge and on the ray, computed with
+//! the same operations in the same order whichever triangle the edge belongs to, so two triangles that share an
+//! edge see the same value with opposite orientation: a ray can never slip between them (no crack), and a ray
+//! through a shared vertex or edge hits at least one of them. When an edge function is exactly 0, it is
+//! recomputed in `f64` (for `f32` scalars) so that its sign is decided reliably. Both orientations of the
+//! triangle are hit (no back-face culling): a ray from below the terrain hits it from underneath.
+//!
+//! The hit distance is `t = (U z_A + V z_B + W z_C) / (U + V + W)` with `z` the sheared heights, the barycentric
+//! coordinates are `(U, V, W) / det`.
+
+use crate::real::Real;
+use crate::vec3::V3;
+
+#[inline]
+fn comp<T: Copy>(v: V3<T>, k: usize) -> T {
+    match k {
+        0 => v.x,
+        1 => v.y,
+        _ => v.z,
+    }
+}
+
+/// The precomputed shear of a ray (per ray, reused for every triangle).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WatertightRay<T> {
+    origin: V3<T>,
+    kx: usize,
+    ky: usize,
+    kz: usize,
+    sx: T,
+    sy: T,
+    sz: T,
+}
+
+impl<T: Real> WatertightRay<T> {
+    /// The shear of the ray `origin + t dir`; `None` for a zero or non-finite direction.
+    pub fn new(origin: V3<T>, dir: V3<T>) -> Option<Self> {
+        let (ax, ay, az) = (dir.x.abs(), dir.y.abs(), dir.z.abs());
+        let kz: usize = if ax >= ay && ax >= az {
+            0
+        } else if ay >= az {
+            1
+        } else {
+            2
+        };
+        let mut kx: usize = if kz == 2 { 0 } else { kz.saturating_add(1) };
+        let mut ky: usize = if kx == 2 { 0 } else { kx.saturating_add(1) };
+        let dz = comp(dir, kz);
+        if !(dz.abs() > T::ZERO) || !dir.is_finite() {
+            return None;
+        }
+        if dz < T::ZERO {
+            core::mem::swap(&mut kx, &mut ky);
+        }
+        Some(WatertightRay {
+            origin,
+            kx,
+            ky,
+            kz,
+            sx: comp(dir, kx) / dz,
+            sy: comp(dir, ky) / dz,
+            sz: T::ONE / dz,
+        })
+    }
+
+    /// The intersection of the ray with triangle `(v0, v1, v2)` for `t_lo ≤ t ≤ t_hi`: `(t, [b0, b1, b2])`.
+    pub fn intersect(
+        &self,
+        v0: V3<T>,
+        v1: V3<T>,
+        v2: V3<T>,
+        t_lo: T,
+        t_hi: T,
+    ) -> Option<(T, [T; 3])> {
+        let a = v0.minus(self.origin);
+        let b = v1.minus(self.origin);
+        let c = v2.minus(self.origin);
+        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
+        let (sx, sy) = (self.sx, self.sy);
+        let ax = comp(a, kx) - sx * comp(a, kz);
+        let ay = comp(a, ky) - sy * comp(a, kz);
+        let bx = comp(b, kx) - sx * comp(b, kz);
+        let by = comp(b, ky) - sy * comp(b, kz);
+        let cx = comp(c, kx) - sx * comp(c, kz);
+        let cy = comp(c, ky) - sy * comp(c, kz);
+        let mut u = cx * by - cy * bx;
+        let mut v = ax * cy - ay * cx;
+        let mut w = bx * ay - by * ax;
+        if (u == T::ZERO || v == T::ZERO || w == T::ZERO) && T::MANTISSA_DIGITS < 53 {
+            let f = |x: T| x.to_f64();
+            u = T::from_f64(f(cx) * f(by) - f(cy) * f(bx));
+            v = T::from_f64(f(ax) * f(cy) - f(ay) * f(cx));
+            w = T::from_f64(f(bx) * f(ay) - f(by) * f(ax));
+        }
+        let neg = u < T::ZERO || v < T::ZERO || w < T::ZERO;
+        let pos = u > T::ZERO || v > T::ZERO || w > T::ZERO;
+        if neg && pos {
+            return None;
+        }
+        let det = u + v + w;
+        if det == T::ZERO || det.is_nan() {
+            return None;
+        }
+        let sz = self.sz;
+        let az = sz * comp(a, kz);
+        let bz = sz * comp(b, kz);
+        let cz = sz * comp(c, kz);
+        let t = (u * az + v * bz + w * cz) / det;
+        if !(t >= t_lo && t <= t_hi) {
+            return None;
+        }
+        Some((t, [u / det, v / det, w / det]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hits_a_unit_triangle_from_both_sides() {
+        let (v0, v1, v2) = (
+            V3::new(0.0, 0.0, 0.0),
+            V3::new(1.0, 0.0, 0.0),
+            V3::new(0.0, 1.0, 0.0),
+        );
+        let down = WatertightRay::new(V3::new(0.25, 0.25, 2.0), V3::new(0.0, 0.0, -1.0)).unwrap();
+        let (t, b) = down.intersect(v0, v1, v2, 0.0, 10.0).unwrap();
+        assert_eq!(t, 2.0);
+        assert!((b[0] - 0.5).abs() < 1e-15 && (b[1] - 0.25).abs() < 1e-15);
+        let up = WatertightRay::new(V3::new(0.25, 0.25, -2.0), V3::new(0.0, 0.0, 1.0)).unwrap();
+        assert_eq!(up.intersect(v0, v1, v2, 0.0, 10.0).unwrap().0, 2.0);
+        let miss = WatertightRay::new(V3::new(0.75, 0.75, 2.0), V3::new(0.0, 0.0, -1.0)).unwrap();
+        assert!(miss.intersect(v0, v1, v2, 0.0, 10.0).is_none());
+        // Out of the interval.
+        assert!(down.intersect(v0, v1, v2, 0.0, 1.5).is_none());
+    }
+
+    #[test]
+    fn ray_through_shared_edge_hits_at_least_one_triangle() {
+        // Quad split along its diagonal; rays exactly through the diagonal never slip through.
+        let p = [
+            V3::new(0.0, 0.0, 0.3),
+            V3::new(1.0, 0.0, 0.1),
+            V3::new(1.0, 1.0, 0.7),
+            V3::new(0.0, 1.0, 0.2),
+        ];
+        for k in 0..=20 {
+            let s = k as f64 / 20.0 * 0.999 + 0.0005;
+            // The point (s, s) of the diagonal, approached vertically and obliquely.
+            let z = 0.3 + (0.7 - 0.3) * s;
+            for dir in [V3::new(0.0, 0.0, -1.0), V3::new(0.013, -0.007, -1.0)] {
+                let o = V3::new(s, s, z).add_scaled(-5.0, dir);
+                let r = WatertightRay::new(o, dir).unwrap();
+                let h1 = r.intersect(p[0], p[1], p[2], 0.0, 10.0);
+                let h2 = r.intersect(p[0], p[2], p[3], 0.0, 10.0);
+                assert!(h1.is_some() || h2.is_some(), "slipped through at s = {s}");
+            }
+        }
+    }
+
+    #[test]
+    fn degenerate_triangle_and_zero_direction() {
+        let v = V3::new(1.0, 1.0, 1.0);
+        let r = WatertightRay::new(V3::new(1.0, 1.0, 5.0), V3::new(0.0, 0.0, -1.0)).unwrap();
+        assert!(r.intersect(v, v, v, 0.0, 10.0).is_none());
+        assert!(WatertightRay::new(V3::new(0.0, 0.0, 0.0), V3::new(0.0, 0.0, 0.0)).is_none());
+    }
+}
