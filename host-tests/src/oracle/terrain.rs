@@ -69,9 +69,9 @@ impl Aabb {
         hi: [f64::NEG_INFINITY; 3],
     };
     fn add(&mut self, p: &[f64; 3]) {
-        for k in 0..3 {
-            self.lo[k] = self.lo[k].min(p[k]);
-            self.hi[k] = self.hi[k].max(p[k]);
+        for (k, &x) in p.iter().enumerate() {
+            self.lo[k] = self.lo[k].min(x);
+            self.hi[k] = self.hi[k].max(x);
         }
     }
     fn merge(&mut self, o: &Aabb) {
@@ -132,6 +132,19 @@ fn bf(x: f64) -> BigFloat {
     BigFloat::from_f64(x, P)
 }
 
+/// Sine and cosine of an angle in degrees at 256 bits, exact at multiples of 90° (so that a pole row lies exactly
+/// on the axis and the meridians at ±180° coincide).
+fn sincos_deg_exact(deg: &BigFloat, cc: &mut Consts) -> (BigFloat, BigFloat) {
+    let q = deg.div(&bf(90.0), P, RM);
+    if q.is_int() {
+        let k = to_f64(&q).rem_euclid(4.0) as i64;
+        let (s, c) = [(0.0, 1.0), (1.0, 0.0), (0.0, -1.0), (-1.0, 0.0)][k as usize];
+        return (bf(s), bf(c));
+    }
+    let r = deg_to_rad(deg, cc);
+    (r.sin(P, RM, cc), r.cos(P, RM, cc))
+}
+
 fn deg_to_rad(deg: &BigFloat, cc: &mut Consts) -> BigFloat {
     let pi = cc.pi(P, RM);
     deg.mul(&pi, P, RM).div(&bf(180.0), P, RM)
@@ -148,13 +161,8 @@ impl Exact {
         let rows = (0..dem.rows)
             .map(|i| {
                 let lat = bf(dem.lat0).add(&bf(i as f64).mul(&bf(dem.dlat), P, RM), P, RM);
-                let r = deg_to_rad(&lat, &mut cc);
-                // A row exactly at ±90° is a pole: all its vertices coincide on the axis (contract).
-                let (s, c) = if lat.abs_cmp(&bf(90.0)) == Some(0) {
-                    (bf(if lat.is_negative() { -1.0 } else { 1.0 }), bf(0.0))
-                } else {
-                    (r.sin(P, RM, &mut cc), r.cos(P, RM, &mut cc))
-                };
+                // A row exactly at ±90° is a pole: all its vertices lie exactly on the axis (contract).
+                let (s, c) = sincos_deg_exact(&lat, &mut cc);
                 let den = a2
                     .mul(&c.mul(&c, P, RM), P, RM)
                     .add(&b2.mul(&s.mul(&s, P, RM), P, RM), P, RM)
@@ -168,11 +176,17 @@ impl Exact {
                 ]
             })
             .collect();
+        // A grid spanning 360° (to 1e-9°) closes: its last column is the first one plus exactly 360°.
+        let closes = ((dem.cols - 1) as f64 * dem.dlon - 360.0).abs() < 1e-9;
         let cols = (0..dem.cols)
             .map(|j| {
-                let lon = bf(dem.lon0).add(&bf(j as f64).mul(&bf(dem.dlon), P, RM), P, RM);
-                let r = deg_to_rad(&lon, &mut cc);
-                [r.cos(P, RM, &mut cc), r.sin(P, RM, &mut cc)]
+                let lon = if closes && j == dem.cols - 1 {
+                    bf(dem.lon0).add(&bf(360.0), P, RM)
+                } else {
+                    bf(dem.lon0).add(&bf(j as f64).mul(&bf(dem.dlon), P, RM), P, RM)
+                };
+                let (s, c) = sincos_deg_exact(&lon, &mut cc);
+                [c, s]
             })
             .collect();
         Exact {
@@ -315,7 +329,11 @@ impl<'a> TerrainOracle<'a> {
         let (o, d) = (ray.origin, ray.dir);
         let (t0, t1) = (ray.t_min, ray.t_max_or_inf());
         let dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-        if !(dd > 0.0) || !(t0 <= t1) {
+        if dd.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+            || t0
+                .partial_cmp(&t1)
+                .is_none_or(|c| c == std::cmp::Ordering::Greater)
+        {
             return (None, stats);
         }
         // Stage 1: candidates with the entry parameter of their ball.
@@ -373,16 +391,9 @@ impl<'a> TerrainOracle<'a> {
                 let h = self.dem.heights[a * cols + b];
                 self.exact.vertex(a, b, h)
             });
-            let Some(t) = intersect_exact(&ob, &db, &v) else {
+            let Some(t) = intersect_exact(&ob, &db, &v, &t0b, t1b.as_ref()) else {
                 continue;
             };
-            if t.cmp(&t0b).is_some_and(|c| c < 0)
-                || t1b
-                    .as_ref()
-                    .is_some_and(|t1| t.cmp(t1).is_some_and(|c| c > 0))
-            {
-                continue;
-            }
             let better = match &best {
                 None => true,
                 Some((bt, ..)) => t.cmp(bt).is_some_and(|c| c < 0),
@@ -458,18 +469,38 @@ fn ball_entry(
     Some(a.max(t0))
 }
 
-/// The exact ray–triangle intersection (closed triangle, both faces): `Some(t)` if the line meets the triangle.
+fn lt(a: &BigFloat, b: &BigFloat) -> bool {
+    a.cmp(b).is_some_and(|c| c < 0)
+}
+
+fn mag(v: &[BigFloat; 3]) -> f64 {
+    v.iter().map(|x| to_f64(x).abs()).fold(0.0, f64::max)
+}
+
+/// The exact ray–triangle intersection (closed triangle, both faces): the least `t` in `[t0, t1]` (`t1 = None`
+/// is +∞) at which the ray is on the triangle.
+///
+/// A ray in the triangle's plane (|det| below 2⁻²⁰⁰ of its scale: at 256 bits only an exactly coplanar ray, such
+/// as a ray down the axis in the plane of a pole triangle, gets there) is clipped against the triangle's edges
+/// in the plane's 2-D projection.
 fn intersect_exact(
     o: &[BigFloat; 3],
     d: &[BigFloat; 3],
     v: &[[BigFloat; 3]; 3],
+    t0: &BigFloat,
+    t1: Option<&BigFloat>,
 ) -> Option<BigFloat> {
     let e1 = sub3(&v[1], &v[0]);
     let e2 = sub3(&v[2], &v[0]);
     let p = cross3(d, &e2);
     let det = dot3(&e1, &p);
-    if det.is_zero() {
+    let scale = mag(&e1) * mag(&e2) * mag(d);
+    if scale == 0.0 {
         return None;
+    }
+    let in_range = |t: &BigFloat| !lt(t, t0) && t1.is_none_or(|t1| !lt(t1, t));
+    if to_f64(&det).abs() <= scale * 2f64.powi(-200) {
+        return coplanar(o, d, v, &cross3(&e1, &e2), t0, t1);
     }
     let s = sub3(o, &v[0]);
     let q = cross3(&s, &e1);
@@ -485,7 +516,77 @@ fn intersect_exact(
     if !same(&rest) {
         return None;
     }
-    Some(dot3(&e2, &q).div(&det, P, RM))
+    let t = dot3(&e2, &q).div(&det, P, RM);
+    in_range(&t).then_some(t)
+}
+
+/// A ray in the plane of a triangle: the interval of t over which it is inside (2-D projection along the
+/// normal's largest component), clipped to [t0, t1]; its start.
+fn coplanar(
+    o: &[BigFloat; 3],
+    d: &[BigFloat; 3],
+    v: &[[BigFloat; 3]; 3],
+    n: &[BigFloat; 3],
+    t0: &BigFloat,
+    t1: Option<&BigFloat>,
+) -> Option<BigFloat> {
+    let nf = n.clone().map(|x| to_f64(&x).abs());
+    let drop = if nf[0] >= nf[1] && nf[0] >= nf[2] {
+        0
+    } else if nf[1] >= nf[2] {
+        1
+    } else {
+        2
+    };
+    if nf[drop] == 0.0 {
+        return None; // degenerate triangle (a segment or a point)
+    }
+    let (x, y) = ((drop + 1) % 3, (drop + 2) % 3);
+    let cr = |ax: &BigFloat, ay: &BigFloat, bx: &BigFloat, by: &BigFloat| {
+        ax.mul(by, P, RM).sub(&ay.mul(bx, P, RM), P, RM)
+    };
+    // Orientation of the triangle in 2-D.
+    let area = cr(
+        &v[1][x].sub(&v[0][x], P, RM),
+        &v[1][y].sub(&v[0][y], P, RM),
+        &v[2][x].sub(&v[0][x], P, RM),
+        &v[2][y].sub(&v[0][y], P, RM),
+    );
+    let pos = !area.is_negative();
+    // Each edge (A, B) gives a half-plane: cross(B − A, X − A) has the orientation's sign. Along the ray this is
+    // affine in t: c0 + c1·t ≥ 0 (sign-adjusted); intersect the t-intervals.
+    let mut lo = t0.clone();
+    let mut hi = t1.cloned();
+    for k in 0..3 {
+        let (a, b) = (&v[k], &v[(k + 1) % 3]);
+        let ex = b[x].sub(&a[x], P, RM);
+        let ey = b[y].sub(&a[y], P, RM);
+        let mut c0 = cr(&ex, &ey, &o[x].sub(&a[x], P, RM), &o[y].sub(&a[y], P, RM));
+        let mut c1 = cr(&ex, &ey, &d[x], &d[y]);
+        if !pos {
+            c0 = c0.neg();
+            c1 = c1.neg();
+        }
+        if c1.is_zero() {
+            if c0.is_negative() {
+                return None;
+            }
+            continue;
+        }
+        let t = c0.neg().div(&c1, P, RM);
+        if c1.is_negative() {
+            // c0 + c1 t ≥ 0 ⇔ t ≤ −c0/c1
+            if hi.as_ref().is_none_or(|h| lt(&t, h)) {
+                hi = Some(t);
+            }
+        } else if lt(&lo, &t) {
+            lo = t;
+        }
+    }
+    match hi {
+        Some(h) if lt(&h, &lo) => None,
+        _ => Some(lo),
+    }
 }
 
 /// An `f64` brute force over every triangle (Möller–Trumbore, no filtering, no arbitrary precision) — the
@@ -679,7 +780,7 @@ mod tests {
         for lon in [175.3, -175.3, 179.99, -179.99, 179.5] {
             let h = o.pick(&RaySpec::new([0.0; 3], unit(0.5, lon))).unwrap();
             assert!(h.t > R - 1000.0 && h.t <= R, "{lon}: {h:?}");
-            let j = ((lon as f64).rem_euclid(360.0) - 170.0).floor() as usize;
+            let j = (lon.rem_euclid(360.0_f64) - 170.0).floor() as usize;
             assert_eq!(h.cell, (5, j), "{lon}");
         }
         assert!(o.pick(&RaySpec::new([0.0; 3], unit(0.5, -169.0))).is_none());

@@ -4,3 +4,4 @@
 pub mod real_dem;
 pub mod spec;
 pub mod terrain;
+pub mod terrain_cases;

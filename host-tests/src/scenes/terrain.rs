@@ -673,3 +673,202 @@ mod tests {
         }
     }
 }
+
+/// The host's terrain storage for the kernel (seed 000 §3.5, §4): a [`Dem`] plus its [`HeightPyramid`], exposed
+/// through [`curvicast::terrain::TerrainStorage`].
+///
+/// * Leaves are the pyramid's level-0 blocks of `block × block` cells (the last row/column of blocks may be
+///   smaller); a quad at pyramid level k covers 2^k × 2^k blocks, so every quad boundary is a grid line of the DEM
+///   (a meridian or a parallel through vertices): nothing is resampled and the kernel traces exactly the
+///   contract's triangles. Cells outside the DEM do not exist; nodes with no present vertex are left out of their
+///   parent's children.
+/// * Zones (the roots, §3.5) are the nodes of the lowest pyramid level that has at most 4 rows and 8 columns of
+///   nodes — at most 8 × 4 = 32 zones bounded by parallels and meridians of the grid, whether the DEM is global
+///   (ETOPO20: 3 × 5 zones) or regional (Trinidad: 3 × 5 zones of its own extent).
+/// * A node id is the node's index in the pyramid's level arrays (levels concatenated), so the tree costs only the
+///   pyramid's two `f32` per node ([`DemStorage::overhead_bytes`]); the kernel's [`curvicast::terrain::Node`] is
+///   formed on demand. A parent whose only child covers the same cells is skipped (the kernel requires children
+///   strictly smaller than their parent).
+#[derive(Debug, Clone)]
+pub struct DemStorage<'a> {
+    dem: &'a Dem,
+    pyramid: HeightPyramid,
+    offsets: Vec<usize>,
+    zone_level: usize,
+    zones: Vec<curvicast::terrain::NodeId>,
+}
+
+impl<'a> DemStorage<'a> {
+    /// Builds the storage over `dem` with leaf blocks of `block × block` cells (the contract's `--block`, default
+    /// 16; values below 1 are taken as 1).
+    pub fn new(dem: &'a Dem, block: usize) -> DemStorage<'a> {
+        let pyramid = HeightPyramid::build(dem, block);
+        let mut offsets = Vec::with_capacity(pyramid.dims.len());
+        let mut acc = 0;
+        for &(r, c) in &pyramid.dims {
+            offsets.push(acc);
+            acc += r * c;
+        }
+        let zone_level = pyramid
+            .dims
+            .iter()
+            .position(|&(r, c)| r <= 4 && c <= 8)
+            .unwrap_or(pyramid.dims.len() - 1);
+        let mut s = DemStorage {
+            dem,
+            pyramid,
+            offsets,
+            zone_level,
+            zones: Vec::new(),
+        };
+        let (zr, zc) = s.pyramid.dims[zone_level];
+        for r in 0..zr {
+            for c in 0..zc {
+                if s.pyramid.max[zone_level][r * zc + c] >= s.pyramid.min[zone_level][r * zc + c] {
+                    s.zones.push(s.id(zone_level, r, c));
+                }
+            }
+        }
+        s
+    }
+
+    /// The DEM.
+    pub fn dem(&self) -> &Dem {
+        self.dem
+    }
+
+    /// Cells per leaf-block side.
+    pub fn block(&self) -> usize {
+        self.pyramid.block
+    }
+
+    /// Number of quadtree nodes (all pyramid levels from the leaves up to the zones).
+    pub fn node_count(&self) -> usize {
+        self.offsets
+            .get(self.zone_level + 1)
+            .copied()
+            .unwrap_or_else(|| self.pyramid.max.iter().map(Vec::len).sum())
+    }
+
+    /// The memory the tree adds to the heights, in bytes: two `f32` (max, min) per node of the levels in use, plus
+    /// the zone list and level offsets.
+    pub fn overhead_bytes(&self) -> usize {
+        self.node_count() * 2 * std::mem::size_of::<f32>()
+            + self.zones.len() * std::mem::size_of::<curvicast::terrain::NodeId>()
+            + self.offsets.len() * std::mem::size_of::<usize>()
+    }
+
+    /// The memory of the heights themselves (`f32` per vertex), for comparison.
+    pub fn heights_bytes(&self) -> usize {
+        self.dem.heights.len() * std::mem::size_of::<f32>()
+    }
+
+    fn id(&self, level: usize, r: usize, c: usize) -> curvicast::terrain::NodeId {
+        let (_, nc) = self.pyramid.dims[level];
+        curvicast::terrain::NodeId((self.offsets[level] + r * nc + c) as u32)
+    }
+
+    fn locate(&self, id: curvicast::terrain::NodeId) -> Option<(usize, usize, usize)> {
+        let k = id.0 as usize;
+        let level = self.offsets.iter().rposition(|&o| o <= k)?;
+        if level > self.zone_level {
+            return None;
+        }
+        let (nr, nc) = self.pyramid.dims[level];
+        let local = k - self.offsets[level];
+        (local < nr * nc).then_some((level, local / nc, local % nc))
+    }
+
+    /// Cell ranges `[r0, r1) × [c0, c1)` of pyramid node (level, r, c).
+    fn ranges(&self, level: usize, r: usize, c: usize) -> ([u32; 2], [u32; 2]) {
+        let span = self.pyramid.block << level;
+        let (cr, cc) = (self.dem.rows - 1, self.dem.cols - 1);
+        (
+            [(r * span) as u32, ((r + 1) * span).min(cr) as u32],
+            [(c * span) as u32, ((c + 1) * span).min(cc) as u32],
+        )
+    }
+
+    fn has_data(&self, level: usize, r: usize, c: usize) -> bool {
+        let (_, nc) = self.pyramid.dims[level];
+        self.pyramid.max[level][r * nc + c] >= self.pyramid.min[level][r * nc + c]
+    }
+
+    /// The present children of (level, r, c), descending through children that cover the same cells.
+    fn children_of(&self, level: usize, r: usize, c: usize) -> Vec<(usize, usize, usize)> {
+        let mut level = level;
+        let (mut r, mut c) = (r, c);
+        let own = self.ranges(level, r, c);
+        while level > 0 {
+            let (nr, nc) = self.pyramid.dims[level - 1];
+            let kids: Vec<(usize, usize, usize)> = [(0, 0), (0, 1), (1, 0), (1, 1)]
+                .iter()
+                .map(|&(a, b)| (level - 1, 2 * r + a, 2 * c + b))
+                .filter(|&(_, x, y)| x < nr && y < nc)
+                .collect();
+            if kids.len() == 1 && self.ranges(kids[0].0, kids[0].1, kids[0].2) == own {
+                (level, r, c) = kids[0];
+                continue;
+            }
+            return kids
+                .into_iter()
+                .filter(|&(l, x, y)| self.has_data(l, x, y))
+                .collect();
+        }
+        Vec::new()
+    }
+}
+
+impl<T: curvicast::Real> curvicast::terrain::TerrainStorage<T> for DemStorage<'_> {
+    fn ellipsoid(&self) -> curvicast::geodesy::Ellipsoid<T> {
+        curvicast::geodesy::Ellipsoid::new(T::from_f64(self.dem.a), T::from_f64(self.dem.b))
+            .unwrap_or_else(|_| curvicast::geodesy::Ellipsoid::wgs84())
+    }
+
+    fn grid(&self) -> curvicast::terrain::Grid<T> {
+        curvicast::terrain::Grid {
+            lat0: T::from_f64(self.dem.lat0),
+            lon0: T::from_f64(self.dem.lon0),
+            dlat: T::from_f64(self.dem.dlat),
+            dlon: T::from_f64(self.dem.dlon),
+            rows: self.dem.rows as u32,
+            cols: self.dem.cols as u32,
+        }
+    }
+
+    fn zone_count(&self) -> usize {
+        self.zones.len()
+    }
+
+    fn zone(&self, k: usize) -> Option<curvicast::terrain::NodeId> {
+        self.zones.get(k).copied()
+    }
+
+    fn node(&self, id: curvicast::terrain::NodeId) -> Option<curvicast::terrain::Node<T>> {
+        let (level, r, c) = self.locate(id)?;
+        let (rows, cols) = self.ranges(level, r, c);
+        let (_, nc) = self.pyramid.dims[level];
+        let (lo, hi) = (
+            self.pyramid.min[level][r * nc + c],
+            self.pyramid.max[level][r * nc + c],
+        );
+        let heights = (hi >= lo).then(|| [T::from_f64(f64::from(lo)), T::from_f64(f64::from(hi))]);
+        let mut children = [None; 4];
+        for (slot, (l, x, y)) in children.iter_mut().zip(self.children_of(level, r, c)) {
+            *slot = Some(self.id(l, x, y));
+        }
+        Some(curvicast::terrain::Node {
+            rows,
+            cols,
+            heights,
+            children,
+            level: (self.zone_level - level).min(255) as u8,
+        })
+    }
+
+    fn height(&self, i: u32, j: u32) -> Option<T> {
+        self.dem
+            .height(i as usize, j as usize)
+            .map(|h| T::from_f64(f64::from(h)))
+    }
+}
