@@ -750,6 +750,11 @@ impl<'a> DemStorage<'a> {
             .unwrap_or_else(|| self.pyramid.max.iter().map(Vec::len).sum())
     }
 
+    /// The depth of the tree: the level of the leaves below the zones (zones are level 0).
+    pub fn depth(&self) -> u32 {
+        self.zone_level as u32
+    }
+
     /// The memory the tree adds to the heights, in bytes: two `f32` (max, min) per node of the levels in use, plus
     /// the zone list and level offsets.
     pub fn overhead_bytes(&self) -> usize {
