@@ -2,6 +2,8 @@
 //!
 //! Each section lives in its own module and returns a [`Section`]; [`run`] runs them in order.
 
+pub mod terrain;
+
 use std::path::Path;
 
 /// One section of the report.
@@ -26,7 +28,7 @@ pub struct Options {
 pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
     std::fs::create_dir_all(&opts.out_dir)?;
     type SectionFn = fn(&Options) -> anyhow::Result<Section>;
-    let sections: &[SectionFn] = &[];
+    let sections: &[SectionFn] = &[terrain::section];
     let mut done = Vec::new();
     let mut md = String::from("# curvicast report\n\n");
     md.push_str(&format!(

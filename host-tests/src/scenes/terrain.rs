@@ -799,28 +799,38 @@ impl<'a> DemStorage<'a> {
         self.pyramid.max[level][r * nc + c] >= self.pyramid.min[level][r * nc + c]
     }
 
-    /// The present children of (level, r, c), descending through children that cover the same cells.
-    fn children_of(&self, level: usize, r: usize, c: usize) -> Vec<(usize, usize, usize)> {
-        let mut level = level;
-        let (mut r, mut c) = (r, c);
+    /// The present children of (level, r, c), descending through children that cover the same cells (no
+    /// allocation: this runs for every quad the kernel visits).
+    fn children_of(&self, level: usize, r: usize, c: usize) -> [Option<(usize, usize, usize)>; 4] {
+        let (mut level, mut r, mut c) = (level, r, c);
         let own = self.ranges(level, r, c);
+        let mut out = [None; 4];
         while level > 0 {
             let (nr, nc) = self.pyramid.dims[level - 1];
-            let kids: Vec<(usize, usize, usize)> = [(0, 0), (0, 1), (1, 0), (1, 1)]
-                .iter()
-                .map(|&(a, b)| (level - 1, 2 * r + a, 2 * c + b))
-                .filter(|&(_, x, y)| x < nr && y < nc)
-                .collect();
-            if kids.len() == 1 && self.ranges(kids[0].0, kids[0].1, kids[0].2) == own {
-                (level, r, c) = kids[0];
+            let mut n = 0;
+            let mut only = (0, 0, 0);
+            for (a, b) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                let (x, y) = (2 * r + a, 2 * c + b);
+                if x < nr && y < nc {
+                    n += 1;
+                    only = (level - 1, x, y);
+                }
+            }
+            if n == 1 && self.ranges(only.0, only.1, only.2) == own {
+                (level, r, c) = only;
                 continue;
             }
-            return kids
-                .into_iter()
-                .filter(|&(l, x, y)| self.has_data(l, x, y))
-                .collect();
+            let mut k = 0;
+            for (a, b) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                let (x, y) = (2 * r + a, 2 * c + b);
+                if x < nr && y < nc && self.has_data(level - 1, x, y) {
+                    out[k] = Some((level - 1, x, y));
+                    k += 1;
+                }
+            }
+            break;
         }
-        Vec::new()
+        out
     }
 }
 
@@ -859,8 +869,8 @@ impl<T: curvicast::Real> curvicast::terrain::TerrainStorage<T> for DemStorage<'_
         );
         let heights = (hi >= lo).then(|| [T::from_f64(f64::from(lo)), T::from_f64(f64::from(hi))]);
         let mut children = [None; 4];
-        for (slot, (l, x, y)) in children.iter_mut().zip(self.children_of(level, r, c)) {
-            *slot = Some(self.id(l, x, y));
+        for (slot, kid) in children.iter_mut().zip(self.children_of(level, r, c)) {
+            *slot = kid.map(|(l, x, y)| self.id(l, x, y));
         }
         Some(curvicast::terrain::Node {
             rows,
