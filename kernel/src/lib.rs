@@ -5,6 +5,10 @@
 //!
 //! * [`surface`]: ray ∩ sphere/spheroid, axial cone, half-plane through the z axis, plane `z = c` — the one
 //!   geometry layer that every traversal shares.
+//! * [`geodesy`]: the ellipsoid, geodetic ↔ ECEF (GeographicLib-grade reverse conversion), latitude cones,
+//!   meridians and the conservative bounding volume of a spheroidal height-quad (seed 000 §3).
+//! * [`terrain`]: the nearest hit of a ray with a regular geodetic DEM through a height-augmented quadtree that
+//!   the caller stores behind [`terrain::TerrainStorage`] (seeds 000, 003), never missing a hit.
 //! * [`ray`]: the ray and its invariants; [`real`]: the scalar trait (`f64`, `f32`, and a fast-math `f32`).
 //!
 //! The papers this crate implements are cited in each module's docs: Hannasch, *Spherical Ray-Tracing*

@@ -115,7 +115,7 @@ impl<T: Real> LatWall<T> {
     /// `f(p) = (z − k) cos ψ − r sin ψ`, and a magnitude for its rounding tolerance.
     #[inline]
     fn f(&self, p: V3<T>) -> (T, T) {
-        let r = super::hypot(p.x, p.y);
+        let r = (p.x * p.x + p.y * p.y).sqrt();
         let dz = p.z - self.apex;
         (
             dz * self.cos - r * self.sin,
@@ -334,27 +334,37 @@ impl<T: Real> HeightQuadBounds<T> {
         }
         let pts = bp.get_mut(..n).unwrap_or(&mut []);
         insertion_sort(pts);
-        let mut first: Option<T> = None;
-        let mut last: Option<T> = None;
-        for w in pts.windows(2) {
+        if n == 2 && t0 == t1 {
+            return self.contains(V3::from(ray.at(t0))).then_some((t0, t1));
+        }
+        // The first piece inside from the front and the last from the back (the hull between them is
+        // conservative; pieces in between need no test).
+        let inside = |lo: T, hi: T| self.contains(V3::from(ray.at(lo + (hi - lo) * T::HALF)));
+        let mut first: Option<usize> = None;
+        for (k, w) in pts.windows(2).enumerate() {
             if let [lo, hi] = *w {
-                let mid = lo + (hi - lo) * T::HALF;
-                let p = V3::from(ray.at(mid));
-                if self.contains(p) {
-                    if first.is_none() {
-                        first = Some(lo);
-                    }
-                    last = Some(hi);
+                if inside(lo, hi) {
+                    first = Some(k);
+                    break;
                 }
             }
         }
-        if n == 2 && t0 == t1 && self.contains(V3::from(ray.at(t0))) {
-            return Some((t0, t1));
+        let first = first?;
+        let mut last = first;
+        for (k, w) in pts.windows(2).enumerate().rev() {
+            if k <= first {
+                break;
+            }
+            if let [lo, hi] = *w {
+                if inside(lo, hi) {
+                    last = k;
+                    break;
+                }
+            }
         }
-        match (first, last) {
-            (Some(a), Some(b)) => Some((a, b)),
-            _ => None,
-        }
+        let t_in = pts.get(first).copied()?;
+        let t_out = pts.get(last.saturating_add(1)).copied()?;
+        Some((t_in, t_out))
     }
 }
 
@@ -471,5 +481,28 @@ mod tests {
             .with_interval(0.0, 20_000.0)
             .unwrap();
         assert_eq!(q.ray_interval(&miss), None);
+    }
+
+    #[test]
+    fn volume_entered_twice_yields_one_hull_over_both_visits() {
+        // The band 70°..80° (all longitudes, so no wedge) at heights 0..400 km: a segment over the polar cap
+        // from (75°, 0°, 300 km) to (75°, 180°, 300 km) starts in the band, crosses the cap north of 80° (outside
+        // the band, but above the ground) and enters the band again on the far side.
+        let e = Ellipsoid::<f64>::wgs84();
+        let q = HeightQuadBounds::new(&e, 70.0, 80.0, -180.0, 180.0, 0.0, 4.0e5, 0.5, 0.5).unwrap();
+        let a = e.geodetic_deg_to_ecef(75.0, 0.0, 3.0e5);
+        let b = e.geodetic_deg_to_ecef(75.0, 180.0, 3.0e5);
+        let ray = Ray::segment(a, b).unwrap();
+        let (t_in, t_out) = q.ray_interval(&ray).unwrap();
+        // Both visits lie in the hull, and the middle of the chord is outside the band (north of 80°).
+        assert!(q.contains(V3::from(ray.at(0.0))) && q.contains(V3::from(ray.at(1.0))));
+        assert!(!q.contains(V3::from(ray.at(0.5))));
+        assert!(t_in <= 1e-12 && t_out >= 1.0 - 1e-12, "{t_in} {t_out}");
+        // The gap between the two visits is the latitude wall's doing: the middle is above ground, north of 80°.
+        let mid = e.ecef_to_geodetic(V3::from(ray.at(0.5)));
+        assert!(
+            mid.lat.to_degrees() > 80.0 && mid.h > 0.0 && mid.h < 4.0e5,
+            "{mid:?}"
+        );
     }
 }

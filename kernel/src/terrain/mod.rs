@@ -13,6 +13,14 @@
 //!    of those walls (the §3.5 "side interval against `B^h` interval" test, generalised so that a volume entered
 //!    twice yields one hull over both visits). Children are visited nearest entry first, with an explicit stack
 //!    of fixed capacity (the const generic `STACK`; no recursion).
+//!    This replaces the paper's sequential stepping between children (the child entered from `side_in` and the
+//!    internal partition half-spaces, the next child from `side_out`, the 3-or-4-side exit rule): those rules
+//!    assume that the quads' walls partition space, which the *conservative* volumes needed for triangles (item 5
+//!    below) no longer do — inflated neighbours overlap. Ordering by the entry parameter gives the same visiting
+//!    order where the volumes do not overlap (the zone or quad containing the origin has entry `t_min` and is
+//!    visited first; the next one is the one whose wall the ray crosses next), handles a quad the ray enters
+//!    twice (one hull over both visits), and is what the no-miss proof below needs. Traversal ends when no
+//!    pending quad can be entered before the best hit, or at `t_global_exit`.
 //! 4. **Leaf blocks** (§4): in a leaf, each cell (triangle pair) has its own volume bounded by four *planes*: the
 //!    meridian planes of its two columns and, for each of its two rows, the plane through the spheroid normals at
 //!    the row's two grid vertices (both normals of one latitude pass through the latitude cone's apex, so they
@@ -86,7 +94,9 @@
 mod storage;
 pub mod triangle;
 
-pub use storage::{Grid, Node, NodeId, TerrainStorage};
+pub use storage::{
+    DEFAULT_ZONE_COLS, DEFAULT_ZONE_ROWS, Grid, Node, NodeId, TerrainStorage, zone_cells,
+};
 
 use crate::geodesy::{Ellipsoid, GeodesyError, HeightQuadBounds, sin_cos_deg, upper_spheroid};
 use crate::ray::{Ray, RayError};
@@ -226,7 +236,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             let Some([lo, hi]) = node.heights else {
                 continue; // a zone without data has no triangles
             };
-            let b = node_bounds(&ellipsoid, &grid, &node, lo, hi)?;
+            let b = match storage.cached_bounds(id) {
+                Some(b) => b,
+                None => node_bounds(&ellipsoid, &grid, &node, lo, hi)?,
+            };
             h_max = h_max.max(hi);
             if let Some(slot) = zones.get_mut(count) {
                 *slot = Some((id, node, b));
@@ -243,7 +256,39 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         })
     }
 
-    /// The nearest hit of `ray` with the terrain for `t_min ≤ t ≤ t_max`, or `None`.
+    /// The nearest hit of `ray` with the terrain for `t_min ≤ t ≤ t_max`, or `None` (seed 000 §3.5, §4; the
+    /// module docs state what is proven).
+    ///
+    /// ```
+    /// # use curvicast::geodesy::Ellipsoid;
+    /// # use curvicast::ray::Ray;
+    /// # use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainStorage};
+    /// /// Flat terrain at 100 m on a 2 × 2-cell grid straddling the antimeridian, one zone that is a leaf.
+    /// struct Flat;
+    /// impl TerrainStorage<f64> for Flat {
+    ///     fn ellipsoid(&self) -> Ellipsoid<f64> { Ellipsoid::wgs84() }
+    ///     fn grid(&self) -> Grid<f64> {
+    ///         Grid { lat0: -17.0, lon0: 179.99, dlat: 0.01, dlon: 0.01, rows: 3, cols: 3 }
+    ///     }
+    ///     fn zone_count(&self) -> usize { 1 }
+    ///     fn zone(&self, k: usize) -> Option<NodeId> { (k == 0).then_some(NodeId(0)) }
+    ///     fn node(&self, _: NodeId) -> Option<Node<f64>> {
+    ///         Some(Node { rows: [0, 2], cols: [0, 2], heights: Some([100.0, 100.0]), children: [None; 4], level: 0 })
+    ///     }
+    ///     fn height(&self, i: u32, j: u32) -> Option<f64> { (i < 3 && j < 3).then_some(100.0) }
+    /// }
+    /// let picker: Picker<'_, f64, Flat> = Picker::new(&Flat)?;
+    /// let e = Ellipsoid::<f64>::wgs84();
+    /// // A vertex of the grid (lat −16.99°, lon 180.00°), seen straight down from 1 km above the terrain.
+    /// let from = e.geodetic_deg_to_ecef(-16.99, 180.0, 1100.0);
+    /// let down = e.normal((-16.99_f64).to_radians(), 180.0_f64.to_radians()).negated();
+    /// let hit = picker.pick(&Ray::new(from, down)?)?.ok_or("no hit")?;
+    /// assert!((hit.t - 1000.0).abs() < 1e-6 && (hit.h - 100.0).abs() < 1e-6);
+    /// assert!((hit.lon.abs() - 180.0).abs() < 1e-9 && hit.cell[1] <= 1);
+    /// // Looking up from there: nothing.
+    /// assert!(picker.pick(&Ray::new(from, down.negated())?)?.is_none());
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
     pub fn pick(&self, ray: &Ray<T>) -> Result<Option<Hit<T>>, TerrainError> {
         let mut stats = PickStats::default();
         self.pick_with_stats(ray, &mut stats)
@@ -382,7 +427,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 let Some([lo, hi]) = child.heights else {
                     continue;
                 };
-                let b = node_bounds(&self.ellipsoid, &self.grid, &child, lo, hi)?;
+                let b = match self.storage.cached_bounds(*cid) {
+                    Some(b) => b,
+                    None => node_bounds(&self.ellipsoid, &self.grid, &child, lo, hi)?,
+                };
                 if let Some((a, c)) = b.ray_interval(&sub) {
                     if let Some(slot) = kids.get_mut(nk) {
                         *slot = (
@@ -444,7 +492,39 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let tau = T::from_f64(64.0) * T::EPSILON;
         let (_, c_half) = sin_cos_deg(g.dlon * T::HALF);
         let north_up = g.dlat > T::ZERO;
-        for j in node.cols[0]..node.cols[1] {
+        // Per-leaf cache of the row values (sin ψ, cos ψ, cone apex k) for leaves up to ROW_CACHE − 1 cells tall.
+        let mut rows_cache = [(T::ZERO, T::ZERO, T::ZERO); ROW_CACHE];
+        let n_rows = node.rows[1].saturating_sub(node.rows[0]);
+        let cached = usize::try_from(n_rows).is_ok_and(|n| n < ROW_CACHE);
+        let row_vals = |i: u32| -> (T, T, T) {
+            let (sp, cp) = sin_cos_deg(g.lat_deg(i));
+            (sp, cp, e.latitude_cone_apex(sp))
+        };
+        if cached {
+            for (k, slot) in rows_cache.iter_mut().enumerate() {
+                let Some(i) = u32::try_from(k)
+                    .ok()
+                    .and_then(|k| node.rows[0].checked_add(k))
+                else {
+                    break;
+                };
+                if i > node.rows[1] {
+                    break;
+                }
+                *slot = row_vals(i);
+            }
+        }
+        let row_at = |i: u32| -> (T, T, T) {
+            if cached {
+                let k = i.saturating_sub(node.rows[0]);
+                if let Some(v) = usize::try_from(k).ok().and_then(|k| rows_cache.get(k)) {
+                    return *v;
+                }
+            }
+            row_vals(i)
+        };
+        let (j_first, j_end) = self.leaf_columns(node, ray, t_in, t_out);
+        for j in j_first..j_end {
             let j1 = j.saturating_add(1);
             let (sw, cw) = sin_cos_deg(g.lon_deg(j));
             let (se, ce) = sin_cos_deg(g.lon_deg(j1));
@@ -475,8 +555,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             // Row plane i at this column: m = (−sin ψ cos λm, −sin ψ sin λm, cos ψ cos(Δλ/2)), through (0,0,k_i);
             // m·(P − k ẑ) > 0 is north of it.
             let row_plane = |i: u32| -> (T, T, T) {
-                let (sp, cp) = sin_cos_deg(g.lat_deg(i));
-                let k = e.latitude_cone_apex(sp);
+                let (sp, cp, k) = row_at(i);
                 let m = V3::new(-sp * cm, -sp * sm, cp * c_half);
                 let q = V3::new(o.x, o.y, o.z - k);
                 let mag = q.x.abs()
@@ -534,6 +613,52 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         Ok(())
     }
 
+    /// The leaf's columns `[first, end)` that the ray can cross within `[t_in, t_out]`: along a line the
+    /// azimuth is monotone (`dφ/dt = (p × d)_z / r²`) and sweeps less than 180°, so the crossed columns lie
+    /// between the columns of the two end points (plus one column of margin for rounding). Falls back to all
+    /// columns when the leaf spans 180° or more, the line meets the z axis, or the sweep wraps around.
+    fn leaf_columns(&self, node: &Node<T>, ray: &Ray<T>, t_in: T, t_out: T) -> (u32, u32) {
+        let all = (node.cols[0], node.cols[1]);
+        let g = &self.grid;
+        let n_cols = T::from_f64(f64::from(node.cols[1].saturating_sub(node.cols[0])));
+        if !(n_cols * g.dlon < T::from_f64(180.0)) {
+            return all;
+        }
+        let (o, d) = (ray.origin(), ray.dir());
+        let w = o.x * d.y - o.y * d.x;
+        let pa = V3::from(ray.at(t_in));
+        let pb = V3::from(ray.at(t_out));
+        let zero_r = |p: V3<T>| p.x == T::ZERO && p.y == T::ZERO;
+        if w == T::ZERO || zero_r(pa) || zero_r(pb) || !pa.is_finite() || !pb.is_finite() {
+            return all;
+        }
+        let deg = T::from_f64(180.0) / T::PI;
+        let lon_w = g.lon_deg(node.cols[0]);
+        let wrap = |x: T| {
+            let turns = libm::round((x / T::from_f64(360.0)).to_f64());
+            x - T::from_f64(360.0 * turns)
+        };
+        let ua = wrap(pa.y.atan2(pa.x) * deg - lon_w);
+        let ub = wrap(pb.y.atan2(pb.x) * deg - lon_w);
+        let (u_lo, u_hi) = if w > T::ZERO { (ua, ub) } else { (ub, ua) };
+        if !(u_lo <= u_hi) {
+            return all;
+        }
+        let col = |u: T| libm::floor((u / g.dlon).to_f64());
+        let lo = col(u_lo) - 1.0;
+        let hi = col(u_hi) + 2.0;
+        let n = f64::from(node.cols[1].saturating_sub(node.cols[0]));
+        let lo = lo.clamp(0.0, n);
+        let hi = hi.clamp(0.0, n);
+        // Both are integers in [0, n] ⊂ u32 range; the casts are exact.
+        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+        let (lo, hi) = (lo as u32, hi as u32);
+        (
+            node.cols[0].saturating_add(lo),
+            node.cols[0].saturating_add(hi),
+        )
+    }
+
     fn make_hit(&self, ray: &Ray<T>, t: T, cell: [u32; 2], level: u8) -> Hit<T> {
         let p = ray.at(t);
         let geo = self.ellipsoid.ecef_to_geodetic(V3::from(p));
@@ -549,6 +674,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         }
     }
 }
+
+/// Rows of a leaf whose trigonometry is cached per leaf (leaves up to 64 cells tall).
+const ROW_CACHE: usize = 65;
 
 /// Clips `[lo, hi]` to `{t : s0 + t·sd ≥ −tol}`.
 #[inline]
@@ -620,6 +748,20 @@ fn check_child<T: Real>(p: &Node<T>, c: &Node<T>) -> Result<(), TerrainError> {
         Ok(())
     } else {
         Err(TerrainError::MalformedTree)
+    }
+}
+
+/// The conservative bounding volume of a node (module docs; [`HeightQuadBounds`]), as the kernel builds it from
+/// the node's grid ranges and height range. `Ok(None)` for a node without data. Storages that cache volumes
+/// ([`TerrainStorage::cached_bounds`]) must store exactly this value.
+pub fn quad_bounds<T: Real>(
+    e: &Ellipsoid<T>,
+    g: &Grid<T>,
+    n: &Node<T>,
+) -> Result<Option<HeightQuadBounds<T>>, TerrainError> {
+    match n.heights {
+        Some([lo, hi]) => node_bounds(e, g, n, lo, hi).map(Some),
+        None => Ok(None),
     }
 }
 

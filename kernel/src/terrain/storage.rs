@@ -1,7 +1,7 @@
 //! The storage trait: the kernel does not own terrain (seed 000 §3, §5). A storage gives the kernel the DEM's
 //! regular latitude/longitude grid, its vertex heights, and a height-augmented quadtree over the grid's cells.
 
-use crate::geodesy::Ellipsoid;
+use crate::geodesy::{Ellipsoid, HeightQuadBounds};
 use crate::real::Real;
 
 /// The regular geodetic grid of a DEM (`pick` in the CLI contract): vertex `V(i, j)` is at latitude
@@ -132,4 +132,50 @@ pub trait TerrainStorage<T: Real> {
     fn is_resident(&self, _id: NodeId) -> bool {
         true
     }
+    /// Optional cache of the node's bounding volume. A storage may precompute, once per node,
+    /// [`super::quad_bounds`]`(&ellipsoid, &grid, &node)` and return it here, which saves the kernel building it
+    /// on every visit (about a fifth of the per-ray work). It **must** be exactly that value (or `None`): any other
+    /// volume voids the no-miss guarantee.
+    fn cached_bounds(&self, _id: NodeId) -> Option<HeightQuadBounds<T>> {
+        None
+    }
+}
+
+/// The default number of zone rows (parallels) of [`zone_cells`]: 4 bands of 45° on a global grid.
+pub const DEFAULT_ZONE_ROWS: u32 = 4;
+/// The default number of zone columns (meridians) of [`zone_cells`]: 8 wedges of 45° on a global grid.
+pub const DEFAULT_ZONE_COLS: u32 = 8;
+
+/// The cell ranges `(rows, cols)` of zone `k` (row-major, `k < zone_rows · zone_cols`) when the grid's cells are
+/// split into `zone_rows × zone_cols` zones along grid lines (§3.5: zones bounded by parallels and meridians).
+/// For a global grid with the defaults this is the paper's 8 × 4 = 32 zones of 45° × 45°, snapped to the DEM's
+/// own grid lines (nothing is resampled); for a regional DEM it splits the DEM's own extent. `None` when `k` is
+/// out of range or the zone would be empty (more zones than cells). Keeping each zone's longitude span below
+/// 180° lets the kernel use its meridian walls.
+pub fn zone_cells<T: Real>(
+    grid: &Grid<T>,
+    zone_rows: u32,
+    zone_cols: u32,
+    k: u32,
+) -> Option<([u32; 2], [u32; 2])> {
+    let (a, b) = (k.checked_div(zone_cols)?, k.checked_rem(zone_cols)?);
+    if a >= zone_rows {
+        return None;
+    }
+    let split = |n: u32, parts: u32, i: u32| -> Option<u32> {
+        let v = u64::from(n)
+            .checked_mul(u64::from(i))?
+            .checked_div(u64::from(parts))?;
+        u32::try_from(v).ok()
+    };
+    let (cr, cc) = (grid.cell_rows(), grid.cell_cols());
+    let rows = [
+        split(cr, zone_rows, a)?,
+        split(cr, zone_rows, a.checked_add(1)?)?,
+    ];
+    let cols = [
+        split(cc, zone_cols, b)?,
+        split(cc, zone_cols, b.checked_add(1)?)?,
+    ];
+    (rows[0] < rows[1] && cols[0] < cols[1]).then_some((rows, cols))
 }

@@ -12,6 +12,7 @@ struct TestDem {
     heights: Vec<f64>,
     nodes: Vec<Node<f64>>,
     zones: Vec<NodeId>,
+    cache: Vec<Option<HeightQuadBounds<f64>>>,
 }
 
 impl TestDem {
@@ -22,6 +23,7 @@ impl TestDem {
             heights,
             nodes: Vec::new(),
             zones: Vec::new(),
+            cache: Vec::new(),
         };
         let (cr, cc) = (grid.rows - 1, grid.cols - 1);
         for a in 0..zr {
@@ -138,6 +140,9 @@ impl TerrainStorage<f64> for TestDem {
     }
     fn height(&self, i: u32, j: u32) -> Option<f64> {
         self.h(i, j)
+    }
+    fn cached_bounds(&self, id: NodeId) -> Option<HeightQuadBounds<f64>> {
+        self.cache.get(id.0 as usize).copied().flatten()
     }
 }
 
@@ -519,4 +524,219 @@ fn ray_from_below_hits_the_chord_dip_of_a_polar_triangle_below_its_lowest_vertex
     let hit = p.pick(&ray).unwrap().unwrap();
     assert!((hit.t - 10_000.0).abs() < 1e-6, "{}", hit.t);
     assert_eq!(hit.cell, [1, 3]);
+}
+
+#[test]
+fn cached_bounds_give_identical_picks() {
+    let mut r = Lcg(5);
+    let g = grid(40.0, 100.0, -0.25, 0.25, 17, 17);
+    let hs: Vec<f64> = (0..289).map(|_| 3000.0 * r.next()).collect();
+    let mut dem = TestDem::new(g, hs, 2, 2, 2);
+    let plain: Vec<Option<(f64, [u32; 2])>> = {
+        let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+        (0..60)
+            .map(|k| {
+                let ray = radial_ray(
+                    &dem.e,
+                    36.02 + 0.06 * k as f64,
+                    100.0 + 0.065 * k as f64,
+                    5000.0,
+                );
+                p.pick(&ray).unwrap().map(|h| (h.t, h.cell))
+            })
+            .collect()
+    };
+    dem.cache = dem
+        .nodes
+        .iter()
+        .map(|n| quad_bounds(&dem.e, &dem.grid, n).unwrap())
+        .collect();
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    for (k, want) in plain.iter().enumerate() {
+        let ray = radial_ray(
+            &dem.e,
+            36.02 + 0.06 * k as f64,
+            100.0 + 0.065 * k as f64,
+            5000.0,
+        );
+        assert_eq!(p.pick(&ray).unwrap().map(|h| (h.t, h.cell)), *want);
+        let ray = radial_ray(
+            &dem.e,
+            36.02 + 0.06 * k as f64,
+            100.0 + 0.065 * k as f64,
+            5000.0,
+        );
+        assert_eq!(*want, dem.brute(&ray), "ray {k}");
+        assert!(want.is_some(), "ray {k}");
+    }
+}
+
+/// A 3 × 3-vertex DEM in `f32` (one zone, one leaf).
+struct TinyF32([f32; 9]);
+impl TerrainStorage<f32> for TinyF32 {
+    fn ellipsoid(&self) -> Ellipsoid<f32> {
+        Ellipsoid::wgs84()
+    }
+    fn grid(&self) -> Grid<f32> {
+        Grid {
+            lat0: 47.0,
+            lon0: 8.0,
+            dlat: 0.01,
+            dlon: 0.01,
+            rows: 3,
+            cols: 3,
+        }
+    }
+    fn zone_count(&self) -> usize {
+        1
+    }
+    fn zone(&self, k: usize) -> Option<NodeId> {
+        (k == 0).then_some(NodeId(0))
+    }
+    fn node(&self, id: NodeId) -> Option<Node<f32>> {
+        (id == NodeId(0)).then_some(Node {
+            rows: [0, 2],
+            cols: [0, 2],
+            heights: Some([400.0, 2500.0]),
+            children: [None; 4],
+            level: 0,
+        })
+    }
+    fn height(&self, i: u32, j: u32) -> Option<f32> {
+        self.0.get((i * 3 + j) as usize).copied()
+    }
+}
+
+#[test]
+fn f32_pick_of_a_peak() {
+    let dem = TinyF32([
+        400.0, 400.0, 400.0, 400.0, 2500.0, 400.0, 400.0, 400.0, 400.0,
+    ]);
+    let p: Picker<'_, f32, TinyF32> = Picker::new(&dem).unwrap();
+    let e = Ellipsoid::<f32>::wgs84();
+    let top = e.geodetic_deg_to_ecef(47.01, 8.01, 10_000.0);
+    let n = e.normal(47.01_f32.to_radians(), 8.01_f32.to_radians());
+    let hit = p
+        .pick(&Ray::new(top, n.negated()).unwrap())
+        .unwrap()
+        .unwrap();
+    // f32 ECEF coordinates are quantised to 0.5 m at Earth scale.
+    assert!((hit.t - 7500.0).abs() < 3.0, "{}", hit.t);
+    assert!((hit.h - 2500.0).abs() < 3.0, "{}", hit.h);
+}
+
+#[test]
+fn default_zones_of_a_global_grid_are_45_degree_tiles_on_grid_lines() {
+    // A global 1° grid: 181 rows (pole to pole), 361 columns (the last repeats the first).
+    let g = grid(90.0, -180.0, -1.0, 1.0, 181, 361);
+    let mut count = 0;
+    for k in 0..DEFAULT_ZONE_ROWS * DEFAULT_ZONE_COLS {
+        let (rows, cols) = zone_cells(&g, DEFAULT_ZONE_ROWS, DEFAULT_ZONE_COLS, k).unwrap();
+        assert_eq!((rows[1] - rows[0], cols[1] - cols[0]), (45, 45));
+        assert_eq!(g.lat_deg(rows[0]), 90.0 - 45.0 * (k / 8) as f64);
+        assert_eq!(g.lon_deg(cols[0]), -180.0 + 45.0 * (k % 8) as f64);
+        count += 1;
+    }
+    assert_eq!(count, 32);
+    assert_eq!(zone_cells(&g, 4, 8, 32), None);
+    // More zones than cells: empty zones are None.
+    let tiny = grid(0.0, 0.0, 0.1, 0.1, 3, 3);
+    assert_eq!(zone_cells(&tiny, 4, 1, 0), None);
+    assert_eq!(zone_cells(&tiny, 4, 1, 1), Some(([0, 1], [0, 2])));
+}
+
+#[test]
+#[cfg_attr(miri, ignore)]
+fn global_grid_with_32_zones_agrees_with_brute_force() {
+    // A global 5° grid from pole to pole whose last column repeats the first (longitudes run to +180),
+    // quads of 2 × 2 cells under 8 × 4 zones; rays from orbit, across the antimeridian, over and through the
+    // poles, from below the surface and toward the center.
+    let g = grid(-90.0, -180.0, 5.0, 5.0, 37, 73);
+    let mut r = Lcg(2024);
+    let mut hs: Vec<f64> = (0..37 * 73).map(|_| -3000.0 + 9000.0 * r.next()).collect();
+    for i in 0..37 {
+        hs[i * 73 + 72] = hs[i * 73]; // the repeated column
+    }
+    for j in 0..73 {
+        hs[j] = hs[0]; // one height per pole
+        hs[36 * 73 + j] = hs[36 * 73];
+    }
+    let mut dem = TestDem::new(g, hs, 2, 1, 1);
+    dem.zones.clear();
+    let nodes_before = dem.nodes.len();
+    for k in 0..32 {
+        let (rows, cols) = zone_cells(&g, DEFAULT_ZONE_ROWS, DEFAULT_ZONE_COLS, k).unwrap();
+        let id = dem.build(rows, cols, 2, 0);
+        dem.zones.push(id);
+    }
+    assert!(dem.nodes.len() > nodes_before);
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let e = dem.e;
+    let mut checked = 0;
+    let mut hits = 0;
+    for k in 0..240 {
+        let (origin, dir) = match k % 6 {
+            // From orbit (4e7 m) toward a random surface point.
+            0 => {
+                let o = e.geodetic_deg_to_ecef(
+                    180.0 * r.next() - 90.0,
+                    360.0 * r.next() - 180.0,
+                    4.0e7,
+                );
+                let t =
+                    e.geodetic_deg_to_ecef(180.0 * r.next() - 90.0, 360.0 * r.next() - 180.0, 0.0);
+                (o, t.minus(o))
+            }
+            // Across the antimeridian at low altitude.
+            1 => {
+                let lat = 160.0 * r.next() - 80.0;
+                let o = e.geodetic_deg_to_ecef(lat, 170.0, 20_000.0 + 50_000.0 * r.next());
+                let t = e.geodetic_deg_to_ecef(lat + 4.0 * r.next() - 2.0, -170.0, 0.0);
+                (o, t.minus(o))
+            }
+            // Over the poles.
+            2 => {
+                let s = if r.next() < 0.5 { 1.0 } else { -1.0 };
+                let o = e.geodetic_deg_to_ecef(s * 75.0, 360.0 * r.next() - 180.0, 1.0e5);
+                let t = e.geodetic_deg_to_ecef(
+                    s * (85.0 + 5.0 * r.next()),
+                    360.0 * r.next() - 180.0,
+                    0.0,
+                );
+                (o, t.minus(o))
+            }
+            // Through the pole's vertex, from above.
+            3 => {
+                let s = if r.next() < 0.5 { 1.0 } else { -1.0 };
+                let o = V3::new(
+                    3.0e5 * (r.next() - 0.5),
+                    3.0e5 * (r.next() - 0.5),
+                    s * 6.5e6,
+                );
+                (o, V3::new(0.0, 0.0, -s))
+            }
+            // From 2 km below the surface, upward or sideways.
+            4 => {
+                let (la, lo) = (170.0 * r.next() - 85.0, 360.0 * r.next() - 180.0);
+                let o = e.geodetic_deg_to_ecef(la, lo, -5000.0);
+                (o, V3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5))
+            }
+            // Toward the Earth's center.
+            _ => {
+                let o = e.geodetic_deg_to_ecef(
+                    180.0 * r.next() - 90.0,
+                    360.0 * r.next() - 180.0,
+                    1.0e6,
+                );
+                (o, o.negated())
+            }
+        };
+        let ray = Ray::new(origin, dir).unwrap();
+        let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
+        assert_eq!(got, dem.brute(&ray), "ray {k}");
+        checked += 1;
+        hits += usize::from(got.is_some());
+    }
+    assert_eq!(checked, 240);
+    assert!(hits > 150, "{hits}");
 }

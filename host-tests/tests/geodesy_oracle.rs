@@ -1,0 +1,267 @@
+//! ECEF → geodetic accuracy of the kernel against an independent arbitrary-precision inversion.
+//!
+//! The reference solves the exact meridian-plane equation in 128-bit arithmetic (astro-float) by Newton's method
+//! on the cotangent κ = cot ψ of the latitude, which needs no trigonometry: for `z ≥ 0` the foot of the normal
+//! satisfies
+//!
+//! ```text
+//! H(κ) = R − z κ − e² a κ / sqrt(κ² + 1 − e²) = 0,   H'(κ) = −z − e² a (1 − e²) / (κ² + 1 − e²)^{3/2},
+//! ```
+//!
+//! H is decreasing and convex on κ ≥ 0 with `H(0) = R ≥ 0`, so Newton from κ = 0 converges monotonically to the
+//! unique root (a plain f64 Newton first, then 128-bit steps). Then `sin ψ = 1/sqrt(1 + κ²)`,
+//! `cos ψ = κ/sqrt(1 + κ²)`, `h = R cos ψ + z sin ψ − a sqrt(1 − e² sin²ψ)`.
+//!
+//! Error measures (GeographicLib's `Geocentric` documents < 7 nm for |h| ≤ 5000 km):
+//! * the round trip: the distance between the input point and the point the kernel's (ψ, λ, h) denotes,
+//!   evaluated in 128-bit arithmetic (sin/cos of the kernel's angles in high precision);
+//! * `|h_kernel − h_reference|`.
+
+use astro_float::{BigFloat, Consts, Radix, RoundingMode};
+use curvicast::geodesy::Ellipsoid;
+use curvicast::vec3::V3;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+
+const P: usize = 128;
+const RM: RoundingMode = RoundingMode::ToEven;
+const A: f64 = 6_378_137.0;
+const F: f64 = 1.0 / 298.257_223_563;
+
+fn bf(x: f64) -> BigFloat {
+    BigFloat::from_f64(x, P)
+}
+
+fn to_f64(x: &BigFloat, cc: &mut Consts) -> f64 {
+    x.format(Radix::Dec, RM, cc)
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+        .unwrap_or(f64::NAN)
+}
+
+struct Reference {
+    a: BigFloat,
+    e2: BigFloat,
+    e2m: BigFloat,
+}
+
+impl Reference {
+    fn wgs84() -> Self {
+        // e² = f(2 − f) with f = 1/298.257223563 exactly (the defining value), in 128 bits.
+        let f = BigFloat::from_f64(1.0, P).div(&bf(298.257_223_563), P, RM);
+        let e2 = f.mul(&bf(2.0).sub(&f, P, RM), P, RM);
+        let e2m = bf(1.0).sub(&e2, P, RM);
+        Reference { a: bf(A), e2, e2m }
+    }
+
+    /// (sin ψ, cos ψ, h) of the point at distance `r ≥ 0` from the axis and height `z`.
+    fn solve(&self, r: f64, z: f64) -> (BigFloat, BigFloat, BigFloat) {
+        let zs = z.abs();
+        // f64 Newton from κ = 0 (monotone), then 128-bit Newton.
+        let (a64, e2_64) = (A, F * (2.0 - F));
+        let e2m64 = 1.0 - e2_64;
+        let mut k = 0.0_f64;
+        for _ in 0..200 {
+            let q = k * k + e2m64;
+            let hv = r - zs * k - e2_64 * a64 * k / q.sqrt();
+            let dh = -zs - e2_64 * a64 * e2m64 / (q * q.sqrt());
+            let next = k - hv / dh;
+            if !next.is_finite() || (next - k).abs() <= 1e-17 * next.abs() {
+                k = if next.is_finite() { next } else { k };
+                break;
+            }
+            k = next;
+        }
+        let (rb, zb) = (bf(r), bf(zs));
+        let ea = self.e2.mul(&self.a, P, RM);
+        let mut kb = bf(k);
+        for _ in 0..4 {
+            let q = kb.mul(&kb, P, RM).add(&self.e2m, P, RM);
+            let sq = q.sqrt(P, RM);
+            let hv =
+                rb.sub(&zb.mul(&kb, P, RM), P, RM)
+                    .sub(&ea.mul(&kb, P, RM).div(&sq, P, RM), P, RM);
+            let dh = zb
+                .add(
+                    &ea.mul(&self.e2m, P, RM).div(&q.mul(&sq, P, RM), P, RM),
+                    P,
+                    RM,
+                )
+                .neg();
+            kb = kb.sub(&hv.div(&dh, P, RM), P, RM);
+        }
+        let one = bf(1.0);
+        let norm = one.add(&kb.mul(&kb, P, RM), P, RM).sqrt(P, RM);
+        let mut s = one.div(&norm, P, RM);
+        let c = kb.div(&norm, P, RM);
+        let w = one
+            .sub(&self.e2.mul(&s.mul(&s, P, RM), P, RM), P, RM)
+            .sqrt(P, RM);
+        let h = rb
+            .mul(&c, P, RM)
+            .add(&zb.mul(&s, P, RM), P, RM)
+            .sub(&self.a.mul(&w, P, RM), P, RM);
+        if z < 0.0 {
+            s = s.neg();
+        }
+        (s, c, h)
+    }
+
+    /// Distance between the input (x, y, z) and the point (ψ, λ, h) given in f64, in 128-bit arithmetic.
+    fn round_trip_error(
+        &self,
+        p: [f64; 3],
+        lat: f64,
+        lon: f64,
+        h: f64,
+        cc: &mut Consts,
+    ) -> BigFloat {
+        let (sl, cl) = (bf(lat).sin(P, RM, cc), bf(lat).cos(P, RM, cc));
+        let (so, co) = (bf(lon).sin(P, RM, cc), bf(lon).cos(P, RM, cc));
+        let one = bf(1.0);
+        let w = one
+            .sub(&self.e2.mul(&sl.mul(&sl, P, RM), P, RM), P, RM)
+            .sqrt(P, RM);
+        let n = self.a.div(&w, P, RM);
+        let hb = bf(h);
+        let rho = n.add(&hb, P, RM).mul(&cl, P, RM);
+        let x = rho.mul(&co, P, RM);
+        let y = rho.mul(&so, P, RM);
+        let z = n.mul(&self.e2m, P, RM).add(&hb, P, RM).mul(&sl, P, RM);
+        let dx = x.sub(&bf(p[0]), P, RM);
+        let dy = y.sub(&bf(p[1]), P, RM);
+        let dz = z.sub(&bf(p[2]), P, RM);
+        dx.mul(&dx, P, RM)
+            .add(&dy.mul(&dy, P, RM), P, RM)
+            .add(&dz.mul(&dz, P, RM), P, RM)
+            .sqrt(P, RM)
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Kind {
+    Uniform,
+    NearPole,
+    ZAxis,
+    NearCenter,
+}
+
+fn point(kind: Kind, rng: &mut ChaCha8Rng) -> [f64; 3] {
+    let e = Ellipsoid::<f64>::wgs84();
+    match kind {
+        Kind::Uniform => {
+            let lat = (rng.random::<f64>() * 2.0 - 1.0).asin();
+            let lon = (rng.random::<f64>() * 2.0 - 1.0) * core::f64::consts::PI;
+            let h = (rng.random::<f64>() * 2.0 - 1.0) * 5.0e6;
+            e.geodetic_to_ecef(lat, lon, h).to_array()
+        }
+        Kind::NearPole => {
+            let eps = 10f64.powf(-rng.random_range(1.0..14.0));
+            let lat = (core::f64::consts::FRAC_PI_2 - eps)
+                * if rng.random::<bool>() { 1.0 } else { -1.0 };
+            let lon = (rng.random::<f64>() * 2.0 - 1.0) * core::f64::consts::PI;
+            let h = (rng.random::<f64>() * 2.0 - 1.0) * 5.0e6;
+            e.geodetic_to_ecef(lat, lon, h).to_array()
+        }
+        Kind::ZAxis => {
+            let z = (e.b() + (rng.random::<f64>() * 2.0 - 1.0) * 5.0e6)
+                * if rng.random::<bool>() { 1.0 } else { -1.0 };
+            [0.0, 0.0, z]
+        }
+        Kind::NearCenter => {
+            let s = 10f64.powf(rng.random_range(-3.0..4.0));
+            [
+                (rng.random::<f64>() * 2.0 - 1.0) * s,
+                (rng.random::<f64>() * 2.0 - 1.0) * s,
+                (rng.random::<f64>() * 2.0 - 1.0) * s,
+            ]
+        }
+    }
+}
+
+/// Max round-trip error and max |Δh| (meters) over `n` points of one kind.
+fn measure(kind: Kind, n: usize, seed: u64) -> (f64, f64, [f64; 3]) {
+    let chunks: Vec<u64> = (0..16).collect();
+    let per = n.div_ceil(16);
+    chunks
+        .par_iter()
+        .map(|&c| {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_mul(1000).wrapping_add(c));
+            let mut cc = Consts::new().expect("constants cache");
+            let r = Reference::wgs84();
+            let e = Ellipsoid::<f64>::wgs84();
+            let mut worst = (0.0_f64, 0.0_f64, [0.0; 3]);
+            for _ in 0..per {
+                let p = point(kind, &mut rng);
+                let g = e.ecef_to_geodetic(V3::from(p));
+                assert!(
+                    g.lat.is_finite() && g.lon.is_finite() && g.h.is_finite(),
+                    "{p:?}"
+                );
+                let rt = to_f64(&r.round_trip_error(p, g.lat, g.lon, g.h, &mut cc), &mut cc);
+                let (_, _, h_ref) = r.solve(p[0].hypot(p[1]), p[2]);
+                let dh = to_f64(&bf(g.h).sub(&h_ref, P, RM), &mut cc).abs();
+                if rt > worst.0 {
+                    worst.2 = p;
+                }
+                worst.0 = worst.0.max(rt);
+                worst.1 = worst.1.max(dh);
+            }
+            worst
+        })
+        .reduce(
+            || (0.0, 0.0, [0.0; 3]),
+            |a, b| {
+                if a.0 >= b.0 {
+                    (a.0, a.1.max(b.1), a.2)
+                } else {
+                    (b.0, a.1.max(b.1), b.2)
+                }
+            },
+        )
+}
+
+/// GeographicLib's documented bound for the reverse conversion, |h| ≤ 5000 km.
+const BOUND: f64 = 7.0e-9;
+
+#[test]
+fn reverse_uniform_points_heights_within_5000_km() {
+    let (rt, dh, at) = measure(Kind::Uniform, 80_000, 1);
+    println!("uniform: max round-trip error {rt:.3e} m, max |dh| {dh:.3e} m (at {at:?})");
+    assert!(
+        rt < BOUND && dh < BOUND,
+        "round trip {rt:e}, dh {dh:e} at {at:?}"
+    );
+}
+
+#[test]
+fn reverse_points_near_the_poles() {
+    let (rt, dh, at) = measure(Kind::NearPole, 16_000, 2);
+    println!("near poles: max round-trip error {rt:.3e} m, max |dh| {dh:.3e} m (at {at:?})");
+    assert!(
+        rt < BOUND && dh < BOUND,
+        "round trip {rt:e}, dh {dh:e} at {at:?}"
+    );
+}
+
+#[test]
+fn reverse_points_on_the_z_axis() {
+    let (rt, dh, at) = measure(Kind::ZAxis, 4_000, 3);
+    println!("z axis: max round-trip error {rt:.3e} m, max |dh| {dh:.3e} m (at {at:?})");
+    assert!(
+        rt < BOUND && dh < BOUND,
+        "round trip {rt:e}, dh {dh:e} at {at:?}"
+    );
+}
+
+#[test]
+fn reverse_points_near_the_center() {
+    // Heights near −b here (beyond GeographicLib's ±5000 km range): the same bound is asserted.
+    let (rt, dh, at) = measure(Kind::NearCenter, 4_000, 4);
+    println!("near center: max round-trip error {rt:.3e} m, max |dh| {dh:.3e} m (at {at:?})");
+    assert!(
+        rt < BOUND && dh < BOUND,
+        "round trip {rt:e}, dh {dh:e} at {at:?}"
+    );
+}
