@@ -672,6 +672,80 @@ mod tests {
             assert!(p.overhead_bytes() > 0);
         }
     }
+
+    #[test]
+    fn storage_tree_is_well_formed_and_covers_every_triangle_once() {
+        use curvicast::terrain::TerrainStorage;
+        let (rows, cols) = (45, 70);
+        let mut h: Vec<f32> = (0..rows * cols)
+            .map(|k| ((k * 7919) % 1000) as f32 - 300.0)
+            .collect();
+        for k in (0..rows * cols).step_by(97) {
+            h[k] = f32::NAN;
+        }
+        for k in 0..cols * 5 {
+            h[10 * cols + k] = f32::NAN; // rows 10..15 missing entirely
+        }
+        let d = Dem::wgs84((60.0, 170.0, 0.3, 0.4), (rows, cols), h).unwrap();
+        for block in [1, 3, 4, 16, 64] {
+            let s = DemStorage::new(&d, block);
+            let mut covered = vec![0u32; (rows - 1) * (cols - 1)];
+            let mut stack: Vec<curvicast::terrain::NodeId> = (0
+                ..TerrainStorage::<f64>::zone_count(&s))
+                .map(|k| TerrainStorage::<f64>::zone(&s, k).unwrap())
+                .collect();
+            assert!(stack.len() <= 32);
+            let mut seen = 0;
+            while let Some(id) = stack.pop() {
+                seen += 1;
+                let n: curvicast::terrain::Node<f64> = s.node(id).unwrap();
+                let mut lo = f64::INFINITY;
+                let mut hi = f64::NEG_INFINITY;
+                for i in n.rows[0]..=n.rows[1] {
+                    for j in n.cols[0]..=n.cols[1] {
+                        if let Some(v) = d.height(i as usize, j as usize) {
+                            lo = lo.min(f64::from(v));
+                            hi = hi.max(f64::from(v));
+                        }
+                    }
+                }
+                assert_eq!(
+                    n.heights,
+                    (hi >= lo).then_some([lo, hi]),
+                    "block {block} node {n:?}"
+                );
+                if n.is_leaf() {
+                    for i in n.rows[0]..n.rows[1] {
+                        for j in n.cols[0]..n.cols[1] {
+                            covered[i as usize * (cols - 1) + j as usize] += 1;
+                        }
+                    }
+                }
+                for c in n.children.iter().flatten() {
+                    let k: curvicast::terrain::Node<f64> = s.node(*c).unwrap();
+                    assert!(k.rows[0] >= n.rows[0] && k.rows[1] <= n.rows[1]);
+                    assert!(k.cols[0] >= n.cols[0] && k.cols[1] <= n.cols[1]);
+                    assert!((k.rows, k.cols) != (n.rows, n.cols), "child equals parent");
+                    assert!(k.level > n.level);
+                    stack.push(*c);
+                }
+            }
+            assert!(seen <= s.node_count());
+            for i in 0..rows - 1 {
+                for j in 0..cols - 1 {
+                    let has = d.triangle(i, j, 0).is_some() || d.triangle(i, j, 1).is_some();
+                    let c = covered[i * (cols - 1) + j];
+                    assert!(
+                        c <= 1 && (!has || c == 1),
+                        "block {block} cell ({i}, {j}): {c}"
+                    );
+                }
+            }
+            if block >= 4 {
+                assert!(s.overhead_bytes() < s.heights_bytes());
+            }
+        }
+    }
 }
 
 /// The host's terrain storage for the kernel (seed 000 §3.5, §4): a [`Dem`] plus its [`HeightPyramid`], exposed
@@ -700,9 +774,13 @@ pub struct DemStorage<'a> {
 
 impl<'a> DemStorage<'a> {
     /// Builds the storage over `dem` with leaf blocks of `block × block` cells (the contract's `--block`, default
-    /// 16; values below 1 are taken as 1).
+    /// 16; values below 1 are taken as 1). On very coarse grids the block is reduced so that a leaf spans less
+    /// than 180° of longitude (the kernel's meridian walls bound wedges narrower than a half-turn).
     pub fn new(dem: &'a Dem, block: usize) -> DemStorage<'a> {
-        let pyramid = HeightPyramid::build(dem, block);
+        let max_block = ((180.0 / dem.dlon).ceil() as usize)
+            .saturating_sub(1)
+            .max(1);
+        let pyramid = HeightPyramid::build(dem, block.min(max_block));
         let mut offsets = Vec::with_capacity(pyramid.dims.len());
         let mut acc = 0;
         for &(r, c) in &pyramid.dims {
