@@ -76,14 +76,25 @@ pub fn run(args: &PickArgs, out: &mut dyn Write) -> Result<(), UsageError> {
         )));
     }
     let rays = read_rays(args.rays.as_deref())?;
+    // A progress bar on stderr for long runs, only when stderr is a terminal (never on stdout).
+    let bar = (rays.len() >= 10_000 && std::io::IsTerminal::is_terminal(&std::io::stderr()))
+        .then(|| indicatif::ProgressBar::new(rays.len() as u64));
     let lines: Vec<String> = rays
         .par_iter()
         .enumerate()
-        .map(|(k, r)| match r {
-            Ok(r) => answer(&picker, k, r),
-            Err(e) => error_line(k, e),
+        .map(|(k, r)| {
+            if let Some(b) = &bar {
+                b.inc(1);
+            }
+            match r {
+                Ok(r) => answer(&picker, k, r),
+                Err(e) => error_line(k, e),
+            }
         })
         .collect();
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
     for l in lines {
         writeln!(out, "{l}").map_err(|e| UsageError(format!("<stdout>: {e}")))?;
     }
