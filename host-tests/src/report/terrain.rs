@@ -99,7 +99,10 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
          Ours: `curvicast::terrain::Picker` over the host's `DemStorage` (blocks of 16 × 16 cells). parry: \
          parry3d-f64 `TriMesh::cast_local_ray` (its BVH over the same ECEF triangles, built from the same f64 \
          vertices). Brute force: Möller–Trumbore over every triangle with precomputed vertices, timed on {n_brute} \
-         rays per row (sampled). Synthetic terrain: {n_syn} × {n_syn}{}.\n\n",
+         rays per row (sampled). Synthetic terrain: {n_syn} × {n_syn}{}. Rays per second are wall-clock \
+         figures; the three methods of a row run back to back on the same rays, so their ratio is the figure to \
+         read on a loaded machine. \"status differs\" counts rays that one of ours/parry hits and the other \
+         misses.\n\n",
         if opts.quick {
             " (quick mode; the full report uses 4096 × 4096)"
         } else {
