@@ -120,8 +120,6 @@ fn margin(scale: f64) -> f64 {
 
 /// Rows and columns of 256-bit trigonometry for a DEM, computed once.
 struct Exact {
-    a2: BigFloat,
-    b2_over_a2: BigFloat,
     /// Per row: (N cosφ, N (b²/a²) sinφ, cosφ, sinφ).
     rows: Vec<[BigFloat; 4]>,
     /// Per column: (cosλ, sinλ).
@@ -189,12 +187,7 @@ impl Exact {
                 [c, s]
             })
             .collect();
-        Exact {
-            a2,
-            b2_over_a2,
-            rows,
-            cols,
-        }
+        Exact { rows, cols }
     }
 
     /// Vertex (i, j) at height h in 256 bits: ((N + h) cosφ cosλ, (N + h) cosφ sinλ, (N b²/a² + h) sinφ).
@@ -420,13 +413,6 @@ impl<'a> TerrainOracle<'a> {
     pub fn memory_bytes(&self) -> usize {
         self.verts.len() * 24 + (self.chunks.len() + self.supers.len()) * 48
     }
-
-    /// The exact (256-bit) equatorial radius squared; exposed for self-tests.
-    #[doc(hidden)]
-    pub fn a2(&self) -> f64 {
-        let _ = &self.exact.b2_over_a2;
-        to_f64(&self.exact.a2)
-    }
 }
 
 /// Entry parameter of the ray into the ball around the triangle's centroid through its farthest vertex (grown by
@@ -456,7 +442,7 @@ fn ball_entry(
     let dist2 = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) / dd;
     let wl = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
     // Rounding of the cross product: relative 1e-15 of |w|²; grow r² accordingly.
-    let r2g = r * r + 1e-12 * wl * wl / 1.0_f64.max(1.0);
+    let r2g = r * r + 1e-12 * wl * wl;
     if dist2 > r2g {
         return None;
     }
