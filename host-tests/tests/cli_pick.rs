@@ -179,3 +179,51 @@ fn pick_bad_files_and_arguments_exit_2_with_one_line_naming_the_file() {
     assert_eq!((code, out.as_str()), (2, ""));
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+#[test]
+fn pick_on_the_shipped_etopo20_written_as_terrain_json_matches_the_oracle() {
+    use curvicast_host::scenes::real_dem;
+    use curvicast_host::scenes::terrain_cases::orbit_rays;
+    let d = dir("etopo");
+    let dem = real_dem::etopo20().unwrap();
+    let json = d.join("etopo20.json");
+    dem.write_terrain_json(&json).unwrap();
+    let mut rays = orbit_rays(&dem, 20, 3);
+    rays.extend(random_rays(&dem, 20, 4));
+    let text: String = rays
+        .iter()
+        .map(|r| serde_json::to_string(r).unwrap() + "\n")
+        .collect();
+    let (code, out, err) = run(&["pick", "--terrain", json.to_str().unwrap()], Some(&text));
+    assert_eq!(code, 0, "{err}");
+    let oracle = TerrainOracle::new(&dem);
+    let lines: Vec<serde_json::Value> = out
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), rays.len());
+    let mut hits = 0;
+    for (k, (l, r)) in lines.iter().zip(&rays).enumerate() {
+        match (oracle.pick(r), &l["hit"]) {
+            (None, serde_json::Value::Null) => {}
+            (Some(t), h) if h.is_object() => {
+                hits += 1;
+                let e: Vec<f64> = h["ecef"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|x| x.as_f64().unwrap())
+                    .collect();
+                let dist = ((e[0] - t.point[0]).powi(2)
+                    + (e[1] - t.point[1]).powi(2)
+                    + (e[2] - t.point[2]).powi(2))
+                .sqrt();
+                assert!(dist < 1e-6, "ray {k}: {dist} m");
+                assert_eq!(h["cell"][0].as_u64().unwrap() as usize, t.cell.0, "ray {k}");
+            }
+            (t, h) => panic!("ray {k}: oracle {t:?} vs cli {h}"),
+        }
+    }
+    assert!(hits >= 20, "{hits}");
+    std::fs::remove_dir_all(&d).unwrap();
+}
