@@ -34,6 +34,22 @@ enum Command {
         #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
         args: Vec<String>,
     },
+    /// Nearest hit of each ray with a DEM's triangle surface (ECEF meters; see the command-line contract).
+    Pick {
+        /// The TERRAIN.json file.
+        #[arg(long)]
+        terrain: PathBuf,
+        /// Rays (JSON Lines); standard input without it.
+        #[arg(long)]
+        rays: Option<PathBuf>,
+        /// Coarsest quadtree level allowed to answer (multi-resolution terrain). The trees built by this tool are
+        /// single-resolution, so the answer does not depend on it; it must be between 0 and the tree's depth.
+        #[arg(long, default_value_t = 0)]
+        min_level: u32,
+        /// Cells per leaf-block side (1 to 1024).
+        #[arg(long, default_value_t = 16)]
+        block: usize,
+    },
 }
 
 fn main() -> ExitCode {
@@ -49,6 +65,21 @@ fn main() -> ExitCode {
         }
     };
     let result = match cli.command {
+        Command::Pick {
+            terrain,
+            rays,
+            min_level,
+            block,
+        } => {
+            let args = curvicast_host::cli::pick::PickArgs {
+                terrain,
+                rays,
+                min_level,
+                block,
+            };
+            let mut out = std::io::stdout().lock();
+            curvicast_host::cli::pick::run(&args, &mut out).map_err(anyhow::Error::from)
+        }
         Command::Report { quick, out } => {
             curvicast_host::report::run(&curvicast_host::report::Options {
                 quick,

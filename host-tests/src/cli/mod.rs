@@ -5,3 +5,4 @@
 
 pub mod io;
 pub mod tessellate;
+pub mod pick;

@@ -3,6 +3,7 @@
 //! Each section lives in its own module and returns a [`Section`]; [`run`] runs them in order.
 
 pub mod surfaces;
+pub mod terrain;
 pub mod tessellate;
 
 use std::path::Path;
@@ -29,7 +30,7 @@ pub struct Options {
 pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
     std::fs::create_dir_all(&opts.out_dir)?;
     type SectionFn = fn(&Options) -> anyhow::Result<Section>;
-    let sections: &[SectionFn] = &[surfaces::section, tessellate::section];
+    let sections: &[SectionFn] = &[surfaces::section, terrain::section, tessellate::section];
     let mut done = Vec::new();
     let mut md = String::from("# curvicast report\n\n");
     md.push_str(&format!(

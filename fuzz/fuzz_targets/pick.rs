@@ -1,0 +1,211 @@
+//! Fuzz target for terrain picking (seed 000 §3–§4): small random DEMs (2–9 × 2–9 vertices, anywhere on the
+//! globe, any spacing, nodata vertices, poles) and random rays. The kernel must not panic or hang, must return
+//! either a typed error or an answer, and must agree with an `f64` brute force over every triangle:
+//!
+//! * no false hit: a kernel hit at t must be (within 1 mm) on some triangle, tested with a slightly grown
+//!   triangle (barycentric slack 1e-6);
+//! * no miss: if the brute force finds a hit strictly inside a triangle (barycentric margin 1e-6) at a
+//!   non-grazing angle, the kernel must return a hit no farther than it (within 1 mm).
+#![no_main]
+
+use arbitrary::Arbitrary;
+use curvicast::Ray;
+use curvicast::geodesy::Ellipsoid;
+use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainStorage};
+use libfuzzer_sys::fuzz_target;
+
+#[derive(Debug, Arbitrary)]
+struct Input {
+    lat0: i16,
+    lon0: i16,
+    dlat: i16,
+    dlon: u16,
+    rows: u8,
+    cols: u8,
+    heights: [i16; 81],
+    nodata: u128,
+    origin_lat: i16,
+    origin_lon: i16,
+    origin_h: i32,
+    target: [u8; 2],
+    target_h: i16,
+    jitter: [i16; 3],
+    t_max: Option<u16>,
+    split: bool,
+}
+
+struct Tiny {
+    grid: Grid<f64>,
+    h: Vec<Option<f64>>,
+    nodes: Vec<Node<f64>>,
+    zones: Vec<NodeId>,
+}
+
+impl Tiny {
+    fn range(&self, r: [u32; 2], c: [u32; 2]) -> Option<[f64; 2]> {
+        let mut out: Option<[f64; 2]> = None;
+        for i in r[0]..=r[1] {
+            for j in c[0]..=c[1] {
+                if let Some(h) = self.h[(i * self.grid.cols + j) as usize] {
+                    out = Some(out.map_or([h, h], |[a, b]| [a.min(h), b.max(h)]));
+                }
+            }
+        }
+        out
+    }
+    fn node(&self, rows: [u32; 2], cols: [u32; 2], level: u8) -> Node<f64> {
+        Node { rows, cols, heights: self.range(rows, cols), children: [None; 4], level }
+    }
+}
+
+impl TerrainStorage<f64> for Tiny {
+    fn ellipsoid(&self) -> Ellipsoid<f64> {
+        Ellipsoid::wgs84()
+    }
+    fn grid(&self) -> Grid<f64> {
+        self.grid
+    }
+    fn zone_count(&self) -> usize {
+        self.zones.len()
+    }
+    fn zone(&self, k: usize) -> Option<NodeId> {
+        self.zones.get(k).copied()
+    }
+    fn node(&self, id: NodeId) -> Option<Node<f64>> {
+        self.nodes.get(id.0 as usize).copied()
+    }
+    fn height(&self, i: u32, j: u32) -> Option<f64> {
+        if i >= self.grid.rows || j >= self.grid.cols {
+            return None;
+        }
+        self.h.get((i * self.grid.cols + j) as usize).copied().flatten()
+    }
+}
+
+fn moller(o: [f64; 3], d: [f64; 3], v: [[f64; 3]; 3], slack: f64) -> Option<(f64, f64)> {
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let (e1, e2) = (sub(v[1], v[0]), sub(v[2], v[0]));
+    let p = cross(d, e2);
+    let det = dot(e1, p);
+    let n = cross(e1, e2);
+    let sin = det.abs() / (dot(n, n).sqrt() * dot(d, d).sqrt());
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    let s = sub(o, v[0]);
+    let u = dot(s, p) / det;
+    let q = cross(s, e1);
+    let w = dot(d, q) / det;
+    if u < -slack || w < -slack || u + w > 1.0 + slack {
+        return None;
+    }
+    Some((dot(e2, q) / det, sin))
+}
+
+fuzz_target!(|inp: Input| {
+    let rows = 2 + u32::from(inp.rows % 8);
+    let cols = 2 + u32::from(inp.cols % 8);
+    let dlat = f64::from(inp.dlat) / 2000.0; // up to ±16°
+    let dlon = 1e-4 + f64::from(inp.dlon) / 2000.0; // up to 33°
+    let lat0 = (f64::from(inp.lat0) / 360.0).clamp(-90.0, 90.0);
+    let last = lat0 + f64::from(rows - 1) * dlat;
+    if dlat == 0.0 || !(-90.0..=90.0).contains(&last) {
+        return;
+    }
+    let lon0 = f64::from(inp.lon0) / 90.0;
+    let grid = Grid { lat0, lon0, dlat, dlon, rows, cols };
+    let n = (rows * cols) as usize;
+    let h: Vec<Option<f64>> = (0..n)
+        .map(|k| ((inp.nodata >> k) & 1 == 0 || k >= 128).then(|| f64::from(inp.heights[k % 81]) / 4.0))
+        .collect();
+    let mut t = Tiny { grid, h, nodes: Vec::new(), zones: Vec::new() };
+    let (cr, cc) = (rows - 1, cols - 1);
+    let root = t.node([0, cr], [0, cc], 0);
+    t.nodes.push(root);
+    if inp.split && cr >= 2 && cc >= 2 {
+        let (mr, mc) = (cr / 2, cc / 2);
+        let mut kids = [None; 4];
+        for (k, (r, c)) in [([0, mr], [0, mc]), ([0, mr], [mc, cc]), ([mr, cr], [0, mc]), ([mr, cr], [mc, cc])]
+            .into_iter()
+            .enumerate()
+        {
+            let node = t.node(r, c, 1);
+            if node.heights.is_some() {
+                kids[k] = Some(NodeId(t.nodes.len() as u32));
+                t.nodes.push(node);
+            }
+        }
+        t.nodes[0].children = kids;
+    }
+    t.zones.push(NodeId(0));
+    let e = Ellipsoid::<f64>::wgs84();
+    let Ok(picker) = Picker::<'_, f64, Tiny>::new(&t) else {
+        return;
+    };
+    let olat = (f64::from(inp.origin_lat) / 360.0).clamp(-90.0, 90.0);
+    let o = e.geodetic_deg_to_ecef(olat, f64::from(inp.origin_lon) / 90.0, f64::from(inp.origin_h) * 4.0);
+    let ti = f64::from(inp.target[0] % 64) / 64.0 * f64::from(cr);
+    let tj = f64::from(inp.target[1] % 64) / 64.0 * f64::from(cc);
+    let tp = e.geodetic_deg_to_ecef(lat0 + ti * dlat, lon0 + tj * dlon, f64::from(inp.target_h));
+    let o = [o.x, o.y, o.z];
+    let mut d = [tp.x - o[0], tp.y - o[1], tp.z - o[2]];
+    for (c, j) in d.iter_mut().zip(inp.jitter) {
+        *c += f64::from(j);
+    }
+    let t_max = inp.t_max.map_or(f64::INFINITY, |m| f64::from(m) / 1000.0);
+    let Ok(ray) = Ray::new(o, d).and_then(|r| r.with_interval(0.0, t_max)) else {
+        return;
+    };
+    let Ok(hit) = picker.pick(&ray) else {
+        return;
+    };
+    // Brute force over every triangle.
+    let dl = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    let tol = 1e-3 / dl;
+    let vert = |i: u32, j: u32| {
+        let hh = t.height(i, j)?;
+        let p = e.geodetic_deg_to_ecef(grid.lat_deg(i), grid.lon_deg(j), hh);
+        Some([p.x, p.y, p.z])
+    };
+    let mut loose: Vec<f64> = Vec::new();
+    let mut strict: Option<f64> = None;
+    for i in 0..cr {
+        for j in 0..cc {
+            for tri in [[(i, j), (i, j + 1), (i + 1, j + 1)], [(i, j), (i + 1, j + 1), (i + 1, j)]] {
+                let (Some(a), Some(b), Some(c)) =
+                    (vert(tri[0].0, tri[0].1), vert(tri[1].0, tri[1].1), vert(tri[2].0, tri[2].1))
+                else {
+                    continue;
+                };
+                if let Some((tt, _)) = moller(o, d, [a, b, c], 1e-6) {
+                    loose.push(tt);
+                }
+                if let Some((tt, sin)) = moller(o, d, [a, b, c], -1e-6)
+                    && sin > 1e-3
+                    && tt > tol
+                    && tt < t_max - tol
+                {
+                    strict = Some(strict.map_or(tt, |s: f64| s.min(tt)));
+                }
+            }
+        }
+    }
+    if let Some(h) = &hit {
+        assert!(
+            loose.iter().any(|&tt| (tt - h.t).abs() <= tol.max(1e-9 * h.t.abs())),
+            "false hit at t = {} (brute force: {loose:?})",
+            h.t
+        );
+    }
+    if let Some(tb) = strict {
+        let tk = hit.map(|h| h.t);
+        assert!(
+            tk.is_some_and(|tk| tk <= tb + tol.max(1e-9 * tb.abs())),
+            "miss: brute force hits at t = {tb}, kernel {tk:?}"
+        );
+    }
+});

@@ -1,0 +1,82 @@
+//! Terrain picking benchmarks (seed 000 §3–§5): the kernel's `Picker` over the host's `DemStorage` against
+//! parry3d-f64's `TriMesh` BVH and brute force, on Trinidad (1201 × 2401) and a synthetic fractal terrain of
+//! 4096 × 4096 vertices (set `CURVICAST_TERRAIN_BENCH_N` for another size: parry's mesh needs about 170 bytes per
+//! triangle, 5.6 GB at 4096²), rays from a camera 2 km above ground and from orbit. Each iteration picks a batch
+//! of rays; throughput is in rays.
+//!
+//! Quick run: `cargo bench -p curvicast-host --bench terrain -- --warm-up-time 1 --measurement-time 2`.
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use curvicast::Ray;
+use curvicast::terrain::Picker;
+use curvicast_host::baselines::terrain::{BruteForceTerrain, ParryTerrain};
+use curvicast_host::scenes::real_dem;
+use curvicast_host::scenes::spec::RaySpec;
+use curvicast_host::scenes::terrain::{Dem, DemStorage};
+use curvicast_host::scenes::terrain_cases::{TerrainKind, camera_rays, orbit_rays, synthetic};
+use std::hint::black_box;
+
+const BATCH: usize = 256;
+
+fn bench_scene(c: &mut Criterion, name: &str, dem: &Dem) {
+    let storage = DemStorage::new(dem, 16);
+    let picker: Picker<'_, f64, DemStorage<'_>> = Picker::new(&storage).expect("picker");
+    let parry = ParryTerrain::new(dem).expect("parry mesh");
+    let brute = BruteForceTerrain::new(dem);
+    let mut g = c.benchmark_group(format!("terrain/{name}"));
+    g.sample_size(10);
+    for (kind, rays) in [
+        ("camera_2km", camera_rays(dem, BATCH, 2000.0, 1)),
+        ("orbit", orbit_rays(dem, BATCH, 2)),
+    ] {
+        let kr: Vec<Ray<f64>> = rays
+            .iter()
+            .map(|r| Ray::new(r.origin, r.dir).expect("ray"))
+            .collect();
+        g.throughput(Throughput::Elements(BATCH as u64));
+        g.bench_with_input(BenchmarkId::new("quadtree", kind), &kr, |b, kr| {
+            b.iter(|| {
+                kr.iter()
+                    .filter(|r| picker.pick(black_box(r)).ok().flatten().is_some())
+                    .count()
+            })
+        });
+        g.bench_with_input(
+            BenchmarkId::new("parry_bvh", kind),
+            &rays,
+            |b, rays: &Vec<RaySpec>| {
+                b.iter(|| {
+                    rays.iter()
+                        .filter(|r| parry.pick(black_box(r)).is_some())
+                        .count()
+                })
+            },
+        );
+        // Brute force is sampled: one ray per iteration.
+        g.throughput(Throughput::Elements(1));
+        g.bench_with_input(BenchmarkId::new("brute_force", kind), &rays[0], |b, r| {
+            b.iter(|| brute.pick(black_box(r)))
+        });
+    }
+    g.finish();
+}
+
+fn terrain(c: &mut Criterion) {
+    let trinidad = real_dem::trinidad().expect("shipped Trinidad DEM");
+    bench_scene(c, "trinidad", &trinidad);
+    drop(trinidad);
+    let n: usize = std::env::var("CURVICAST_TERRAIN_BENCH_N")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(4096);
+    let syn = synthetic(
+        TerrainKind::Fractal,
+        (36.0, -118.0, -1.0 / 1200.0, 1.0 / 1200.0),
+        (n, n),
+        42,
+    );
+    bench_scene(c, &format!("synthetic_{n}"), &syn);
+}
+
+criterion_group!(benches, terrain);
+criterion_main!(benches);

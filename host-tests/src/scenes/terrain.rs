@@ -1,0 +1,967 @@
+//! Terrain scenes: the `TERRAIN.json` format of `curvicast pick` (command-line contract), its validation, the
+//! regular latitude/longitude DEM model, and the max-height quadtree that the host builds over it.
+//!
+//! The surface (contract, and seed 000 §4): vertex V(i, j) is the geodetic point
+//! (lat0 + i·dlat, lon0 + j·dlon, h(i, j)) converted to ECEF on the given ellipsoid; grid cell (i, j) is the two
+//! triangles (V(i,j), V(i,j+1), V(i+1,j+1)) and (V(i,j), V(i+1,j+1), V(i+1,j)). A vertex whose height is the
+//! file's `nodata` value or NaN makes its adjacent triangles absent; in the model such vertices are stored as NaN.
+//!
+//! Heights are stored as `f32` (the file format's type; inline heights are rounded to the nearest `f32` when
+//! read), so the kernel, the oracle and every baseline see exactly the same numbers.
+
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The WGS84 semi-major axis in meters.
+pub const WGS84_A: f64 = 6_378_137.0;
+/// The WGS84 semi-minor axis in meters (b = a(1 − f), f = 1/298.257223563).
+pub const WGS84_B: f64 = 6_356_752.314_245_179;
+
+/// An error in a terrain file: the file and what is wrong with it (printed as `FILE: message`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TerrainError {
+    /// The file that is wrong (the JSON file, or the heights file it names).
+    pub file: PathBuf,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl std::fmt::Display for TerrainError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.file.display(), self.message)
+    }
+}
+
+impl std::error::Error for TerrainError {}
+
+/// The ellipsoid of a terrain file: `"WGS84"` or `{"a": .., "b": ..}`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum EllipsoidSpec {
+    /// A named ellipsoid (only `"WGS84"` is known).
+    Named(String),
+    /// Semi-axes in meters (equatorial `a`, polar `b`, a ≥ b > 0).
+    Axes {
+        /// Equatorial semi-axis.
+        a: f64,
+        /// Polar semi-axis.
+        b: f64,
+    },
+}
+
+/// The `grid` object of a terrain file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GridFileSpec {
+    /// Latitude of row 0 (degrees).
+    pub lat0: f64,
+    /// Longitude of column 0 (degrees).
+    pub lon0: f64,
+    /// Latitude step per row (degrees, nonzero, may be negative).
+    pub dlat: f64,
+    /// Longitude step per column (degrees, positive).
+    pub dlon: f64,
+    /// Number of rows (≥ 2).
+    pub rows: usize,
+    /// Number of columns (≥ 2).
+    pub cols: usize,
+    /// Path of the little-endian `f32` heights, relative to the JSON file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heights: Option<String>,
+    /// Heights inline, row-major (`null` is a missing vertex).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heights_inline: Option<Vec<Option<f64>>>,
+}
+
+/// A whole `TERRAIN.json` file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TerrainFileSpec {
+    /// The ellipsoid.
+    pub ellipsoid: EllipsoidSpec,
+    /// The grid.
+    pub grid: GridFileSpec,
+    /// The height value that marks a missing vertex (NaN always does).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub nodata: Option<f64>,
+}
+
+/// A regular latitude/longitude DEM on an ellipsoid: the validated model behind a `TERRAIN.json` file.
+///
+/// Invariants (checked by [`Dem::new`]): `a ≥ b > 0` finite; `rows, cols ≥ 2`; `dlat ≠ 0`, `dlon > 0`, all
+/// finite; every row latitude within [−90, 90]; the longitude span `(cols − 1)·dlon ≤ 360`; `heights.len() =
+/// rows·cols`; every height is NaN (missing) or finite and above −b²/a (seed 000, Appendix A2).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dem {
+    /// Equatorial semi-axis (m).
+    pub a: f64,
+    /// Polar semi-axis (m).
+    pub b: f64,
+    /// Latitude of row 0 (degrees).
+    pub lat0: f64,
+    /// Longitude of column 0 (degrees).
+    pub lon0: f64,
+    /// Latitude step (degrees).
+    pub dlat: f64,
+    /// Longitude step (degrees).
+    pub dlon: f64,
+    /// Number of rows.
+    pub rows: usize,
+    /// Number of columns.
+    pub cols: usize,
+    /// Heights above the ellipsoid (m), row-major; NaN marks a missing vertex.
+    pub heights: Vec<f32>,
+}
+
+impl Dem {
+    /// Checks the invariants listed on [`Dem`] and builds the model; `nodata` values become NaN.
+    pub fn new(
+        a: f64,
+        b: f64,
+        (lat0, lon0, dlat, dlon): (f64, f64, f64, f64),
+        (rows, cols): (usize, usize),
+        mut heights: Vec<f32>,
+        nodata: Option<f64>,
+    ) -> Result<Dem, String> {
+        if !(a.is_finite() && b.is_finite() && b > 0.0 && a >= b) {
+            return Err(format!(
+                "ellipsoid needs finite semi-axes a >= b > 0, got a = {a}, b = {b}"
+            ));
+        }
+        for (name, v) in [
+            ("lat0", lat0),
+            ("lon0", lon0),
+            ("dlat", dlat),
+            ("dlon", dlon),
+        ] {
+            if !v.is_finite() {
+                return Err(format!("grid.{name} must be a finite number, got {v}"));
+            }
+        }
+        if dlat == 0.0 {
+            return Err("grid.dlat must be nonzero".into());
+        }
+        if dlon <= 0.0 {
+            return Err(format!("grid.dlon must be positive, got {dlon}"));
+        }
+        if rows < 2 || cols < 2 {
+            return Err(format!(
+                "grid needs at least 2 rows and 2 columns (one cell), got {rows} x {cols}"
+            ));
+        }
+        if rows > u32::MAX as usize || cols > u32::MAX as usize {
+            return Err(format!("grid of {rows} x {cols} is too large"));
+        }
+        let n = rows
+            .checked_mul(cols)
+            .ok_or_else(|| format!("grid of {rows} x {cols} is too large"))?;
+        if heights.len() != n {
+            return Err(format!(
+                "expected rows*cols = {n} heights, got {}",
+                heights.len()
+            ));
+        }
+        for i in [0, rows - 1] {
+            let lat = lat0 + i as f64 * dlat;
+            if !(-90.0..=90.0).contains(&lat) {
+                return Err(format!(
+                    "row {i} is at latitude {lat}, outside [-90, 90] (lat0 = {lat0}, dlat = {dlat})"
+                ));
+            }
+        }
+        let span = (cols - 1) as f64 * dlon;
+        if span > 360.0 {
+            return Err(format!(
+                "longitude span (cols-1)*dlon = {span} degrees exceeds 360"
+            ));
+        }
+        let floor = -b * b / a;
+        for (k, h) in heights.iter_mut().enumerate() {
+            if h.is_nan() || nodata.is_some_and(|nd| f64::from(*h) == nd) {
+                *h = f32::NAN;
+                continue;
+            }
+            if !h.is_finite() || f64::from(*h) <= floor {
+                return Err(format!(
+                    "height {h} at row {}, column {} is not finite or not above -b^2/a = {floor}",
+                    k / cols,
+                    k % cols
+                ));
+            }
+        }
+        Ok(Dem {
+            a,
+            b,
+            lat0,
+            lon0,
+            dlat,
+            dlon,
+            rows,
+            cols,
+            heights,
+        })
+    }
+
+    /// A DEM on WGS84.
+    pub fn wgs84(
+        geo: (f64, f64, f64, f64),
+        shape: (usize, usize),
+        heights: Vec<f32>,
+    ) -> Result<Dem, String> {
+        Dem::new(WGS84_A, WGS84_B, geo, shape, heights, None)
+    }
+
+    /// Latitude of row `i` in degrees: `lat0 + i·dlat`.
+    pub fn lat(&self, i: usize) -> f64 {
+        self.lat0 + i as f64 * self.dlat
+    }
+
+    /// Longitude of column `j` in degrees: `lon0 + j·dlon`.
+    pub fn lon(&self, j: usize) -> f64 {
+        self.lon0 + j as f64 * self.dlon
+    }
+
+    /// The height of vertex (i, j), `None` when missing or outside the grid.
+    pub fn height(&self, i: usize, j: usize) -> Option<f32> {
+        if i >= self.rows || j >= self.cols {
+            return None;
+        }
+        let h = *self.heights.get(i * self.cols + j)?;
+        (!h.is_nan()).then_some(h)
+    }
+
+    /// Number of cells, `(rows − 1)·(cols − 1)`.
+    pub fn cell_count(&self) -> usize {
+        (self.rows - 1) * (self.cols - 1)
+    }
+
+    /// Whether cell (i, j)'s two triangles are both present (triangle `k` = 0 or 1, see the module docs); the
+    /// triangles of a cell can be present separately: use [`Dem::triangle`].
+    pub fn triangle(&self, i: usize, j: usize, k: usize) -> Option<[(usize, usize); 3]> {
+        if i + 1 >= self.rows || j + 1 >= self.cols {
+            return None;
+        }
+        let v = if k == 0 {
+            [(i, j), (i, j + 1), (i + 1, j + 1)]
+        } else {
+            [(i, j), (i + 1, j + 1), (i + 1, j)]
+        };
+        v.iter()
+            .all(|&(r, c)| self.height(r, c).is_some())
+            .then_some(v)
+    }
+
+    /// The ECEF position of vertex (i, j) in `f64` (host arithmetic, for baselines and generators; the oracle
+    /// recomputes vertices in arbitrary precision). `None` for a missing vertex.
+    pub fn vertex_ecef(&self, i: usize, j: usize) -> Option<[f64; 3]> {
+        let h = f64::from(self.height(i, j)?);
+        Some(geodetic_to_ecef_f64(
+            self.a,
+            self.b,
+            self.lat(i),
+            self.lon(j),
+            h,
+        ))
+    }
+
+    /// Minimum and maximum of the present heights (`None` when every vertex is missing).
+    pub fn height_range(&self) -> Option<(f32, f32)> {
+        let mut it = self.heights.iter().copied().filter(|h| !h.is_nan());
+        let first = it.next()?;
+        Some(it.fold((first, first), |(lo, hi), h| (lo.min(h), hi.max(h))))
+    }
+
+    /// The contract's file form of this DEM with the heights in an external file named `heights_name`.
+    pub fn to_spec(&self, heights_name: &str) -> TerrainFileSpec {
+        let ellipsoid = if self.a == WGS84_A && self.b == WGS84_B {
+            EllipsoidSpec::Named("WGS84".into())
+        } else {
+            EllipsoidSpec::Axes {
+                a: self.a,
+                b: self.b,
+            }
+        };
+        TerrainFileSpec {
+            ellipsoid,
+            grid: GridFileSpec {
+                lat0: self.lat0,
+                lon0: self.lon0,
+                dlat: self.dlat,
+                dlon: self.dlon,
+                rows: self.rows,
+                cols: self.cols,
+                heights: Some(heights_name.into()),
+                heights_inline: None,
+            },
+            nodata: None,
+        }
+    }
+
+    /// Writes `json_path` (TERRAIN.json) and the heights next to it as `<stem>.f32` (little-endian, row-major,
+    /// NaN for missing vertices), so that `curvicast pick --terrain json_path` reads back exactly this DEM.
+    pub fn write_terrain_json(&self, json_path: &Path) -> std::io::Result<()> {
+        let stem = json_path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "terrain".into());
+        let heights_name = format!("{stem}.f32");
+        let dir = json_path.parent().unwrap_or(Path::new("."));
+        let mut bytes = Vec::with_capacity(self.heights.len() * 4);
+        for h in &self.heights {
+            bytes.extend_from_slice(&h.to_le_bytes());
+        }
+        std::fs::write(dir.join(&heights_name), bytes)?;
+        let text = serde_json::to_string_pretty(&self.to_spec(&heights_name))
+            .map_err(std::io::Error::other)?;
+        std::fs::write(json_path, text)
+    }
+}
+
+/// Sine and cosine of an angle in degrees, exact at multiples of 90° (so a row at ±90° is exactly on the axis).
+pub fn sincos_deg(x: f64) -> (f64, f64) {
+    let r = x.rem_euclid(360.0);
+    let q = (r / 90.0).round();
+    let rem = (r - 90.0 * q).to_radians();
+    let (s, c) = rem.sin_cos();
+    match (q as i64).rem_euclid(4) {
+        0 => (s, c),
+        1 => (c, -s),
+        2 => (-s, -c),
+        _ => (-c, s),
+    }
+}
+
+/// Geodetic (lat, lon in degrees, h in meters) to ECEF on the ellipsoid with semi-axes `a ≥ b`, in `f64`:
+/// N = a²/√(a²cos²φ + b²sin²φ), x = (N + h) cosφ cosλ, y = (N + h) cosφ sinλ, z = (N b²/a² + h) sinφ.
+pub fn geodetic_to_ecef_f64(a: f64, b: f64, lat: f64, lon: f64, h: f64) -> [f64; 3] {
+    let (sp, cp) = sincos_deg(lat);
+    let (sl, cl) = sincos_deg(lon);
+    let n = a * a / ((a * cp).hypot(b * sp));
+    [
+        (n + h) * cp * cl,
+        (n + h) * cp * sl,
+        (n * (b * b) / (a * a) + h) * sp,
+    ]
+}
+
+fn err(file: &Path, message: impl Into<String>) -> TerrainError {
+    TerrainError {
+        file: file.to_path_buf(),
+        message: message.into(),
+    }
+}
+
+/// Reads and validates a `TERRAIN.json` file (and the heights file it names). Every error names the file that is
+/// wrong and what is wrong with it.
+pub fn load_terrain(json_path: &Path) -> Result<Dem, TerrainError> {
+    let text = std::fs::read_to_string(json_path)
+        .map_err(|e| err(json_path, format!("cannot read terrain file: {e}")))?;
+    let spec: TerrainFileSpec = serde_json::from_str(&text)
+        .map_err(|e| err(json_path, format!("invalid terrain file: {e}")))?;
+    let dir = json_path.parent().unwrap_or(Path::new("."));
+    dem_from_spec(&spec, dir).map_err(|(file, m)| err(file.as_deref().unwrap_or(json_path), m))
+}
+
+/// Builds the model from a parsed file; `dir` resolves the heights path. An error names the heights file when
+/// the problem is in it (`Some(path)`), otherwise the JSON file (`None`).
+pub fn dem_from_spec(spec: &TerrainFileSpec, dir: &Path) -> Result<Dem, (Option<PathBuf>, String)> {
+    let (a, b) = match &spec.ellipsoid {
+        EllipsoidSpec::Named(n) if n.eq_ignore_ascii_case("WGS84") => (WGS84_A, WGS84_B),
+        EllipsoidSpec::Named(n) => {
+            return Err((
+                None,
+                format!("unknown ellipsoid {n:?} (use \"WGS84\" or {{\"a\": .., \"b\": ..}})"),
+            ));
+        }
+        EllipsoidSpec::Axes { a, b } => (*a, *b),
+    };
+    let g = &spec.grid;
+    if let Some(nd) = spec.nodata
+        && !nd.is_finite()
+    {
+        return Err((None, format!("nodata must be a finite number, got {nd}")));
+    }
+    let n = g.rows.checked_mul(g.cols).ok_or((
+        None,
+        format!("grid of {} x {} is too large", g.rows, g.cols),
+    ))?;
+    let heights: Vec<f32> = match (&g.heights, &g.heights_inline) {
+        (Some(_), Some(_)) => {
+            return Err((
+                None,
+                "grid has both \"heights\" and \"heights_inline\"; give one".into(),
+            ));
+        }
+        (None, None) => {
+            return Err((
+                None,
+                "grid needs \"heights\" (a file) or \"heights_inline\"".into(),
+            ));
+        }
+        (None, Some(v)) => v.iter().map(|h| h.map_or(f32::NAN, |x| x as f32)).collect(),
+        (Some(name), None) => {
+            let path = dir.join(name);
+            let bytes = std::fs::read(&path)
+                .map_err(|e| (Some(path.clone()), format!("cannot read heights: {e}")))?;
+            if Some(bytes.len()) != n.checked_mul(4) {
+                return Err((
+                    Some(path),
+                    format!(
+                        "expected rows*cols*4 = {} bytes of little-endian f32 ({} x {}), found {} bytes",
+                        n.saturating_mul(4),
+                        g.rows,
+                        g.cols,
+                        bytes.len()
+                    ),
+                ));
+            }
+            bytes
+                .chunks_exact(4)
+                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                .collect()
+        }
+    };
+    Dem::new(
+        a,
+        b,
+        (g.lat0, g.lon0, g.dlat, g.dlon),
+        (g.rows, g.cols),
+        heights,
+        spec.nodata,
+    )
+    .map_err(|m| (None, m))
+}
+
+/// The max-height pyramid of a DEM: for blocks of `block × block` cells, and for every coarser level (2 × 2
+/// blocks of the level below), the maximum and minimum vertex height of the cells it covers — the "max height"
+/// of seed 000 §3.1 that bounds a height-quad from above (and the minimum that bounds it from below).
+///
+/// Built in one linear pass over the heights (every vertex updates the at most four blocks whose cells it
+/// touches), then a reduction over the blocks (a geometric series, O(rows·cols/block²)). The quads are aligned to
+/// the DEM's own grid: block (bi, bj) covers cell rows `bi·block .. min((bi+1)·block, rows−1)` and the same for
+/// columns; nothing is resampled. A node whose cells have no present vertex stores `max = −∞, min = +∞` (empty).
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeightPyramid {
+    /// Cells per block side.
+    pub block: usize,
+    /// Per level (0 = blocks), the node grid's (rows, cols).
+    pub dims: Vec<(usize, usize)>,
+    /// Per level, the maximum vertex height of each node, row-major.
+    pub max: Vec<Vec<f32>>,
+    /// Per level, the minimum vertex height of each node, row-major.
+    pub min: Vec<Vec<f32>>,
+}
+
+impl HeightPyramid {
+    /// Builds the pyramid over `dem` with blocks of `block × block` cells (`block ≥ 1`).
+    pub fn build(dem: &Dem, block: usize) -> HeightPyramid {
+        let block = block.max(1);
+        let cr = dem.rows - 1;
+        let cc = dem.cols - 1;
+        let br = cr.div_ceil(block);
+        let bc = cc.div_ceil(block);
+        let mut max = vec![f32::NEG_INFINITY; br * bc];
+        let mut min = vec![f32::INFINITY; br * bc];
+        for i in 0..dem.rows {
+            // Block rows whose cells use vertex row i: the block of cell row i, and of cell row i - 1.
+            let bi_hi = (i.min(cr - 1)) / block;
+            let bi_lo = (i.saturating_sub(1)) / block;
+            let row = &dem.heights[i * dem.cols..(i + 1) * dem.cols];
+            for (j, &h) in row.iter().enumerate() {
+                if h.is_nan() {
+                    continue;
+                }
+                let bj_hi = (j.min(cc - 1)) / block;
+                let bj_lo = (j.saturating_sub(1)) / block;
+                for bi in bi_lo..=bi_hi {
+                    for bj in bj_lo..=bj_hi {
+                        let k = bi * bc + bj;
+                        if h > max[k] {
+                            max[k] = h;
+                        }
+                        if h < min[k] {
+                            min[k] = h;
+                        }
+                    }
+                }
+            }
+        }
+        let mut dims = vec![(br, bc)];
+        let mut maxs = vec![max];
+        let mut mins = vec![min];
+        while let Some(&(r, c)) = dims.last() {
+            if r <= 1 && c <= 1 {
+                break;
+            }
+            let (pr, pc) = (r.div_ceil(2), c.div_ceil(2));
+            let (lmax, lmin) = (&maxs[maxs.len() - 1], &mins[mins.len() - 1]);
+            let mut nmax = vec![f32::NEG_INFINITY; pr * pc];
+            let mut nmin = vec![f32::INFINITY; pr * pc];
+            for i in 0..r {
+                for j in 0..c {
+                    let k = (i / 2) * pc + j / 2;
+                    nmax[k] = nmax[k].max(lmax[i * c + j]);
+                    nmin[k] = nmin[k].min(lmin[i * c + j]);
+                }
+            }
+            dims.push((pr, pc));
+            maxs.push(nmax);
+            mins.push(nmin);
+        }
+        HeightPyramid {
+            block,
+            dims,
+            max: maxs,
+            min: mins,
+        }
+    }
+
+    /// The bytes the pyramid adds on top of the heights themselves (its max and min arrays).
+    pub fn overhead_bytes(&self) -> usize {
+        self.max
+            .iter()
+            .chain(self.min.iter())
+            .map(|v| v.len() * std::mem::size_of::<f32>())
+            .sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn flat(rows: usize, cols: usize, h: f32) -> Dem {
+        Dem::wgs84((10.0, 20.0, 0.5, 0.5), (rows, cols), vec![h; rows * cols]).unwrap()
+    }
+
+    #[test]
+    fn sincos_deg_is_exact_at_quadrants() {
+        assert_eq!(sincos_deg(90.0), (1.0, 0.0));
+        assert_eq!(sincos_deg(-90.0), (-1.0, 0.0));
+        assert_eq!(sincos_deg(180.0), (0.0, -1.0));
+        assert_eq!(sincos_deg(540.0), (0.0, -1.0));
+        let (s, c) = sincos_deg(30.0);
+        assert!((s - 0.5).abs() < 2.3e-16 && (c - 0.75f64.sqrt()).abs() < 2.3e-16);
+    }
+
+    #[test]
+    fn pole_row_vertices_coincide() {
+        let d = Dem::wgs84((90.0, 0.0, -1.0, 10.0), (3, 37), vec![5.0; 3 * 37]).unwrap();
+        let p = d.vertex_ecef(0, 0).unwrap();
+        for j in 0..37 {
+            assert_eq!(d.vertex_ecef(0, j).unwrap(), p);
+        }
+        assert_eq!(p[0], 0.0);
+        assert_eq!(p[1], 0.0);
+        assert_eq!(p[2], WGS84_B + 5.0);
+    }
+
+    #[test]
+    fn validation_messages_say_what_is_wrong() {
+        let h = vec![0.0; 4];
+        let e = Dem::wgs84((89.5, 0.0, 1.0, 1.0), (2, 2), h.clone()).unwrap_err();
+        assert!(e.contains("outside [-90, 90]"), "{e}");
+        let e = Dem::wgs84((0.0, 0.0, 1.0, -1.0), (2, 2), h.clone()).unwrap_err();
+        assert!(e.contains("dlon"), "{e}");
+        let e = Dem::wgs84((0.0, 0.0, 0.0, 1.0), (2, 2), h.clone()).unwrap_err();
+        assert!(e.contains("dlat"), "{e}");
+        let e = Dem::wgs84((0.0, 0.0, 1.0, 1.0), (2, 3), h.clone()).unwrap_err();
+        assert!(e.contains("rows*cols"), "{e}");
+        let e = Dem::wgs84((0.0, 0.0, 1.0, 200.0), (2, 3), vec![0.0; 6]).unwrap_err();
+        assert!(e.contains("exceeds 360"), "{e}");
+        let e = Dem::wgs84((0.0, 0.0, 1.0, 1.0), (2, 2), vec![0.0, -7e6, 0.0, 0.0]).unwrap_err();
+        assert!(e.contains("-b^2/a"), "{e}");
+        let e = Dem::new(1.0, 2.0, (0.0, 0.0, 1.0, 1.0), (2, 2), h, None).unwrap_err();
+        assert!(e.contains("a >= b"), "{e}");
+    }
+
+    #[test]
+    fn nodata_becomes_missing_and_removes_adjacent_triangles() {
+        let mut h = vec![1.0; 9];
+        h[4] = -32768.0;
+        let d = Dem::new(
+            WGS84_A,
+            WGS84_B,
+            (0.0, 0.0, 1.0, 1.0),
+            (3, 3),
+            h,
+            Some(-32768.0),
+        )
+        .unwrap();
+        assert_eq!(d.height(1, 1), None);
+        for i in 0..2 {
+            for j in 0..2 {
+                for k in 0..2 {
+                    let tri = if k == 0 {
+                        [(i, j), (i, j + 1), (i + 1, j + 1)]
+                    } else {
+                        [(i, j), (i + 1, j + 1), (i + 1, j)]
+                    };
+                    let uses = tri.contains(&(1, 1));
+                    assert_eq!(d.triangle(i, j, k).is_none(), uses, "{i} {j} {k}");
+                }
+            }
+        }
+        let mut h = vec![1.0; 9];
+        h[2] = f32::NAN; // vertex (0, 2): only cell (0, 1)'s first triangle uses it
+        let d = Dem::wgs84((0.0, 0.0, 1.0, 1.0), (3, 3), h).unwrap();
+        assert!(d.triangle(0, 1, 0).is_none());
+        assert!(d.triangle(0, 1, 1).is_some());
+        assert!(d.triangle(0, 0, 0).is_some());
+    }
+
+    #[test]
+    fn terrain_json_round_trip_and_errors_name_the_file() {
+        let dir = std::env::temp_dir().join(format!("curvicast-terrain-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut d = flat(4, 5, 100.0);
+        d.heights[7] = f32::NAN;
+        let json = dir.join("t.json");
+        d.write_terrain_json(&json).unwrap();
+        let back = load_terrain(&json).unwrap();
+        assert_eq!(back.rows, 4);
+        assert!(back.heights[7].is_nan());
+        assert_eq!(back.heights[8], 100.0);
+        std::fs::write(dir.join("t.f32"), [0u8; 12]).unwrap();
+        let e = load_terrain(&json).unwrap_err();
+        assert_eq!(e.file, dir.join("t.f32"));
+        assert!(e.message.contains("bytes"), "{e}");
+        std::fs::write(&json, "{\"ellipsoid\": \"Mars\"}").unwrap();
+        let e = load_terrain(&json).unwrap_err();
+        assert_eq!(e.file, json);
+        let inline = r#"{"ellipsoid": {"a": 10.0, "b": 10.0}, "grid": {"lat0": 0, "lon0": 0, "dlat": 1,
+            "dlon": 1, "rows": 2, "cols": 2, "heights_inline": [1, null, 3, -9]}, "nodata": -9}"#;
+        std::fs::write(&json, inline).unwrap();
+        let d = load_terrain(&json).unwrap();
+        assert_eq!(d.height(0, 0), Some(1.0));
+        assert_eq!(d.height(0, 1), None);
+        assert_eq!(d.height(1, 1), None);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn pyramid_matches_direct_block_maxima() {
+        let (rows, cols) = (37, 53);
+        let h: Vec<f32> = (0..rows * cols)
+            .map(|k| ((k * 7919) % 1000) as f32 - 300.0)
+            .collect();
+        let mut d = Dem::wgs84((0.0, 0.0, 0.01, 0.01), (rows, cols), h).unwrap();
+        d.heights[100] = f32::NAN;
+        for block in [1, 4, 16] {
+            let p = HeightPyramid::build(&d, block);
+            let (br, bc) = p.dims[0];
+            for bi in 0..br {
+                for bj in 0..bc {
+                    let mut mx = f32::NEG_INFINITY;
+                    let mut mn = f32::INFINITY;
+                    for i in bi * block..=((bi + 1) * block).min(rows - 1) {
+                        for j in bj * block..=((bj + 1) * block).min(cols - 1) {
+                            if let Some(h) = d.height(i, j) {
+                                mx = mx.max(h);
+                                mn = mn.min(h);
+                            }
+                        }
+                    }
+                    assert_eq!(p.max[0][bi * bc + bj], mx);
+                    assert_eq!(p.min[0][bi * bc + bj], mn);
+                }
+            }
+            let top = p.max.last().unwrap();
+            assert_eq!(top.len(), 1);
+            assert_eq!(top[0], d.height_range().unwrap().1);
+            assert!(p.overhead_bytes() > 0);
+        }
+    }
+
+    #[test]
+    fn storage_tree_is_well_formed_and_covers_every_triangle_once() {
+        use curvicast::terrain::TerrainStorage;
+        let (rows, cols) = (45, 70);
+        let mut h: Vec<f32> = (0..rows * cols)
+            .map(|k| ((k * 7919) % 1000) as f32 - 300.0)
+            .collect();
+        for k in (0..rows * cols).step_by(97) {
+            h[k] = f32::NAN;
+        }
+        for k in 0..cols * 5 {
+            h[10 * cols + k] = f32::NAN; // rows 10..15 missing entirely
+        }
+        let d = Dem::wgs84((60.0, 170.0, 0.3, 0.4), (rows, cols), h).unwrap();
+        for block in [1, 3, 4, 16, 64] {
+            let s = DemStorage::new(&d, block);
+            let mut covered = vec![0u32; (rows - 1) * (cols - 1)];
+            let mut stack: Vec<curvicast::terrain::NodeId> = (0
+                ..TerrainStorage::<f64>::zone_count(&s))
+                .map(|k| TerrainStorage::<f64>::zone(&s, k).unwrap())
+                .collect();
+            assert!(stack.len() <= 32);
+            let mut seen = 0;
+            while let Some(id) = stack.pop() {
+                seen += 1;
+                let n: curvicast::terrain::Node<f64> = s.node(id).unwrap();
+                let mut lo = f64::INFINITY;
+                let mut hi = f64::NEG_INFINITY;
+                for i in n.rows[0]..=n.rows[1] {
+                    for j in n.cols[0]..=n.cols[1] {
+                        if let Some(v) = d.height(i as usize, j as usize) {
+                            lo = lo.min(f64::from(v));
+                            hi = hi.max(f64::from(v));
+                        }
+                    }
+                }
+                assert_eq!(
+                    n.heights,
+                    (hi >= lo).then_some([lo, hi]),
+                    "block {block} node {n:?}"
+                );
+                if n.is_leaf() {
+                    for i in n.rows[0]..n.rows[1] {
+                        for j in n.cols[0]..n.cols[1] {
+                            covered[i as usize * (cols - 1) + j as usize] += 1;
+                        }
+                    }
+                }
+                for c in n.children.iter().flatten() {
+                    let k: curvicast::terrain::Node<f64> = s.node(*c).unwrap();
+                    assert!(k.rows[0] >= n.rows[0] && k.rows[1] <= n.rows[1]);
+                    assert!(k.cols[0] >= n.cols[0] && k.cols[1] <= n.cols[1]);
+                    assert!((k.rows, k.cols) != (n.rows, n.cols), "child equals parent");
+                    assert!(k.level > n.level);
+                    stack.push(*c);
+                }
+            }
+            assert!(seen <= s.node_count());
+            for i in 0..rows - 1 {
+                for j in 0..cols - 1 {
+                    let has = d.triangle(i, j, 0).is_some() || d.triangle(i, j, 1).is_some();
+                    let c = covered[i * (cols - 1) + j];
+                    assert!(
+                        c <= 1 && (!has || c == 1),
+                        "block {block} cell ({i}, {j}): {c}"
+                    );
+                }
+            }
+            if block >= 4 {
+                assert!(s.overhead_bytes() < s.heights_bytes());
+            }
+        }
+    }
+}
+
+/// The host's terrain storage for the kernel (seed 000 §3.5, §4): a [`Dem`] plus its [`HeightPyramid`], exposed
+/// through [`curvicast::terrain::TerrainStorage`].
+///
+/// * Leaves are the pyramid's level-0 blocks of `block × block` cells (the last row/column of blocks may be
+///   smaller); a quad at pyramid level k covers 2^k × 2^k blocks, so every quad boundary is a grid line of the DEM
+///   (a meridian or a parallel through vertices): nothing is resampled and the kernel traces exactly the
+///   contract's triangles. Cells outside the DEM do not exist; nodes with no present vertex are left out of their
+///   parent's children.
+/// * Zones (the roots, §3.5) are the nodes of the lowest pyramid level that has at most 4 rows and 8 columns of
+///   nodes — at most 8 × 4 = 32 zones bounded by parallels and meridians of the grid, whether the DEM is global
+///   (ETOPO20: 3 × 5 zones) or regional (Trinidad: 3 × 5 zones of its own extent).
+/// * A node id is the node's index in the pyramid's level arrays (levels concatenated), so the tree costs only the
+///   pyramid's two `f32` per node ([`DemStorage::overhead_bytes`]); the kernel's [`curvicast::terrain::Node`] is
+///   formed on demand. A parent whose only child covers the same cells is skipped (the kernel requires children
+///   strictly smaller than their parent).
+#[derive(Debug, Clone)]
+pub struct DemStorage<'a> {
+    dem: &'a Dem,
+    pyramid: HeightPyramid,
+    offsets: Vec<usize>,
+    zone_level: usize,
+    zones: Vec<curvicast::terrain::NodeId>,
+}
+
+impl<'a> DemStorage<'a> {
+    /// Builds the storage over `dem` with leaf blocks of `block × block` cells (the contract's `--block`, default
+    /// 16; values below 1 are taken as 1). On very coarse grids the block is reduced so that a leaf spans less
+    /// than 180° of longitude (the kernel's meridian walls bound wedges narrower than a half-turn).
+    pub fn new(dem: &'a Dem, block: usize) -> DemStorage<'a> {
+        let max_block = ((180.0 / dem.dlon).ceil() as usize)
+            .saturating_sub(1)
+            .max(1);
+        let pyramid = HeightPyramid::build(dem, block.min(max_block));
+        let mut offsets = Vec::with_capacity(pyramid.dims.len());
+        let mut acc = 0;
+        for &(r, c) in &pyramid.dims {
+            offsets.push(acc);
+            acc += r * c;
+        }
+        let zone_level = pyramid
+            .dims
+            .iter()
+            .position(|&(r, c)| r <= 4 && c <= 8)
+            .unwrap_or(pyramid.dims.len() - 1);
+        let mut s = DemStorage {
+            dem,
+            pyramid,
+            offsets,
+            zone_level,
+            zones: Vec::new(),
+        };
+        let (zr, zc) = s.pyramid.dims[zone_level];
+        for r in 0..zr {
+            for c in 0..zc {
+                if s.pyramid.max[zone_level][r * zc + c] >= s.pyramid.min[zone_level][r * zc + c] {
+                    s.zones.push(s.id(zone_level, r, c));
+                }
+            }
+        }
+        s
+    }
+
+    /// The DEM.
+    pub fn dem(&self) -> &Dem {
+        self.dem
+    }
+
+    /// Cells per leaf-block side.
+    pub fn block(&self) -> usize {
+        self.pyramid.block
+    }
+
+    /// Number of quadtree nodes (all pyramid levels from the leaves up to the zones).
+    pub fn node_count(&self) -> usize {
+        self.offsets
+            .get(self.zone_level + 1)
+            .copied()
+            .unwrap_or_else(|| self.pyramid.max.iter().map(Vec::len).sum())
+    }
+
+    /// The depth of the tree: the level of the leaves below the zones (zones are level 0).
+    pub fn depth(&self) -> u32 {
+        self.zone_level as u32
+    }
+
+    /// The memory the tree adds to the heights, in bytes: two `f32` (max, min) per node of the levels in use, plus
+    /// the zone list and level offsets.
+    pub fn overhead_bytes(&self) -> usize {
+        self.node_count() * 2 * std::mem::size_of::<f32>()
+            + self.zones.len() * std::mem::size_of::<curvicast::terrain::NodeId>()
+            + self.offsets.len() * std::mem::size_of::<usize>()
+    }
+
+    /// The memory of the heights themselves (`f32` per vertex), for comparison.
+    pub fn heights_bytes(&self) -> usize {
+        self.dem.heights.len() * std::mem::size_of::<f32>()
+    }
+
+    fn id(&self, level: usize, r: usize, c: usize) -> curvicast::terrain::NodeId {
+        let (_, nc) = self.pyramid.dims[level];
+        curvicast::terrain::NodeId((self.offsets[level] + r * nc + c) as u32)
+    }
+
+    fn locate(&self, id: curvicast::terrain::NodeId) -> Option<(usize, usize, usize)> {
+        let k = id.0 as usize;
+        let level = self.offsets.iter().rposition(|&o| o <= k)?;
+        if level > self.zone_level {
+            return None;
+        }
+        let (nr, nc) = self.pyramid.dims[level];
+        let local = k - self.offsets[level];
+        (local < nr * nc).then_some((level, local / nc, local % nc))
+    }
+
+    /// Cell ranges `[r0, r1) × [c0, c1)` of pyramid node (level, r, c).
+    fn ranges(&self, level: usize, r: usize, c: usize) -> ([u32; 2], [u32; 2]) {
+        let span = self.pyramid.block << level;
+        let (cr, cc) = (self.dem.rows - 1, self.dem.cols - 1);
+        (
+            [(r * span) as u32, ((r + 1) * span).min(cr) as u32],
+            [(c * span) as u32, ((c + 1) * span).min(cc) as u32],
+        )
+    }
+
+    fn has_data(&self, level: usize, r: usize, c: usize) -> bool {
+        let (_, nc) = self.pyramid.dims[level];
+        self.pyramid.max[level][r * nc + c] >= self.pyramid.min[level][r * nc + c]
+    }
+
+    /// The present children of (level, r, c), descending through children that cover the same cells (no
+    /// allocation: this runs for every quad the kernel visits).
+    fn children_of(&self, level: usize, r: usize, c: usize) -> [Option<(usize, usize, usize)>; 4] {
+        let (mut level, mut r, mut c) = (level, r, c);
+        let own = self.ranges(level, r, c);
+        let mut out = [None; 4];
+        while level > 0 {
+            let (nr, nc) = self.pyramid.dims[level - 1];
+            let mut n = 0;
+            let mut only = (0, 0, 0);
+            for (a, b) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                let (x, y) = (2 * r + a, 2 * c + b);
+                if x < nr && y < nc {
+                    n += 1;
+                    only = (level - 1, x, y);
+                }
+            }
+            if n == 1 && self.ranges(only.0, only.1, only.2) == own {
+                (level, r, c) = only;
+                continue;
+            }
+            let mut k = 0;
+            for (a, b) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                let (x, y) = (2 * r + a, 2 * c + b);
+                if x < nr && y < nc && self.has_data(level - 1, x, y) {
+                    out[k] = Some((level - 1, x, y));
+                    k += 1;
+                }
+            }
+            break;
+        }
+        out
+    }
+}
+
+impl<T: curvicast::Real> curvicast::terrain::TerrainStorage<T> for DemStorage<'_> {
+    fn ellipsoid(&self) -> curvicast::geodesy::Ellipsoid<T> {
+        curvicast::geodesy::Ellipsoid::new(T::from_f64(self.dem.a), T::from_f64(self.dem.b))
+            .unwrap_or_else(|_| curvicast::geodesy::Ellipsoid::wgs84())
+    }
+
+    fn grid(&self) -> curvicast::terrain::Grid<T> {
+        curvicast::terrain::Grid {
+            lat0: T::from_f64(self.dem.lat0),
+            lon0: T::from_f64(self.dem.lon0),
+            dlat: T::from_f64(self.dem.dlat),
+            dlon: T::from_f64(self.dem.dlon),
+            rows: self.dem.rows as u32,
+            cols: self.dem.cols as u32,
+        }
+    }
+
+    fn zone_count(&self) -> usize {
+        self.zones.len()
+    }
+
+    fn zone(&self, k: usize) -> Option<curvicast::terrain::NodeId> {
+        self.zones.get(k).copied()
+    }
+
+    fn node(&self, id: curvicast::terrain::NodeId) -> Option<curvicast::terrain::Node<T>> {
+        let (level, r, c) = self.locate(id)?;
+        let (rows, cols) = self.ranges(level, r, c);
+        let (_, nc) = self.pyramid.dims[level];
+        let (lo, hi) = (
+            self.pyramid.min[level][r * nc + c],
+            self.pyramid.max[level][r * nc + c],
+        );
+        let heights = (hi >= lo).then(|| [T::from_f64(f64::from(lo)), T::from_f64(f64::from(hi))]);
+        let mut children = [None; 4];
+        for (slot, kid) in children.iter_mut().zip(self.children_of(level, r, c)) {
+            *slot = kid.map(|(l, x, y)| self.id(l, x, y));
+        }
+        Some(curvicast::terrain::Node {
+            rows,
+            cols,
+            heights,
+            children,
+            level: (self.zone_level - level).min(255) as u8,
+        })
+    }
+
+    fn height(&self, i: u32, j: u32) -> Option<T> {
+        self.dem
+            .height(i as usize, j as usize)
+            .map(|h| T::from_f64(f64::from(h)))
+    }
+}

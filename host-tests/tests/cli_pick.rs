@@ -1,0 +1,229 @@
+//! `curvicast pick` end to end: the binary, its output lines, and its errors (command-line contract).
+
+use curvicast_host::oracle::terrain::TerrainOracle;
+use curvicast_host::scenes::spec::RaySpec;
+use curvicast_host::scenes::terrain_cases::{TerrainKind, random_rays, synthetic};
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("curvicast-pick-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(args: &[&str], stdin: Option<&str>) -> (i32, String, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_curvicast"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    {
+        let mut si = child.stdin.take().unwrap();
+        if let Some(s) = stdin {
+            si.write_all(s.as_bytes()).unwrap();
+        }
+    }
+    let o = child.wait_with_output().unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8(o.stdout).unwrap(),
+        String::from_utf8(o.stderr).unwrap(),
+    )
+}
+
+#[test]
+fn pick_answers_every_ray_in_order_and_matches_the_oracle() {
+    let d = dir("ok");
+    let dem = synthetic(
+        TerrainKind::Fractal,
+        (36.0, -118.0, 0.01, 0.01),
+        (40, 50),
+        5,
+    );
+    let json = d.join("terrain.json");
+    dem.write_terrain_json(&json).unwrap();
+    let rays = random_rays(&dem, 40, 6);
+    let mut text: String = rays
+        .iter()
+        .map(|r| serde_json::to_string(r).unwrap() + "\n")
+        .collect();
+    text.push_str("{\"origin\": [0, 0, 0], \"dir\": [0, 0, 0]}\n");
+    text.push_str("not json\n");
+    let rays_path = d.join("rays.jsonl");
+    std::fs::write(&rays_path, &text).unwrap();
+    let (code, out, err) = run(
+        &[
+            "pick",
+            "--terrain",
+            json.to_str().unwrap(),
+            "--rays",
+            rays_path.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<serde_json::Value> = out
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 42);
+    let oracle = TerrainOracle::new(&dem);
+    let mut hits = 0;
+    for (k, (l, r)) in lines.iter().zip(&rays).enumerate() {
+        assert_eq!(l["ray"], k);
+        let truth = oracle.pick(r);
+        match (&l["hit"], truth) {
+            (serde_json::Value::Null, None) => {}
+            (h, Some(t)) if h.is_object() => {
+                hits += 1;
+                let e: Vec<f64> = h["ecef"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|x| x.as_f64().unwrap())
+                    .collect();
+                let dist = ((e[0] - t.point[0]).powi(2)
+                    + (e[1] - t.point[1]).powi(2)
+                    + (e[2] - t.point[2]).powi(2))
+                .sqrt();
+                assert!(dist < 1e-6, "ray {k}: {dist}");
+                for key in ["t", "lat", "lon", "h"] {
+                    assert!(h[key].is_number(), "{key}");
+                }
+                assert_eq!(h["cell"].as_array().unwrap().len(), 2);
+                let lat = h["lat"].as_f64().unwrap();
+                assert!((35.9..=36.5).contains(&lat), "{lat}");
+            }
+            (h, t) => panic!("ray {k}: cli {h} vs oracle {t:?}"),
+        }
+    }
+    assert!(hits > 10);
+    assert_eq!(lines[40]["ray"], 40);
+    assert!(lines[40]["error"].as_str().unwrap().contains("invalid ray"));
+    assert_eq!(lines[41]["ray"], 41);
+    assert!(lines[41]["error"].is_string());
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
+fn pick_reads_rays_from_stdin_with_inline_heights() {
+    let d = dir("stdin");
+    let json = d.join("t.json");
+    std::fs::write(
+        &json,
+        r#"{"ellipsoid": {"a": 6371000.0, "b": 6371000.0}, "grid": {"lat0": 10, "lon0": 20, "dlat": 1,
+            "dlon": 1, "rows": 3, "cols": 3, "heights_inline": [0, 0, 0, 0, 100, 0, 0, 0, 0]}}"#,
+    )
+    .unwrap();
+    // Straight down the radial through vertex (1, 1) at 11°N 21°E from 1000 km.
+    let (p, l) = (11f64.to_radians(), 21f64.to_radians());
+    let u = [p.cos() * l.cos(), p.cos() * l.sin(), p.sin()];
+    let r = RaySpec::new(u.map(|c| c * 7_371_000.0), u.map(|c| -c));
+    let (code, out, err) = run(
+        &["pick", "--terrain", json.to_str().unwrap(), "--block", "1"],
+        Some(&(serde_json::to_string(&r).unwrap() + "\n")),
+    );
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    let t = v["hit"]["t"].as_f64().unwrap();
+    assert!((t - (1_000_000.0 - 100.0)).abs() < 1e-6, "{t}");
+    assert!((v["hit"]["h"].as_f64().unwrap() - 100.0).abs() < 1e-6);
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+fn assert_usage_error(args: &[&str], needle: &str) {
+    let (code, out, err) = run(args, Some(""));
+    assert_eq!(code, 2, "{args:?}: {err}");
+    assert!(out.is_empty(), "{out}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains(needle), "{err} lacks {needle}");
+}
+
+#[test]
+fn pick_bad_files_and_arguments_exit_2_with_one_line_naming_the_file() {
+    let d = dir("bad");
+    let json = d.join("terrain.json");
+    let j = json.to_str().unwrap();
+    assert_usage_error(&["pick", "--terrain", j], "terrain.json");
+    std::fs::write(
+        &json,
+        r#"{"ellipsoid": "WGS84", "grid": {"lat0": 0, "lon0": 0, "dlat": 1, "dlon": 1, "rows": 2, "cols": 2,
+            "heights": "h.f32"}}"#,
+    )
+    .unwrap();
+    assert_usage_error(&["pick", "--terrain", j], "h.f32");
+    std::fs::write(d.join("h.f32"), [0u8; 15]).unwrap();
+    assert_usage_error(&["pick", "--terrain", j], "h.f32");
+    std::fs::write(d.join("h.f32"), [0u8; 16]).unwrap();
+    assert_usage_error(&["pick", "--terrain", j, "--block", "0"], "--block");
+    assert_usage_error(
+        &["pick", "--terrain", j, "--min-level", "99"],
+        "--min-level",
+    );
+    assert_usage_error(
+        &["pick", "--terrain", j, "--rays", "/nonexistent/rays.jsonl"],
+        "rays.jsonl",
+    );
+    std::fs::write(
+        &json,
+        r#"{"ellipsoid": "WGS84", "grid": {"lat0": 89.5, "lon0": 0, "dlat": 1, "dlon": 1, "rows": 2, "cols": 2,
+            "heights": "h.f32"}}"#,
+    )
+    .unwrap();
+    assert_usage_error(&["pick", "--terrain", j], "outside [-90, 90]");
+    let (code, out, _) = run(&["pick", "--terrain", j], Some(""));
+    assert_eq!((code, out.as_str()), (2, ""));
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
+fn pick_on_the_shipped_etopo20_written_as_terrain_json_matches_the_oracle() {
+    use curvicast_host::scenes::real_dem;
+    use curvicast_host::scenes::terrain_cases::orbit_rays;
+    let d = dir("etopo");
+    let dem = real_dem::etopo20().unwrap();
+    let json = d.join("etopo20.json");
+    dem.write_terrain_json(&json).unwrap();
+    let mut rays = orbit_rays(&dem, 20, 3);
+    rays.extend(random_rays(&dem, 20, 4));
+    let text: String = rays
+        .iter()
+        .map(|r| serde_json::to_string(r).unwrap() + "\n")
+        .collect();
+    let (code, out, err) = run(&["pick", "--terrain", json.to_str().unwrap()], Some(&text));
+    assert_eq!(code, 0, "{err}");
+    let oracle = TerrainOracle::new(&dem);
+    let lines: Vec<serde_json::Value> = out
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), rays.len());
+    let mut hits = 0;
+    for (k, (l, r)) in lines.iter().zip(&rays).enumerate() {
+        match (oracle.pick(r), &l["hit"]) {
+            (None, serde_json::Value::Null) => {}
+            (Some(t), h) if h.is_object() => {
+                hits += 1;
+                let e: Vec<f64> = h["ecef"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|x| x.as_f64().unwrap())
+                    .collect();
+                let dist = ((e[0] - t.point[0]).powi(2)
+                    + (e[1] - t.point[1]).powi(2)
+                    + (e[2] - t.point[2]).powi(2))
+                .sqrt();
+                assert!(dist < 1e-6, "ray {k}: {dist} m");
+                assert_eq!(h["cell"][0].as_u64().unwrap() as usize, t.cell.0, "ray {k}");
+            }
+            (t, h) => panic!("ray {k}: oracle {t:?} vs cli {h}"),
+        }
+    }
+    assert!(hits >= 20, "{hits}");
+    std::fs::remove_dir_all(&d).unwrap();
+}
