@@ -4,5 +4,5 @@
 //! a one-line message on stderr naming the file, exit code 2, and nothing on stdout.
 
 pub mod io;
-pub mod tessellate;
 pub mod pick;
+pub mod tessellate;
