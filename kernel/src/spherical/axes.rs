@@ -230,6 +230,12 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
         ))
     }
 
+    /// `(cos, sin)` of the boundary `j` (cyclic index below `boundaries`).
+    #[inline]
+    pub(crate) fn dir_of(&self, j: u32) -> (T, T) {
+        self.dir(j as usize)
+    }
+
     /// `(cos, sin)` of boundary `j`.
     #[inline]
     fn dir(&self, j: usize) -> (T, T) {
