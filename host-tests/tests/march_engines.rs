@@ -153,7 +153,7 @@ fn check(g: &G, ray: &Ray<f64>, cs: &[CellCrossing<f64>], scale: f64) -> Result<
     };
     let mut prev: Option<CellCrossing<f64>> = None;
     for (n, c) in cs.iter().enumerate() {
-        if !(c.t_enter <= c.t_exit) {
+        if c.t_enter > c.t_exit || c.t_enter.is_nan() {
             return Err(format!("crossing {n} has t_enter > t_exit: {c:?}"));
         }
         if c.t_enter < ray.t_min() || c.t_exit > ray.t_max() {
