@@ -50,7 +50,6 @@ pub(crate) enum Stream<T> {
     Radial {
         band: u32,
         t_own: T,
-        hinge: T,
         descending: bool,
         /// The leaving root of the sphere last entered: `(sphere index, t)`.
         cache: Option<(u32, T)>,
@@ -99,6 +98,16 @@ fn rounding_level<T: Real>(w2: T, a2: T, b2: T) -> bool {
     w2 <= k * k * a2 * b2
 }
 
+/// True before the hinge of r (Lemma 8): `⟨p + t d | d⟩ < 0`, decided without a division.
+#[inline]
+fn before_hinge<T: Real>(ray: &Ray<T>, t: T) -> bool {
+    if t.is_finite() {
+        ray.pd() + ray.t_to_scaled(t) * ray.dd() < T::ZERO
+    } else {
+        t < T::ZERO
+    }
+}
+
 /// `s mod nb` (0 when `nb = 0`).
 #[inline]
 fn cyc(s: u32, nb: u32) -> u32 {
@@ -115,7 +124,6 @@ pub(crate) fn point_at<T: Real>(ray: &Ray<T>, t: T) -> V3<T> {
 impl<T: Real> Stream<T> {
     /// The radius stream for a ray starting at `t0` (finite, or −∞).
     pub(crate) fn radial(axis: &RadialAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
-        let hinge = ray.t_closest();
         let band = if t0.is_finite() {
             let q = point_at(ray, t0);
             axis.band_of_r2(q.length_squared())
@@ -126,8 +134,7 @@ impl<T: Real> Stream<T> {
             Stream::Radial {
                 band,
                 t_own: t0,
-                hinge,
-                descending: t0 < hinge,
+                descending: before_hinge(ray, t0),
                 cache: None,
             },
             band,
@@ -323,7 +330,6 @@ impl<T: Real> Stream<T> {
         let Stream::Radial {
             band,
             t_own,
-            hinge,
             descending,
             cache,
         } = self
@@ -333,7 +339,7 @@ impl<T: Real> Stream<T> {
         if *descending {
             let inner = band.checked_sub(1);
             let hit = match inner {
-                Some(j) if *t_own < *hinge => axis
+                Some(j) if before_hinge(ray, *t_own) => axis
                     .r
                     .get(j as usize)
                     .and_then(|&r| sphere_roots(r, ray))
