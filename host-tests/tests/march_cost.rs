@@ -16,6 +16,10 @@ thread_local! {
     static DIVS: Cell<u64> = const { Cell::new(0) };
 }
 
+fn count_division() {
+    DIVS.with(|c| c.set(c.get() + 1));
+}
+
 fn counts() -> (u64, u64) {
     (SQRTS.with(|c| c.get()), DIVS.with(|c| c.get()))
 }
@@ -31,26 +35,30 @@ impl std::fmt::Display for Counted {
 }
 
 macro_rules! op {
-    ($tr:ident, $m:ident, $tra:ident, $ma:ident, $op:tt, $count:expr) => {
+    ($tr:ident, $m:ident, $tra:ident, $ma:ident, $op:tt, $count:literal) => {
         impl $tr for Counted {
             type Output = Counted;
             fn $m(self, o: Counted) -> Counted {
-                $count;
+                if $count {
+                    count_division();
+                }
                 Counted(self.0 $op o.0)
             }
         }
         impl $tra for Counted {
             fn $ma(&mut self, o: Counted) {
-                $count;
+                if $count {
+                    count_division();
+                }
                 self.0 = self.0 $op o.0;
             }
         }
     };
 }
-op!(Add, add, AddAssign, add_assign, +, ());
-op!(Sub, sub, SubAssign, sub_assign, -, ());
-op!(Mul, mul, MulAssign, mul_assign, *, ());
-op!(Div, div, DivAssign, div_assign, /, DIVS.with(|c| c.set(c.get() + 1)));
+op!(Add, add, AddAssign, add_assign, +, false);
+op!(Sub, sub, SubAssign, sub_assign, -, false);
+op!(Mul, mul, MulAssign, mul_assign, *, false);
+op!(Div, div, DivAssign, div_assign, /, true);
 
 impl Neg for Counted {
     type Output = Counted;
