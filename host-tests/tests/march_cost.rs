@@ -139,9 +139,9 @@ fn changes(cs: &[CellCrossing<Counted>]) -> ([u64; 3], u64) {
     for (i, c) in cs.iter().enumerate() {
         match i.checked_sub(1).map(|j| cs[j]) {
             Some(p) if p.t_exit == c.t_enter => {
-                for k in 0..3 {
-                    if p.cell[k] != c.cell[k] {
-                        ch[k] += 1;
+                for (n, (a, b)) in ch.iter_mut().zip(p.cell.iter().zip(c.cell.iter())) {
+                    if a != b {
+                        *n += 1;
                     }
                 }
             }
