@@ -89,13 +89,13 @@ fn sphere_roots<T: Real>(r: T, ray: &Ray<T>) -> Option<(T, T)> {
     Some((ray.t_from_scaled(a), ray.t_from_scaled(b)))
 }
 
-/// True when a cross product `|a × b|²` (given as `w2`) is at the level of its own rounding error, for
-/// `|a|² = a2`, `|b|² = b2`: the line then passes the center (or the z axis) within rounding, and the sign of
-/// the cross product carries no information. Such lines are treated as passing exactly through it.
+/// True when a cross product (of largest component `w`) is at the level of its own rounding error for factors
+/// of largest components `a` and `b`: the line then passes the center (or the z axis) within rounding, and the
+/// sign of the cross product carries no information. Such lines are treated as passing exactly through it.
+/// Max-norms, not squares, so that nothing underflows.
 #[inline]
-fn rounding_level<T: Real>(w2: T, a2: T, b2: T) -> bool {
-    let k = T::EPSILON * T::from_f64(4.0);
-    w2 <= k * k * a2 * b2
+fn rounding_level<T: Real>(w: T, a: T, b: T) -> bool {
+    w.abs() <= T::EPSILON * T::from_f64(8.0) * a * b
 }
 
 /// True before the hinge of r (Lemma 8): `⟨p + t d | d⟩ < 0`, decided without a division.
@@ -114,6 +114,48 @@ fn cyc(s: u32, nb: u32) -> u32 {
     s.checked_rem(nb).unwrap_or(0)
 }
 
+/// The way round from sector `from` to sector `to` for a jump of φ taken in zero length: the one that does not
+/// pass the outside sector of a wedge when there is one (there is when both ends are inside), else `prefer`
+/// (the turning sense) if given, else the shorter (counter-clockwise on a tie). Returns `(ccw, steps)`.
+fn walk_way<T: Real>(
+    axis: &AzimuthAxis<'_, T>,
+    from: u32,
+    to: u32,
+    prefer: Option<bool>,
+) -> (bool, u32) {
+    let nb = axis.boundaries.max(1);
+    let ccw_steps = cyc(to.wrapping_sub(from).wrapping_add(nb), nb);
+    let cw_steps = cyc(from.wrapping_sub(to).wrapping_add(nb), nb);
+    let shorter = prefer.unwrap_or(ccw_steps <= cw_steps);
+    let ccw = if axis.full {
+        shorter
+    } else {
+        let out = axis.sectors;
+        let passes = |steps: u32, dir_ccw: bool| -> bool {
+            let mut s = from;
+            for _ in 1..steps {
+                s = if dir_ccw {
+                    cyc(s.wrapping_add(1), nb)
+                } else {
+                    cyc(s.wrapping_add(nb).wrapping_sub(1), nb)
+                };
+                if s == out {
+                    return true;
+                }
+            }
+            false
+        };
+        if passes(ccw_steps, true) {
+            false
+        } else if passes(cw_steps, false) {
+            true
+        } else {
+            shorter
+        }
+    };
+    (ccw, if ccw { ccw_steps } else { cw_steps })
+}
+
 /// The point of the ray at `t` (computed in the scaled parameter).
 #[inline]
 pub(crate) fn point_at<T: Real>(ray: &Ray<T>, t: T) -> V3<T> {
@@ -124,9 +166,14 @@ pub(crate) fn point_at<T: Real>(ray: &Ray<T>, t: T) -> V3<T> {
 impl<T: Real> Stream<T> {
     /// The radius stream for a ray starting at `t0` (finite, or −∞).
     pub(crate) fn radial(axis: &RadialAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
-        let band = if t0.is_finite() {
-            let q = point_at(ray, t0);
-            axis.band_of_r2(q.length_squared())
+        let r2 = if t0.is_finite() {
+            point_at(ray, t0).length_squared()
+        } else {
+            T::INFINITY
+        };
+        // a start point too far to represent (p + t d overflows to ∞ or NaN) is outside the outer radius
+        let band = if r2.is_finite() {
+            axis.band_of_r2(r2)
         } else {
             axis.len
         };
@@ -156,7 +203,7 @@ impl<T: Real> Stream<T> {
         // p × d = 0, or its horizontal part is 0 (which for a line not in the plane z = 0 means p × d is a
         // rounding residue): the line passes through the center.
         if (w.x == T::ZERO && w.y == T::ZERO)
-            || rounding_level(w.length_squared(), p.length_squared(), ray.dd())
+            || rounding_level(w.max_abs(), p.max_abs(), d.max_abs())
         {
             // The line passes through the center: θ is that of −d before it and of +d after it.
             let t_c = ray.t_from_scaled(-ray.pd() / ray.dd());
@@ -220,46 +267,21 @@ impl<T: Real> Stream<T> {
             return (Stream::Fixed, axis.sector_of(p.x, p.y)); // parallel to the z axis
         }
         let wz = ray.p_cross_d().z;
-        if rounding_level(wz * wz, p.x * p.x + p.y * p.y, d.x * d.x + d.y * d.y) {
+        let (pm, dm) = (p.x.abs().max(p.y.abs()), d.x.abs().max(d.y.abs()));
+        if rounding_level(wz, pm, dm) {
             // The line meets the z axis: φ is that of −d before, of +d after.
             let s_a = -(p.x * d.x + p.y * d.y) / (d.x * d.x + d.y * d.y);
             let t_a = ray.t_from_scaled(s_a);
+            if !t_a.is_finite() {
+                // d's horizontal part is too small to place the axis crossing: parallel to the z axis
+                return (Stream::Fixed, axis.sector_of(p.x, p.y));
+            }
             let after = axis.sector_of(d.x, d.y);
             if !(t_a > t0) {
                 return (Stream::Fixed, after);
             }
             let before = axis.sector_of(-d.x, -d.y);
-            let nb = axis.boundaries.max(1);
-            let ccw_steps = cyc(after.wrapping_sub(before).wrapping_add(nb), nb);
-            let cw_steps = cyc(before.wrapping_sub(after).wrapping_add(nb), nb);
-            let ccw = if axis.full {
-                ccw_steps <= cw_steps
-            } else {
-                // Go the way round that does not pass the outside sector (there is one when both ends are in).
-                let out = axis.sectors;
-                let passes = |from: u32, steps: u32, dir_ccw: bool| -> bool {
-                    let mut s = from;
-                    for _ in 1..steps {
-                        s = if dir_ccw {
-                            cyc(s.wrapping_add(1), nb)
-                        } else {
-                            cyc(s.wrapping_add(nb).wrapping_sub(1), nb)
-                        };
-                        if s == out {
-                            return true;
-                        }
-                    }
-                    false
-                };
-                if passes(before, ccw_steps, true) {
-                    false
-                } else if passes(before, cw_steps, false) {
-                    true
-                } else {
-                    ccw_steps <= cw_steps
-                }
-            };
-            let steps = if ccw { ccw_steps } else { cw_steps };
+            let (ccw, steps) = walk_way(axis, before, after, None);
             return (
                 Stream::Azimuth {
                     sector: before,
@@ -588,12 +610,7 @@ impl<T: Real> Stream<T> {
         };
         let d = ray.scaled_dir();
         let target = axis.sector_of(d.x, d.y);
-        let nb = axis.boundaries.max(1);
-        let steps = if *ccw {
-            cyc(target.wrapping_sub(*sector).wrapping_add(nb), nb)
-        } else {
-            cyc(sector.wrapping_sub(target).wrapping_add(nb), nb)
-        };
+        let (way, steps) = walk_way(axis, *sector, target, Some(*ccw));
         let on_boundary = (0..axis.boundaries).any(|k| {
             let (c, s) = axis.dir_of(k);
             c * d.y - s * d.x == T::ZERO && c * d.x + s * d.y > T::ZERO
@@ -607,7 +624,7 @@ impl<T: Real> Stream<T> {
         *walk = Some(Walk {
             t: ray.t_from_scaled(s_a).max(*t_own),
             remaining: steps,
-            up: *ccw,
+            up: way,
         });
         self.next_azimuth(axis, ray, t_max)
     }
