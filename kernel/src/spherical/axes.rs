@@ -116,6 +116,8 @@ pub(crate) struct ZenithAxis<'a, T> {
     pub cos: &'a [T],
     pub sin: &'a [T],
     pub len: u32,
+    /// The grid's outer radius: the length scale below which a line counts as passing through the center.
+    pub scale: T,
 }
 
 impl<'a, T: Real> ZenithAxis<'a, T> {
@@ -145,6 +147,7 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
             cos,
             sin,
             len,
+            scale: T::ZERO,
         })
     }
 
@@ -173,7 +176,15 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
         if leave_axis && q.z < T::ZERO && s == -r2 {
             return u32::try_from(self.theta.partition_point(|&t| t < T::PI)).unwrap_or(u32::MAX);
         }
-        u32::try_from(self.sgn_sqr_cos.partition_point(|&c| c * r2 >= s)).unwrap_or(u32::MAX)
+        u32::try_from(self.sgn_sqr_cos.partition_point(|&c| {
+            // θ = π/2 by the sign of z itself: z² may underflow where z does not
+            if c == T::ZERO {
+                !(q.z > T::ZERO)
+            } else {
+                c * r2 >= s
+            }
+        }))
+        .unwrap_or(u32::MAX)
     }
 }
 
@@ -192,6 +203,8 @@ pub(crate) struct AzimuthAxis<'a, T> {
     /// Number of boundary half-planes (`m` for a full turn, `m + 1` for a wedge).
     pub boundaries: u32,
     pub full: bool,
+    /// The grid's outer radius: the length scale below which a line counts as meeting the z axis.
+    pub scale: T,
 }
 
 impl<'a, T: Real> AzimuthAxis<'a, T> {
@@ -229,6 +242,7 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
             sectors,
             boundaries: if full { sectors } else { len },
             full,
+            scale: T::ZERO,
         })
     }
 

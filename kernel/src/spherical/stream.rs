@@ -203,7 +203,7 @@ impl<T: Real> Stream<T> {
         // p × d = 0, or its horizontal part is 0 (which for a line not in the plane z = 0 means p × d is a
         // rounding residue): the line passes through the center.
         if (w.x == T::ZERO && w.y == T::ZERO)
-            || rounding_level(w.max_abs(), p.max_abs(), d.max_abs())
+            || rounding_level(w.max_abs(), p.max_abs().max(axis.scale), d.max_abs())
         {
             // The line passes through the center: θ is that of −d before it and of +d after it.
             let t_c = ray.t_from_scaled(-ray.pd() / ray.dd());
@@ -267,7 +267,10 @@ impl<T: Real> Stream<T> {
             return (Stream::Fixed, axis.sector_of(p.x, p.y)); // parallel to the z axis
         }
         let wz = ray.p_cross_d().z;
-        let (pm, dm) = (p.x.abs().max(p.y.abs()), d.x.abs().max(d.y.abs()));
+        let (pm, dm) = (
+            p.x.abs().max(p.y.abs()).max(axis.scale),
+            d.x.abs().max(d.y.abs()),
+        );
         if rounding_level(wz, pm, dm) {
             // The line meets the z axis: φ is that of −d before, of +d after.
             let s_a = -(p.x * d.x + p.y * d.y) / (d.x * d.x + d.y * d.y);
@@ -509,8 +512,8 @@ impl<T: Real> Stream<T> {
         };
         // only where the solver can be blind: a line passing the center within a relative 1e-6 (f64) / 3e-3 (f32)
         let (w, p, d) = (ray.p_cross_d(), ray.origin(), ray.scaled_dir());
-        let near_center =
-            w.max_abs() <= T::EPSILON.sqrt() * T::from_f64(64.0) * p.max_abs() * d.max_abs();
+        let near_center = w.max_abs()
+            <= T::EPSILON.sqrt() * T::from_f64(64.0) * p.max_abs().max(axis.scale) * d.max_abs();
         if target != b && !on_limit_boundary && near_center && walk.is_none() {
             *walk = Some(Walk {
                 t: ray.t_closest().max(*t_own),
@@ -623,7 +626,7 @@ impl<T: Real> Stream<T> {
         let near_axis = ray.p_cross_d().z.abs()
             <= T::EPSILON.sqrt()
                 * T::from_f64(64.0)
-                * p.x.abs().max(p.y.abs())
+                * p.x.abs().max(p.y.abs()).max(axis.scale)
                 * d.x.abs().max(d.y.abs());
         if steps == 0 || on_boundary || !near_axis || walk.is_some() {
             *self = Stream::Fixed;
