@@ -108,6 +108,13 @@ fn before_hinge<T: Real>(ray: &Ray<T>, t: T) -> bool {
     }
 }
 
+/// About `sqrt(ε)` of the type (a power of two, computed without a square root).
+#[inline]
+fn sqrt_epsilon<T: Real>() -> T {
+    let half_digits = i32::try_from(T::MANTISSA_DIGITS.saturating_sub(1) / 2).unwrap_or(26);
+    T::ONE.scalbn(half_digits.saturating_neg())
+}
+
 /// `s mod nb` (0 when `nb = 0`).
 #[inline]
 fn cyc(s: u32, nb: u32) -> u32 {
@@ -513,7 +520,7 @@ impl<T: Real> Stream<T> {
         // only where the solver can be blind: a line passing the center within a relative 1e-6 (f64) / 3e-3 (f32)
         let (w, p, d) = (ray.p_cross_d(), ray.origin(), ray.scaled_dir());
         let near_center = w.max_abs()
-            <= T::EPSILON.sqrt() * T::from_f64(64.0) * p.max_abs().max(axis.scale) * d.max_abs();
+            <= sqrt_epsilon::<T>() * T::from_f64(64.0) * p.max_abs().max(axis.scale) * d.max_abs();
         if target != b && !on_limit_boundary && near_center && walk.is_none() {
             *walk = Some(Walk {
                 t: ray.t_closest().max(*t_own),
@@ -624,7 +631,7 @@ impl<T: Real> Stream<T> {
         });
         let p = ray.origin();
         let near_axis = ray.p_cross_d().z.abs()
-            <= T::EPSILON.sqrt()
+            <= sqrt_epsilon::<T>()
                 * T::from_f64(64.0)
                 * p.x.abs().max(p.y.abs()).max(axis.scale)
                 * d.x.abs().max(d.y.abs());
