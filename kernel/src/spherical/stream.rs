@@ -506,28 +506,39 @@ impl<T: Real> Stream<T> {
             *up = !*up;
         }
         // No further cone is crossed. Topology check: far along the ray θ tends to the zenith angle of d, so
-        // the band must end as the band of d. When the line passes within rounding of the center the cone
-        // solver cannot see the crossings near the apex; they are completed here, at the closest approach.
+        // the band must end as the band of d. Where the cone solver is blind (a line passing the apex of a cone
+        // within rounding, where the nappe of a root cannot be told), the missing crossings are completed here,
+        // at the closest approach to the center. Not when d lies within rounding of the cone between the two
+        // bands: a line parallel to a generator approaches that cone from one side without crossing it.
         let target = axis.band_of(ray.scaled_dir(), true);
         let b = *band;
         let on_limit_boundary = b.abs_diff(target) == 1 && {
             let k = b.min(target);
             let d = ray.scaled_dir();
-            axis.sgn_sqr_cos
-                .get(k as usize)
-                .is_some_and(|&c| c * d.length_squared() == d.z * d.z.abs())
+            let d2 = d.length_squared();
+            axis.sgn_sqr_cos.get(k as usize).is_some_and(|&c| {
+                (c * d2 - d.z * d.z.abs()).abs() <= T::EPSILON * T::from_f64(8.0) * d2
+            })
         };
-        // only where the solver can be blind: a line passing the center within a relative 1e-6 (f64) / 3e-3 (f32)
-        let (w, p, d) = (ray.p_cross_d(), ray.origin(), ray.scaled_dir());
-        let near_center = w.max_abs()
-            <= sqrt_epsilon::<T>() * T::from_f64(64.0) * p.max_abs().max(axis.scale) * d.max_abs();
-        if target != b && !on_limit_boundary && near_center && walk.is_none() {
-            *walk = Some(Walk {
-                t: ray.t_closest().max(*t_own),
-                remaining: b.abs_diff(target),
-                up: target > b,
-            });
-            return self.next_zenith(axis, ray, t_max);
+        if target != b && !on_limit_boundary && walk.is_none() {
+            // One band toward the limit, then the ordinary search resumes in that direction only (so the
+            // remaining cones are still crossed where the solver sees them). Each repair moves toward the
+            // limit band, so there are at most as many repairs as bands.
+            let t = ray.t_closest().max(*t_own);
+            if !(t <= t_max) {
+                *self = Stream::Fixed;
+                return None;
+            }
+            *up = target > b;
+            *switched = true;
+            *cache = None;
+            *band = if *up {
+                b.saturating_add(1)
+            } else {
+                b.saturating_sub(1)
+            };
+            *t_own = t;
+            return Some((t, *band));
         }
         *self = Stream::Fixed;
         None
