@@ -70,6 +70,9 @@ pub(crate) enum Stream<T> {
         walk: Option<Walk<T>>,
         /// The horizontal direction where the remaining sweep of φ starts (the last boundary crossed).
         from: (T, T),
+        /// Boundaries crossed so far: a sweep of less than π crosses each at most once, so never more than
+        /// there are (a bound that also ends degenerate wedges whose boundaries round to one direction).
+        crossed: u32,
     },
     Height {
         band: u32,
@@ -298,6 +301,7 @@ impl<T: Real> Stream<T> {
                     t_own: t0,
                     ccw,
                     from: (-d.x, -d.y),
+                    crossed: 0,
                     walk: Some(Walk {
                         t: t_a,
                         remaining: steps,
@@ -324,6 +328,7 @@ impl<T: Real> Stream<T> {
                 ccw: wz > T::ZERO,
                 walk: None,
                 from,
+                crossed: 0,
             }
         };
         (stream, sector)
@@ -557,6 +562,7 @@ impl<T: Real> Stream<T> {
             ccw,
             walk,
             from,
+            crossed,
         } = self
         else {
             return None;
@@ -593,7 +599,7 @@ impl<T: Real> Stream<T> {
         let b_d = (bc * d.y - bs * d.x) * sg;
         let ahead =
             b_d > T::ZERO && (f_b > T::ZERO || (f_b == T::ZERO && fx * bc + fy * bs > T::ZERO));
-        if !ahead {
+        if !ahead || *crossed >= axis.boundaries {
             return self.complete_azimuth(axis, ray, t_max);
         }
         let root = axis.plane(j).and_then(|h| h.scaled_root(ray));
@@ -607,6 +613,7 @@ impl<T: Real> Stream<T> {
                 *sector = step(*sector, *ccw);
                 *t_own = t;
                 *from = (bc, bs);
+                *crossed = crossed.saturating_add(1);
                 Some((t, *sector))
             }
             None => self.complete_azimuth(axis, ray, t_max),
