@@ -9,6 +9,9 @@
 //!   meridians and the conservative bounding volume of a spheroidal height-quad (seed 000 §3).
 //! * [`terrain`]: the nearest hit of a ray with a regular geodetic DEM through a height-augmented quadtree that
 //!   the caller stores behind [`terrain::TerrainStorage`] (seeds 000, 003), never missing a hit.
+//! * [`spherical`]: marching through spherical, cylindrical and polar grids (seed 001), serial and separable.
+//! * [`tessellate`]: rational corner-cutting and edge-beveling of circles, ellipses, spheres and ellipsoids at
+//!   the level a scene needs (seed 004).
 //! * [`ray`]: the ray and its invariants; [`real`]: the scalar trait (`f64`, `f32`, and a fast-math `f32`).
 //!
 //! The papers this crate implements are cited in each module's docs: Hannasch, *Spherical Ray-Tracing*
@@ -55,6 +58,7 @@ extern crate std;
 pub mod geodesy;
 pub mod ray;
 pub mod real;
+pub mod spherical;
 pub mod surface;
 pub mod terrain;
 pub mod tessellate;

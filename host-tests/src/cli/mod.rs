@@ -4,5 +4,6 @@
 //! a one-line message on stderr naming the file, exit code 2, and nothing on stdout.
 
 pub mod io;
+pub mod march;
 pub mod pick;
 pub mod tessellate;

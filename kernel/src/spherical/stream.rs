@@ -1,0 +1,705 @@
+//! One coordinate's sequence of boundary crossings along a ray (seed 001 §3.1.1–3.1.2 for the separable form,
+//! ch. 5 for the serial one): each stream yields `(t, new band)` events in nondecreasing `t`, one band step each.
+//!
+//! A stream's state is a few scalars; its next crossing is computed only when the previous one has been consumed
+//! (the caller caches it), so each radius or zenith crossing costs one square root and each azimuth or z crossing
+//! one division. The streams are independent of each other, which is what lets the serial and the separable
+//! engines interleave the very same events and agree exactly.
+//!
+//! **Topology first.** Which boundary comes next is decided by logic that cannot step by more than one band:
+//! * radius (ditone, Lemma 8): a descending phase (before the hinge, entering ever smaller spheres while the line
+//!   meets them) and then an ascending phase (leaving ever larger spheres);
+//! * zenith (ditone, Lemma 4): a first phase in the direction θ moves at the start (the sign of
+//!   `⟨p + t d | d_z p − p_z d⟩`, Lemma 2), crossing the next cone's matching side, and at most one switch to the
+//!   other direction when that cone is not reached (the hinge);
+//! * azimuth (monotone, Lemma 6): the turning sense is the sign of `(p × d)_z`; the next boundary half-plane in
+//!   that sense;
+//! * height: the sign of `d_z`.
+//!
+//! The `t` of each event comes from the shared `surface` solvers and is clamped to be no smaller than the previous
+//! event's, so a slightly inaccurate `t` can shorten a crossing to zero length but never reorder the cells.
+//!
+//! **Degenerate lines.** A line through the center (`p × d = 0`) keeps θ constant except for a jump from θ to
+//! π − θ at the center; a line meeting the z axis keeps φ constant except for a jump by π there. Both jumps are
+//! emitted as one band step per crossed boundary, all at the same `t` (zero-length crossings, seed 001 §3.1.4).
+//! For the azimuth jump the walk goes the way round that stays inside a wedge when one does (a full turn: the
+//! shorter way, counter-clockwise on a tie). A line parallel to the z axis keeps φ constant.
+
+use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
+use crate::ray::Ray;
+use crate::real::Real;
+use crate::surface::{PlaneZ, Side, Spheroid, Surface};
+use crate::vec3::V3;
+
+/// One event: the crossing's `t` and the band (or sector) entered.
+pub(crate) type Event<T> = (T, u32);
+
+/// A run of band steps all at one `t` (a jump through the center or the z axis).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Walk<T> {
+    t: T,
+    remaining: u32,
+    up: bool,
+}
+
+/// The state of one coordinate's stream.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Stream<T> {
+    /// No events (a coordinate that is constant along the ray, or the absent third axis of a polar grid).
+    Fixed,
+    Radial {
+        band: u32,
+        t_own: T,
+        descending: bool,
+        /// The leaving root of the sphere last entered: `(sphere index, t)`.
+        cache: Option<(u32, T)>,
+    },
+    Zenith {
+        band: u32,
+        t_own: T,
+        up: bool,
+        switched: bool,
+        /// The other root of the cone last crossed: `(cone index, t, side entered)`.
+        cache: Option<(u32, T, Side)>,
+        walk: Option<Walk<T>>,
+    },
+    Azimuth {
+        sector: u32,
+        t_own: T,
+        ccw: bool,
+        walk: Option<Walk<T>>,
+        /// The horizontal direction where the remaining sweep of φ starts (the last boundary crossed).
+        from: (T, T),
+        /// Boundaries crossed so far: a sweep of less than π crosses each at most once, so never more than
+        /// there are (a bound that also ends degenerate wedges whose boundaries round to one direction).
+        crossed: u32,
+    },
+    Height {
+        band: u32,
+        t_own: T,
+        up: bool,
+    },
+}
+
+/// The two roots of the ray with the sphere of radius `r` centred at the origin, in the caller's `t`
+/// (one square root; `None` when the line misses it or `r = 0`).
+#[inline]
+fn sphere_roots<T: Real>(r: T, ray: &Ray<T>) -> Option<(T, T)> {
+    if !(r > T::ZERO) {
+        return None;
+    }
+    let (a, b) = Spheroid::sphere(r).ok()?.scaled_roots(ray)?;
+    Some((ray.t_from_scaled(a), ray.t_from_scaled(b)))
+}
+
+/// True when a cross product (of largest component `w`) is at the level of its own rounding error for factors
+/// of largest components `a` and `b`: the line then passes the center (or the z axis) within rounding, and the
+/// sign of the cross product carries no information. Such lines are treated as passing exactly through it.
+/// Max-norms, not squares, so that nothing underflows.
+#[inline]
+fn rounding_level<T: Real>(w: T, a: T, b: T) -> bool {
+    w.abs() <= T::EPSILON * T::from_f64(8.0) * a * b
+}
+
+/// True before the hinge of r (Lemma 8): `⟨p + t d | d⟩ < 0`, decided without a division.
+#[inline]
+fn before_hinge<T: Real>(ray: &Ray<T>, t: T) -> bool {
+    if t.is_finite() {
+        ray.pd() + ray.t_to_scaled(t) * ray.dd() < T::ZERO
+    } else {
+        t < T::ZERO
+    }
+}
+
+/// About `sqrt(ε)` of the type (a power of two, computed without a square root).
+#[inline]
+fn sqrt_epsilon<T: Real>() -> T {
+    let half_digits = i32::try_from(T::MANTISSA_DIGITS.saturating_sub(1) / 2).unwrap_or(26);
+    T::ONE.scalbn(half_digits.saturating_neg())
+}
+
+/// `s mod nb` (0 when `nb = 0`).
+#[inline]
+fn cyc(s: u32, nb: u32) -> u32 {
+    s.checked_rem(nb).unwrap_or(0)
+}
+
+/// The way round from sector `from` to sector `to` for a jump of φ taken in zero length: the one that does not
+/// pass the outside sector of a wedge when there is one (there is when both ends are inside), else `prefer`
+/// (the turning sense) if given, else the shorter (counter-clockwise on a tie). Returns `(ccw, steps)`.
+fn walk_way<T: Real>(
+    axis: &AzimuthAxis<'_, T>,
+    from: u32,
+    to: u32,
+    prefer: Option<bool>,
+) -> (bool, u32) {
+    let nb = axis.boundaries.max(1);
+    let ccw_steps = cyc(to.wrapping_sub(from).wrapping_add(nb), nb);
+    let cw_steps = cyc(from.wrapping_sub(to).wrapping_add(nb), nb);
+    let shorter = prefer.unwrap_or(ccw_steps <= cw_steps);
+    let ccw = if axis.full {
+        shorter
+    } else {
+        let out = axis.sectors;
+        let passes = |steps: u32, dir_ccw: bool| -> bool {
+            let mut s = from;
+            for _ in 1..steps {
+                s = if dir_ccw {
+                    cyc(s.wrapping_add(1), nb)
+                } else {
+                    cyc(s.wrapping_add(nb).wrapping_sub(1), nb)
+                };
+                if s == out {
+                    return true;
+                }
+            }
+            false
+        };
+        if passes(ccw_steps, true) {
+            false
+        } else if passes(cw_steps, false) {
+            true
+        } else {
+            shorter
+        }
+    };
+    (ccw, if ccw { ccw_steps } else { cw_steps })
+}
+
+/// The point of the ray at `t` (computed in the scaled parameter).
+#[inline]
+pub(crate) fn point_at<T: Real>(ray: &Ray<T>, t: T) -> V3<T> {
+    ray.origin()
+        .add_scaled(ray.t_to_scaled(t), ray.scaled_dir())
+}
+
+impl<T: Real> Stream<T> {
+    /// The radius stream for a ray starting at `t0` (finite, or −∞).
+    pub(crate) fn radial(axis: &RadialAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
+        let r2 = if t0.is_finite() {
+            point_at(ray, t0).length_squared()
+        } else {
+            T::INFINITY
+        };
+        // a start point too far to represent (p + t d overflows to ∞ or NaN) is outside the outer radius
+        let band = if r2.is_finite() {
+            axis.band_of_r2(r2)
+        } else {
+            axis.len
+        };
+        (
+            Stream::Radial {
+                band,
+                t_own: t0,
+                descending: before_hinge(ray, t0),
+                cache: None,
+            },
+            band,
+        )
+    }
+
+    /// The zenith stream for a ray starting at the finite `t0`.
+    pub(crate) fn zenith(axis: &ZenithAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
+        let w = ray.p_cross_d();
+        let d = ray.scaled_dir();
+        let p = ray.origin();
+        if p.z == T::ZERO && d.z == T::ZERO {
+            // a line in the plane z = 0: θ = π/2 throughout
+            return (
+                Stream::Fixed,
+                axis.band_of(V3::new(T::ONE, T::ZERO, T::ZERO), false),
+            );
+        }
+        // p × d = 0, or its horizontal part is 0 (which for a line not in the plane z = 0 means p × d is a
+        // rounding residue): the line passes through the center.
+        if (w.x == T::ZERO && w.y == T::ZERO)
+            || rounding_level(w.max_abs(), p.max_abs().max(axis.scale), d.max_abs())
+        {
+            // The line passes through the center: θ is that of −d before it and of +d after it.
+            let t_c = ray.t_from_scaled(-ray.pd() / ray.dd());
+            let after = axis.band_of(d, false);
+            if !(t_c > t0) {
+                return (Stream::Fixed, after);
+            }
+            let before = axis.band_of(d.negated(), false);
+            return (
+                Stream::Zenith {
+                    band: before,
+                    t_own: t0,
+                    up: after > before,
+                    switched: true,
+                    cache: None,
+                    walk: Some(Walk {
+                        t: t_c,
+                        remaining: after.abs_diff(before),
+                        up: after > before,
+                    }),
+                },
+                before,
+            );
+        }
+        let q = point_at(ray, t0);
+        let leaves_axis = d.x != T::ZERO || d.y != T::ZERO;
+        let band = if q == V3::ZERO {
+            axis.band_of(d, false)
+        } else {
+            axis.band_of(q, leaves_axis)
+        };
+        // v = d_z p − p_z d = e_z × (p × d) = (−w_y, w_x, 0); θ rises where ⟨p + t d | v⟩ < 0 (Lemma 2).
+        let v = V3::new(-w.y, w.x, T::ZERO);
+        let f = q.dot(v);
+        let g = d.dot(v);
+        let up = if f < T::ZERO {
+            true
+        } else if f > T::ZERO {
+            false
+        } else {
+            g < T::ZERO
+        };
+        (
+            Stream::Zenith {
+                band,
+                t_own: t0,
+                up,
+                switched: false,
+                cache: None,
+                walk: None,
+            },
+            band,
+        )
+    }
+
+    /// The azimuth stream for a ray starting at the finite `t0`.
+    pub(crate) fn azimuth(axis: &AzimuthAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
+        let d = ray.scaled_dir();
+        let p = ray.origin();
+        if d.x == T::ZERO && d.y == T::ZERO {
+            return (Stream::Fixed, axis.sector_of(p.x, p.y)); // parallel to the z axis
+        }
+        let wz = ray.p_cross_d().z;
+        let (pm, dm) = (
+            p.x.abs().max(p.y.abs()).max(axis.scale),
+            d.x.abs().max(d.y.abs()),
+        );
+        if rounding_level(wz, pm, dm) {
+            // The line meets the z axis: φ is that of −d before, of +d after.
+            let s_a = -(p.x * d.x + p.y * d.y) / (d.x * d.x + d.y * d.y);
+            let t_a = ray.t_from_scaled(s_a);
+            if !t_a.is_finite() {
+                // d's horizontal part is too small to place the axis crossing: parallel to the z axis
+                return (Stream::Fixed, axis.sector_of(p.x, p.y));
+            }
+            let after = axis.sector_of(d.x, d.y);
+            if !(t_a > t0) {
+                return (Stream::Fixed, after);
+            }
+            let before = axis.sector_of(-d.x, -d.y);
+            let (ccw, steps) = walk_way(axis, before, after, None);
+            return (
+                Stream::Azimuth {
+                    sector: before,
+                    t_own: t0,
+                    ccw,
+                    from: (-d.x, -d.y),
+                    crossed: 0,
+                    walk: Some(Walk {
+                        t: t_a,
+                        remaining: steps,
+                        up: ccw,
+                    }),
+                },
+                before,
+            );
+        }
+        let q = point_at(ray, t0);
+        let on_axis = q.x == T::ZERO && q.y == T::ZERO;
+        let sector = if on_axis {
+            axis.sector_of(d.x, d.y)
+        } else {
+            axis.sector_of(q.x, q.y)
+        };
+        let from = if on_axis { (-d.x, -d.y) } else { (q.x, q.y) };
+        let stream = if axis.boundaries <= 1 && axis.full {
+            Stream::Fixed // one sector all round: no boundary to cross
+        } else {
+            Stream::Azimuth {
+                sector,
+                t_own: t0,
+                ccw: wz > T::ZERO,
+                walk: None,
+                from,
+                crossed: 0,
+            }
+        };
+        (stream, sector)
+    }
+
+    /// The height stream for a ray starting at `t0` (finite or −∞).
+    pub(crate) fn height(axis: &HeightAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
+        let dz = ray.scaled_dir().z;
+        let band = if t0.is_finite() {
+            axis.band_of(point_at(ray, t0).z)
+        } else if dz > T::ZERO {
+            0
+        } else {
+            axis.len
+        };
+        if dz == T::ZERO {
+            return (Stream::Fixed, axis.band_of(ray.origin().z));
+        }
+        (
+            Stream::Height {
+                band,
+                t_own: t0,
+                up: dz > T::ZERO,
+            },
+            band,
+        )
+    }
+
+    /// The next radius event (at most one square root), or `None` when there is none up to the ray's `t_max`.
+    pub(crate) fn next_radial(
+        &mut self,
+        axis: &RadialAxis<'_, T>,
+        ray: &Ray<T>,
+        t_max: T,
+    ) -> Option<Event<T>> {
+        let Stream::Radial {
+            band,
+            t_own,
+            descending,
+            cache,
+        } = self
+        else {
+            return None;
+        };
+        if *descending {
+            let inner = band.checked_sub(1);
+            let hit = match inner {
+                Some(j) if before_hinge(ray, *t_own) => axis
+                    .r
+                    .get(j as usize)
+                    .and_then(|&r| sphere_roots(r, ray))
+                    // a touch (double root) does not enter: the touching point has r = r_j, which belongs
+                    // to the outer band (half-open cells)
+                    .filter(|&(t_in, t_out)| t_in < t_out)
+                    .map(|roots| (j, roots)),
+                _ => None,
+            };
+            match hit {
+                Some((j, (t_in, t_out))) => {
+                    let t = t_in.max(*t_own);
+                    if t > t_max {
+                        *self = Stream::Fixed;
+                        return None;
+                    }
+                    *band = j;
+                    *t_own = t;
+                    *cache = Some((j, t_out));
+                    return Some((t, j));
+                }
+                None => *descending = false,
+            }
+        }
+        // ascending: leave the sphere of the band's upper radius
+        let j = *band;
+        if j >= axis.len {
+            *self = Stream::Fixed;
+            return None;
+        }
+        let t_out = match *cache {
+            Some((k, t)) if k == j => t,
+            _ => axis
+                .r
+                .get(j as usize)
+                .and_then(|&r| sphere_roots(r, ray))
+                .map_or(*t_own, |(_, t_out)| t_out),
+        };
+        *cache = None;
+        let t = t_out.max(*t_own);
+        if t > t_max {
+            *self = Stream::Fixed;
+            return None;
+        }
+        let nb = j.saturating_add(1);
+        *band = nb;
+        *t_own = t;
+        Some((t, nb))
+    }
+
+    /// The next zenith event (at most one square root in the common case, two at a hinge not reached through a
+    /// cached root), or `None`.
+    pub(crate) fn next_zenith(
+        &mut self,
+        axis: &ZenithAxis<'_, T>,
+        ray: &Ray<T>,
+        t_max: T,
+    ) -> Option<Event<T>> {
+        let Stream::Zenith {
+            band,
+            t_own,
+            up,
+            switched,
+            cache,
+            walk,
+        } = self
+        else {
+            return None;
+        };
+        if let Some(w) = walk {
+            if w.remaining == 0 || w.t > t_max {
+                *self = Stream::Fixed;
+                return None;
+            }
+            w.remaining = w.remaining.saturating_sub(1);
+            *band = if w.up {
+                band.saturating_add(1)
+            } else {
+                band.saturating_sub(1)
+            };
+            let t = w.t.max(*t_own);
+            *t_own = t;
+            return Some((t, *band));
+        }
+        for _ in 0..2 {
+            // the cone to cross and the side to enter
+            let (cone_j, want) = if *up {
+                (
+                    if *band < axis.len { Some(*band) } else { None },
+                    Side::Positive,
+                )
+            } else {
+                (band.checked_sub(1), Side::Negative)
+            };
+            let mut found: Option<(T, Option<(T, Side)>)> = None;
+            if let Some(j) = cone_j {
+                match *cache {
+                    Some((k, t, s)) if k == j && s == want && t >= *t_own => {
+                        found = Some((t, None))
+                    }
+                    _ => {
+                        if let Some(cone) = axis.cone(j) {
+                            let cs = cone.crossings(ray);
+                            let mut it = cs.iter();
+                            for c in it.by_ref() {
+                                if c.into == want && c.t >= *t_own {
+                                    found = Some((c.t, None));
+                                    break;
+                                }
+                            }
+                            if let (Some(f), Some(next)) = (found.as_mut(), it.next()) {
+                                f.1 = Some((next.t, next.into));
+                            }
+                        }
+                    }
+                }
+                if let (Some((t, other)), Some(j)) = (found, cone_j) {
+                    if t > t_max {
+                        *self = Stream::Fixed;
+                        return None;
+                    }
+                    *cache = other.map(|(t2, s2)| (j, t2, s2));
+                    *band = if *up { j.saturating_add(1) } else { j };
+                    *t_own = t;
+                    return Some((t, *band));
+                }
+            }
+            if *switched {
+                break;
+            }
+            *switched = true;
+            *up = !*up;
+        }
+        // No further cone is crossed. Topology check: far along the ray θ tends to the zenith angle of d, so
+        // the band must end as the band of d. Where the cone solver is blind (a line passing the apex of a cone
+        // within rounding, where the nappe of a root cannot be told), the missing crossings are completed here,
+        // at the closest approach to the center. Not when d lies within rounding of the cone between the two
+        // bands: a line parallel to a generator approaches that cone from one side without crossing it.
+        let target = axis.band_of(ray.scaled_dir(), true);
+        let b = *band;
+        let on_limit_boundary = b.abs_diff(target) == 1 && {
+            let k = b.min(target);
+            let d = ray.scaled_dir();
+            let d2 = d.length_squared();
+            axis.sgn_sqr_cos.get(k as usize).is_some_and(|&c| {
+                (c * d2 - d.z * d.z.abs()).abs() <= T::EPSILON * T::from_f64(8.0) * d2
+            })
+        };
+        if target != b && !on_limit_boundary && walk.is_none() {
+            // One band toward the limit, then the ordinary search resumes in that direction only (so the
+            // remaining cones are still crossed where the solver sees them). Each repair moves toward the
+            // limit band, so there are at most as many repairs as bands.
+            let t = ray.t_closest().max(*t_own);
+            if !(t <= t_max) {
+                *self = Stream::Fixed;
+                return None;
+            }
+            *up = target > b;
+            *switched = true;
+            *cache = None;
+            *band = if *up {
+                b.saturating_add(1)
+            } else {
+                b.saturating_sub(1)
+            };
+            *t_own = t;
+            return Some((t, *band));
+        }
+        *self = Stream::Fixed;
+        None
+    }
+
+    /// The next azimuth event (one division), or `None`.
+    pub(crate) fn next_azimuth(
+        &mut self,
+        axis: &AzimuthAxis<'_, T>,
+        ray: &Ray<T>,
+        t_max: T,
+    ) -> Option<Event<T>> {
+        let Stream::Azimuth {
+            sector,
+            t_own,
+            ccw,
+            walk,
+            from,
+            crossed,
+        } = self
+        else {
+            return None;
+        };
+        let nb = axis.boundaries.max(1);
+        let step = |s: u32, ccw: bool| -> u32 {
+            if ccw {
+                cyc(s.wrapping_add(1), nb)
+            } else {
+                cyc(s.wrapping_add(nb).wrapping_sub(1), nb)
+            }
+        };
+        if let Some(w) = walk {
+            if w.remaining == 0 || w.t > t_max {
+                *self = Stream::Fixed;
+                return None;
+            }
+            w.remaining = w.remaining.saturating_sub(1);
+            *sector = step(*sector, w.up);
+            let t = w.t.max(*t_own);
+            *t_own = t;
+            return Some((t, *sector));
+        }
+        let j = if *ccw { step(*sector, true) } else { *sector };
+        // Topology first: the boundary is crossed only if its direction lies in the arc that φ still sweeps,
+        // from the current point's direction to the direction of d (less than π, Lemma 6). Sign tests only.
+        // The arc starts at the last boundary crossed (exact stored directions, robust even when the line passes
+        // within rounding of the z axis), or at the start point's direction.
+        let (fx, fy) = *from;
+        let d = ray.scaled_dir();
+        let (bc, bs) = axis.dir_of(j);
+        let sg = if *ccw { T::ONE } else { -T::ONE };
+        let f_b = (fx * bs - fy * bc) * sg;
+        let b_d = (bc * d.y - bs * d.x) * sg;
+        let ahead =
+            b_d > T::ZERO && (f_b > T::ZERO || (f_b == T::ZERO && fx * bc + fy * bs > T::ZERO));
+        if !ahead || *crossed >= axis.boundaries {
+            return self.complete_azimuth(axis, ray, t_max);
+        }
+        let root = axis.plane(j).and_then(|h| h.scaled_root(ray));
+        match root {
+            Some((s, _)) => {
+                let t = ray.t_from_scaled(s).max(*t_own);
+                if t > t_max || t.is_nan() {
+                    *self = Stream::Fixed;
+                    return None;
+                }
+                *sector = step(*sector, *ccw);
+                *t_own = t;
+                *from = (bc, bs);
+                *crossed = crossed.saturating_add(1);
+                Some((t, *sector))
+            }
+            None => self.complete_azimuth(axis, ray, t_max),
+        }
+    }
+
+    /// No further boundary is ahead. Topology check: far along the ray φ tends to the azimuth of d, so the
+    /// sector must end as the sector of d (unless d lies exactly on a boundary, approached from one side). When
+    /// the line passes within rounding of the z axis the half-plane tests cannot order the crossings there; they
+    /// are completed here, at the closest approach to the axis, in the turning sense.
+    fn complete_azimuth(
+        &mut self,
+        axis: &AzimuthAxis<'_, T>,
+        ray: &Ray<T>,
+        t_max: T,
+    ) -> Option<Event<T>> {
+        let Stream::Azimuth {
+            sector,
+            t_own,
+            ccw,
+            walk,
+            ..
+        } = self
+        else {
+            return None;
+        };
+        let d = ray.scaled_dir();
+        let target = axis.sector_of(d.x, d.y);
+        let (way, steps) = walk_way(axis, *sector, target, Some(*ccw));
+        let on_boundary = (0..axis.boundaries).any(|k| {
+            let (c, s) = axis.dir_of(k);
+            c * d.y - s * d.x == T::ZERO && c * d.x + s * d.y > T::ZERO
+        });
+        let p = ray.origin();
+        let near_axis = ray.p_cross_d().z.abs()
+            <= sqrt_epsilon::<T>()
+                * T::from_f64(64.0)
+                * p.x.abs().max(p.y.abs()).max(axis.scale)
+                * d.x.abs().max(d.y.abs());
+        if steps == 0 || on_boundary || !near_axis || walk.is_some() {
+            *self = Stream::Fixed;
+            return None;
+        }
+        let s_a = -(p.x * d.x + p.y * d.y) / (d.x * d.x + d.y * d.y);
+        *walk = Some(Walk {
+            t: ray.t_from_scaled(s_a).max(*t_own),
+            remaining: steps,
+            up: way,
+        });
+        self.next_azimuth(axis, ray, t_max)
+    }
+
+    /// The next height event (one division), or `None`.
+    pub(crate) fn next_height(
+        &mut self,
+        axis: &HeightAxis<'_, T>,
+        ray: &Ray<T>,
+        t_max: T,
+    ) -> Option<Event<T>> {
+        let Stream::Height { band, t_own, up } = self else {
+            return None;
+        };
+        let j = if *up {
+            if *band >= axis.len { None } else { Some(*band) }
+        } else {
+            band.checked_sub(1)
+        };
+        let root = j.and_then(|j| {
+            let z = *axis.z.get(j as usize)?;
+            PlaneZ::new(z).ok()?.scaled_root(ray)
+        });
+        match (j, root) {
+            (Some(j), Some((s, _))) => {
+                let t = ray.t_from_scaled(s).max(*t_own);
+                if t > t_max || t.is_nan() {
+                    *self = Stream::Fixed;
+                    return None;
+                }
+                *band = if *up { j.saturating_add(1) } else { j };
+                *t_own = t;
+                Some((t, *band))
+            }
+            _ => {
+                *self = Stream::Fixed;
+                None
+            }
+        }
+    }
+}
