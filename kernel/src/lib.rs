@@ -5,6 +5,7 @@
 //!
 //! * [`surface`]: ray ∩ sphere/spheroid, axial cone, half-plane through the z axis, plane `z = c` — the one
 //!   geometry layer that every traversal shares.
+//! * [`spherical`]: marching through spherical, cylindrical and polar grids (seed 001), serial and separable.
 //! * [`ray`]: the ray and its invariants; [`real`]: the scalar trait (`f64`, `f32`, and a fast-math `f32`).
 //!
 //! The papers this crate implements are cited in each module's docs: Hannasch, *Spherical Ray-Tracing*
@@ -50,6 +51,7 @@ extern crate std;
 
 pub mod ray;
 pub mod real;
+pub mod spherical;
 pub mod surface;
 pub mod vec3;
 

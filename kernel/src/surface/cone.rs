@@ -86,6 +86,21 @@ impl<T: Real> AxialCone<T> {
         })
     }
 
+    /// The cone with apex at the origin from a `(cos θ, sin θ)` pair taken from a cone that was already built
+    /// and validated (its [`AxialCone::cos`] and [`AxialCone::sin`]): no check and no renormalisation, so no square
+    /// root and no division. The spherical marcher keeps its zenith breakpoints in this form (seed 001 §2) and
+    /// rebuilds the cone it needs per crossing at the cost of two multiplications.
+    #[inline]
+    pub(crate) fn from_validated_unit_parts(cos: T, sin: T) -> Self {
+        AxialCone {
+            apex_z: T::ZERO,
+            cos,
+            sin,
+            cos2: cos * cos,
+            sin2: sin * sin,
+        }
+    }
+
     /// The height of the apex on the z axis.
     #[inline]
     pub fn apex_z(&self) -> T {

@@ -55,6 +55,14 @@ impl<T: Real> HalfPlane<T> {
         })
     }
 
+    /// The half-plane from a `(cos φ, sin φ)` pair taken from a half-plane that was already built and validated
+    /// (its [`HalfPlane::cos`] and [`HalfPlane::sin`]): no check, no renormalisation, no square root or division.
+    /// The spherical marcher keeps its azimuth breakpoints in this form (seed 001 §2).
+    #[inline]
+    pub(crate) fn from_validated_unit_parts(cos: T, sin: T) -> Self {
+        HalfPlane { cos, sin }
+    }
+
     /// cos φ.
     #[inline]
     pub fn cos(&self) -> T {

@@ -1,0 +1,303 @@
+//! The breakpoint tables of one grid axis, in the pseudospherical form of seed 001 §2 (r², sgnSqrCos θ,
+//! (cos φ, sin φ)), with their validation and the location of a point ("which band is it in", §3.1.3).
+//!
+//! A *band* is the number of breakpoints at or below the coordinate: band `b` with `1 <= b <= L − 1` (L
+//! breakpoints) is cell `b − 1`; band 0 is below the first breakpoint and band L at or above the last (both
+//! outside the domain). For the azimuth the bands are *sectors* between consecutive boundary half-planes, taken
+//! cyclically (see [`AzimuthAxis`]).
+
+use super::{Axis, GridError};
+use crate::real::Real;
+use crate::surface::{AxialCone, HalfPlane};
+use crate::vec3::V3;
+
+/// The length of a slice as a `u32` band count, or an error when the axis is absurdly long.
+pub(crate) fn len_u32(axis: Axis, len: usize) -> Result<u32, GridError> {
+    u32::try_from(len)
+        .ok()
+        .filter(|&n| n < u32::MAX / 4)
+        .ok_or(GridError::TooManyBreakpoints { axis, len })
+}
+
+/// Checks: at least two values, all finite, strictly increasing.
+pub(crate) fn check_sorted<T: Real>(axis: Axis, v: &[T]) -> Result<u32, GridError> {
+    let n = len_u32(axis, v.len())?;
+    if v.len() < 2 {
+        return Err(GridError::TooFewBreakpoints { axis, len: v.len() });
+    }
+    for (index, x) in v.iter().enumerate() {
+        if !x.is_finite() {
+            return Err(GridError::NonFinite { axis, index });
+        }
+    }
+    for (index, w) in v.windows(2).enumerate() {
+        if let [a, b] = w {
+            if !(a < b) {
+                return Err(GridError::NotIncreasing {
+                    axis,
+                    index: index.saturating_add(1),
+                });
+            }
+        }
+    }
+    Ok(n)
+}
+
+/// Takes `n` values off the front of the workspace.
+pub(crate) fn take<'a, T>(ws: &mut &'a mut [T], n: usize) -> Option<&'a mut [T]> {
+    let rest = core::mem::take(ws);
+    if n > rest.len() {
+        return None;
+    }
+    let (head, tail) = rest.split_at_mut(n);
+    *ws = tail;
+    Some(head)
+}
+
+/// The number of breakpoints `<= x` in a sorted slice (binary search, no arithmetic on `T`).
+#[inline]
+fn count_le<T: Real>(v: &[T], x: T) -> u32 {
+    u32::try_from(v.partition_point(|&b| b <= x)).unwrap_or(u32::MAX)
+}
+
+/// Radius breakpoints (`r` of a sphere grid, `ρ` of a cylinder grid, `r` of a polar grid) with their squares.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct RadialAxis<'a, T> {
+    /// The radii as given.
+    pub r: &'a [T],
+    /// `r²`, the pseudospherical form (seed 001 §2, §4.1).
+    pub r2: &'a [T],
+    /// Number of breakpoints.
+    pub len: u32,
+}
+
+impl<'a, T: Real> RadialAxis<'a, T> {
+    pub(crate) fn build(axis: Axis, r: &'a [T], ws: &mut &'a mut [T]) -> Result<Self, GridError> {
+        let len = check_sorted(axis, r)?;
+        if let Some(&r0) = r.first() {
+            if r0 < T::ZERO {
+                return Err(GridError::OutOfRange { axis, index: 0 });
+            }
+        }
+        let out = take(ws, r.len()).ok_or(GridError::WorkspaceTooSmall)?;
+        for (index, (o, &x)) in out.iter_mut().zip(r).enumerate() {
+            *o = x * x;
+            if !o.is_finite() {
+                return Err(GridError::OutOfRange { axis, index });
+            }
+        }
+        Ok(RadialAxis { r, r2: out, len })
+    }
+
+    /// The band of a point at squared distance `r2` from the center.
+    #[inline]
+    pub(crate) fn band_of_r2(&self, r2: T) -> u32 {
+        count_le(self.r2, r2)
+    }
+}
+
+/// Zenith breakpoints θ ∈ [0, π] with `sgnSqrCos θ = cos θ |cos θ|` (decreasing in θ, Lemma 3) and the
+/// `(cos θ, sin θ)` pair of each cone.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ZenithAxis<'a, T> {
+    pub theta: &'a [T],
+    pub sgn_sqr_cos: &'a [T],
+    pub cos: &'a [T],
+    pub sin: &'a [T],
+    pub len: u32,
+}
+
+impl<'a, T: Real> ZenithAxis<'a, T> {
+    pub(crate) fn build(theta: &'a [T], ws: &mut &'a mut [T]) -> Result<Self, GridError> {
+        let axis = Axis::Theta;
+        let len = check_sorted(axis, theta)?;
+        let n = theta.len();
+        let ssc = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
+        let cos = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
+        let sin = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
+        for (index, &th) in theta.iter().enumerate() {
+            // π/2 and π give exact (0, 1) and (−1, 0): θ = π/2 is exactly the plane z = 0.
+            let cone = AxialCone::from_zenith(T::ZERO, th)
+                .map_err(|_| GridError::OutOfRange { axis, index })?;
+            let (c, s) = (cone.cos(), cone.sin());
+            if let (Some(a), Some(b), Some(d)) =
+                (ssc.get_mut(index), cos.get_mut(index), sin.get_mut(index))
+            {
+                *a = c * c.abs();
+                *b = c;
+                *d = s;
+            }
+        }
+        Ok(ZenithAxis {
+            theta,
+            sgn_sqr_cos: ssc,
+            cos,
+            sin,
+            len,
+        })
+    }
+
+    /// The cone of breakpoint `j` (no validation, no square root: the pair was validated at construction).
+    #[inline]
+    pub(crate) fn cone(&self, j: u32) -> Option<AxialCone<T>> {
+        let j = j as usize;
+        Some(AxialCone::from_validated_unit_parts(
+            *self.cos.get(j)?,
+            *self.sin.get(j)?,
+        ))
+    }
+
+    /// The band of the direction of `q` (from the center), `q ≠ 0`: the number of breakpoints with
+    /// `θ_j <= θ(q)`, i.e. `sgnSqrCos θ_j · |q|² >= q_z |q_z|` (no division, no square root).
+    ///
+    /// `leave_axis`: the point lies on the −z axis but the ray leaves it (a direction with a horizontal part),
+    /// so the band is the one just below θ = π (the right limit along the ray), not that of θ = π itself.
+    #[inline]
+    pub(crate) fn band_of(&self, q: V3<T>, leave_axis: bool) -> u32 {
+        let r2 = q.length_squared();
+        if leave_axis && q.x == T::ZERO && q.y == T::ZERO && q.z < T::ZERO {
+            return u32::try_from(self.theta.partition_point(|&t| t < T::PI)).unwrap_or(u32::MAX);
+        }
+        let s = q.z * q.z.abs();
+        u32::try_from(self.sgn_sqr_cos.partition_point(|&c| c * r2 >= s)).unwrap_or(u32::MAX)
+    }
+}
+
+/// Azimuth breakpoints as the boundary half-planes `(cos φ_j, sin φ_j)`, taken cyclically.
+///
+/// With `m + 1` breakpoints, the domain has `m` sectors. When the breakpoints span a full turn (2π) the last
+/// boundary is the first one again, there are `nb = m` boundaries and every sector is inside; otherwise there are
+/// `nb = m + 1` boundaries and sector `m` (from `φ_m` round to `φ_0 + 2π`) is the outside of the wedge. A wedge
+/// wider than π is the union of two half-spaces (seed 001 §3.1.3); the sector logic here never needs to say so.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct AzimuthAxis<'a, T> {
+    pub phi: &'a [T],
+    pub cos: &'a [T],
+    pub sin: &'a [T],
+    /// Number of sectors inside the domain (`m`).
+    pub sectors: u32,
+    /// Number of boundary half-planes (`m` for a full turn, `m + 1` for a wedge).
+    pub boundaries: u32,
+    pub full: bool,
+}
+
+impl<'a, T: Real> AzimuthAxis<'a, T> {
+    pub(crate) fn build(phi: &'a [T], ws: &mut &'a mut [T]) -> Result<Self, GridError> {
+        let axis = Axis::Phi;
+        let len = check_sorted(axis, phi)?;
+        let n = phi.len();
+        let (first, last) = match (phi.first(), phi.last()) {
+            (Some(&a), Some(&b)) => (a, b),
+            _ => return Err(GridError::TooFewBreakpoints { axis, len: n }),
+        };
+        let two_pi = T::PI + T::PI;
+        let tol = two_pi * T::EPSILON * T::from_f64(8.0);
+        let span = last - first;
+        if !span.is_finite() || span > two_pi + tol {
+            return Err(GridError::OutOfRange {
+                axis,
+                index: n.saturating_sub(1),
+            });
+        }
+        let full = span >= two_pi - tol;
+        let cos = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
+        let sin = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
+        for (index, &p) in phi.iter().enumerate() {
+            let h = HalfPlane::from_azimuth(p).map_err(|_| GridError::NonFinite { axis, index })?;
+            if let (Some(c), Some(s)) = (cos.get_mut(index), sin.get_mut(index)) {
+                *c = h.cos();
+                *s = h.sin();
+            }
+        }
+        let sectors = len.saturating_sub(1);
+        Ok(AzimuthAxis {
+            phi,
+            cos,
+            sin,
+            sectors,
+            boundaries: if full { sectors } else { len },
+            full,
+        })
+    }
+
+    /// The boundary half-plane `j` (cyclic index below `boundaries`).
+    #[inline]
+    pub(crate) fn plane(&self, j: u32) -> Option<HalfPlane<T>> {
+        let j = j as usize;
+        Some(HalfPlane::from_validated_unit_parts(
+            *self.cos.get(j)?,
+            *self.sin.get(j)?,
+        ))
+    }
+
+    /// `(cos, sin)` of boundary `j`.
+    #[inline]
+    fn dir(&self, j: usize) -> (T, T) {
+        (
+            self.cos.get(j).copied().unwrap_or(T::ONE),
+            self.sin.get(j).copied().unwrap_or(T::ZERO),
+        )
+    }
+
+    /// Is the boundary `j` at an angle of π or more counter-clockwise from boundary 0? Decided from the given
+    /// angles (exact up to one subtraction), not from rounded sines.
+    #[inline]
+    fn boundary_half(&self, j: usize) -> bool {
+        match (self.phi.get(j), self.phi.first()) {
+            (Some(&p), Some(&p0)) => p - p0 >= T::PI,
+            _ => false,
+        }
+    }
+
+    /// The sector of the horizontal direction `(x, y)`; the zero vector counts as φ = 0 (the `atan2(0, 0)`
+    /// convention for points on the z axis). Sign tests only (no division, no trigonometry).
+    pub(crate) fn sector_of(&self, x: T, y: T) -> u32 {
+        let (x, y) = if x == T::ZERO && y == T::ZERO {
+            (T::ONE, T::ZERO)
+        } else {
+            (x, y)
+        };
+        let (c0, s0) = self.dir(0);
+        let cr0 = c0 * y - s0 * x;
+        let half_v = cr0 < T::ZERO || (cr0 == T::ZERO && c0 * x + s0 * y < T::ZERO);
+        // v is at or after boundary j (counter-clockwise from boundary 0) — a prefix of the boundaries.
+        let at_or_after = |j: usize| -> bool {
+            let hj = j != 0 && self.boundary_half(j);
+            if hj != half_v {
+                return half_v;
+            }
+            let (c, s) = self.dir(j);
+            c * y - s * x >= T::ZERO
+        };
+        let nb = self.boundaries as usize;
+        // binary search for the first boundary that v is not at or after
+        let (mut lo, mut hi) = (1usize, nb);
+        while lo < hi {
+            let mid = lo.saturating_add(hi.saturating_sub(lo) / 2);
+            if at_or_after(mid) {
+                lo = mid.saturating_add(1);
+            } else {
+                hi = mid;
+            }
+        }
+        u32::try_from(lo.saturating_sub(1)).unwrap_or(0)
+    }
+}
+
+/// Plain breakpoints of the cylinder's z axis (planes `z = z_m`).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct HeightAxis<'a, T> {
+    pub z: &'a [T],
+    pub len: u32,
+}
+
+impl<'a, T: Real> HeightAxis<'a, T> {
+    pub(crate) fn build(z: &'a [T]) -> Result<Self, GridError> {
+        let len = check_sorted(Axis::Z, z)?;
+        Ok(HeightAxis { z, len })
+    }
+    #[inline]
+    pub(crate) fn band_of(&self, z: T) -> u32 {
+        count_le(self.z, z)
+    }
+}

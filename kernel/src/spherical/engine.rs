@@ -1,0 +1,495 @@
+//! The two engines over the per-coordinate streams: the serial one (seed 001 ch. 5, constant memory, lazy) and
+//! the separable one (§3: each coordinate's crossings listed first, then interleaved in linear time), plus the
+//! shared part that turns band changes into cell crossings.
+//!
+//! Both engines interleave the same three event streams (see `stream.rs`) in the same order — by `t`, and at
+//! equal `t` by coordinate (radius first, then the grid's second and third coordinate) — so they agree exactly.
+
+use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
+use super::stream::{Event, Stream};
+use super::{Axis, CellCrossing, MarchError};
+use crate::ray::Ray;
+use crate::real::Real;
+use crate::vec3::V3;
+
+/// Which coordinate a slot of the cell index holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum SlotKind {
+    Radial,
+    Zenith,
+    Azimuth,
+    Height,
+    Absent,
+}
+
+/// The tables of a grid, as the engines see them.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Axes<'a, T> {
+    pub radial: RadialAxis<'a, T>,
+    pub zenith: Option<ZenithAxis<'a, T>>,
+    pub azimuth: AzimuthAxis<'a, T>,
+    pub height: Option<HeightAxis<'a, T>>,
+    pub center: V3<T>,
+    /// True for the cylinder and the polar grid: the radius is measured from the z axis.
+    pub flat_radius: bool,
+    pub slots: [SlotKind; 3],
+}
+
+/// What decides whether a set of bands is a cell of the domain, and which.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct CellRule {
+    slots: [SlotKind; 3],
+    /// Breakpoint count of banded slots; number of inside sectors of the azimuth slot.
+    lens: [u32; 3],
+}
+
+impl CellRule {
+    #[inline]
+    fn cell(&self, bands: [u32; 3]) -> Option<[u32; 3]> {
+        let mut out = [0u32; 3];
+        for ((o, &b), (&k, &n)) in out
+            .iter_mut()
+            .zip(bands.iter())
+            .zip(self.slots.iter().zip(self.lens.iter()))
+        {
+            *o = match k {
+                SlotKind::Absent => 0,
+                SlotKind::Azimuth => {
+                    if b < n {
+                        b
+                    } else {
+                        return None;
+                    }
+                }
+                _ => {
+                    if b >= 1 && b < n {
+                        b.saturating_sub(1)
+                    } else {
+                        return None;
+                    }
+                }
+            };
+        }
+        Some(out)
+    }
+}
+
+impl<T: Real> Axes<'_, T> {
+    pub(crate) fn rule(&self) -> CellRule {
+        let mut lens = [0u32; 3];
+        for (l, k) in lens.iter_mut().zip(self.slots.iter()) {
+            *l = match k {
+                SlotKind::Radial => self.radial.len,
+                SlotKind::Zenith => self.zenith.map_or(0, |z| z.len),
+                SlotKind::Azimuth => self.azimuth.sectors,
+                SlotKind::Height => self.height.map_or(0, |h| h.len),
+                SlotKind::Absent => 0,
+            };
+        }
+        CellRule {
+            slots: self.slots,
+            lens,
+        }
+    }
+
+    fn axis_name(&self, slot: usize) -> Axis {
+        match self.slots.get(slot) {
+            Some(SlotKind::Radial) if self.flat_radius => Axis::Rho,
+            Some(SlotKind::Radial) => Axis::R,
+            Some(SlotKind::Zenith) => Axis::Theta,
+            Some(SlotKind::Azimuth) => Axis::Phi,
+            _ => Axis::Z,
+        }
+    }
+
+    /// A bound on the number of events of one ray (each stream is bounded by its breakpoint count; this is
+    /// the safety net that turns an unforeseen loop into an error).
+    fn max_events(&self) -> u32 {
+        let n = self
+            .radial
+            .len
+            .saturating_add(self.zenith.map_or(0, |z| z.len))
+            .saturating_add(self.azimuth.boundaries)
+            .saturating_add(self.height.map_or(0, |h| h.len));
+        n.saturating_mul(4).saturating_add(64)
+    }
+}
+
+/// The rays in the grid's frame: `rel` (relative to the center) and `flat` (its projection on z = 0, used by
+/// the radius of the cylinder and the polar grid).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Rays<T> {
+    rel: Ray<T>,
+    flat: Option<Ray<T>>,
+}
+
+impl<T: Real> Rays<T> {
+    #[inline]
+    fn radial(&self) -> &Ray<T> {
+        self.flat.as_ref().unwrap_or(&self.rel)
+    }
+}
+
+/// The state at the start of a march: streams, bands, the start `t`.
+struct Setup<T> {
+    rays: Rays<T>,
+    streams: [Stream<T>; 3],
+    bands: [u32; 3],
+    t0: T,
+}
+
+fn next_event<T: Real>(
+    axes: &Axes<'_, T>,
+    rays: &Rays<T>,
+    streams: &mut [Stream<T>; 3],
+    slot: usize,
+) -> Option<Event<T>> {
+    let s = streams.get_mut(slot)?;
+    match axes.slots.get(slot)? {
+        SlotKind::Radial => s.next_radial(&axes.radial, rays.radial()),
+        SlotKind::Zenith => s.next_zenith(axes.zenith.as_ref()?, &rays.rel),
+        SlotKind::Azimuth => s.next_azimuth(&axes.azimuth, &rays.rel),
+        SlotKind::Height => s.next_height(axes.height.as_ref()?, &rays.rel),
+        SlotKind::Absent => None,
+    }
+}
+
+/// Locates the ray, finds where it enters the outer radius, and starts the other coordinates there.
+/// `Ok(None)` when the ray cannot meet the domain.
+fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, MarchError> {
+    let rel = ray.relative_to(axes.center).map_err(MarchError::Ray)?;
+    let flat = if axes.flat_radius {
+        let (p, d) = (rel.origin(), rel.dir());
+        Ray::new(V3::new(p.x, p.y, T::ZERO), V3::new(d.x, d.y, T::ZERO))
+            .and_then(|r| r.with_interval(rel.t_min(), rel.t_max()))
+            .ok()
+    } else {
+        None
+    };
+    let radial_moves = !axes.flat_radius || flat.is_some();
+    let rays = Rays { rel, flat };
+    let t_min = rel.t_min();
+    let mut streams = [Stream::Fixed; 3];
+    let mut bands = [0u32; 3];
+    let (mut rs, mut rband) = if radial_moves {
+        Stream::radial(&axes.radial, rays.radial(), t_min)
+    } else {
+        let p = rel.origin();
+        (Stream::Fixed, axes.radial.band_of_r2(p.x * p.x + p.y * p.y))
+    };
+    let mut t0 = t_min;
+    if rband >= axes.radial.len {
+        match rs.next_radial(&axes.radial, rays.radial()) {
+            Some((t, b)) => {
+                t0 = t;
+                rband = b;
+            }
+            None => return Ok(None),
+        }
+    }
+    if !radial_moves && rband == 0 {
+        return Ok(None); // a vertical line inside the hole of a cylinder grid
+    }
+    if let (Some(s), Some(b)) = (streams.get_mut(0), bands.get_mut(0)) {
+        *s = rs;
+        *b = rband;
+    }
+    for slot in 1..3 {
+        let (s, b) = match axes.slots.get(slot) {
+            Some(SlotKind::Zenith) => match axes.zenith.as_ref() {
+                Some(z) if t0.is_finite() => Stream::zenith(z, &rays.rel, t0),
+                _ => (Stream::Fixed, 0),
+            },
+            Some(SlotKind::Azimuth) => Stream::azimuth(&axes.azimuth, &rays.rel, t0),
+            Some(SlotKind::Height) => match axes.height.as_ref() {
+                Some(h) => Stream::height(h, &rays.rel, t0),
+                None => (Stream::Fixed, 0),
+            },
+            _ => (Stream::Fixed, 0),
+        };
+        if let (Some(sl), Some(bl)) = (streams.get_mut(slot), bands.get_mut(slot)) {
+            *sl = s;
+            *bl = b;
+        }
+    }
+    Ok(Some(Setup {
+        rays,
+        streams,
+        bands,
+        t0,
+    }))
+}
+
+/// Turns band changes into cell crossings. Holds back one finished crossing so that a zero-length excursion out
+/// of the domain (a touch of its boundary from inside) that returns to the same cell is merged away.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Emitter<T> {
+    rule: CellRule,
+    bands: [u32; 3],
+    seg_start: T,
+    pending: Option<CellCrossing<T>>,
+}
+
+impl<T: Real> Emitter<T> {
+    fn new(rule: CellRule, bands: [u32; 3], t0: T) -> Self {
+        Emitter {
+            rule,
+            bands,
+            seg_start: t0,
+            pending: None,
+        }
+    }
+
+    fn push(&mut self, c: CellCrossing<T>) -> Option<CellCrossing<T>> {
+        match self.pending.as_mut() {
+            Some(p) if p.cell == c.cell && p.t_exit == c.t_enter => {
+                p.t_exit = c.t_exit;
+                None
+            }
+            _ => self.pending.replace(c),
+        }
+    }
+
+    fn on_event(&mut self, t: T, slot: usize, band: u32) -> Option<CellCrossing<T>> {
+        let before = self.rule.cell(self.bands);
+        if let Some(b) = self.bands.get_mut(slot) {
+            *b = band;
+        }
+        let mut out = None;
+        if let Some(cell) = before {
+            out = self.push(CellCrossing {
+                cell,
+                t_enter: self.seg_start,
+                t_exit: t,
+            });
+        }
+        self.seg_start = t;
+        out
+    }
+
+    fn finish(&mut self, t_end: T) -> Option<CellCrossing<T>> {
+        match self.rule.cell(self.bands) {
+            Some(cell) => {
+                let t_exit = t_end.max(self.seg_start);
+                self.bands = [u32::MAX; 3];
+                self.push(CellCrossing {
+                    cell,
+                    t_enter: self.seg_start,
+                    t_exit,
+                })
+            }
+            None => None,
+        }
+    }
+
+    fn radial_band(&self) -> u32 {
+        self.bands.first().copied().unwrap_or(0)
+    }
+}
+
+/// The serial marcher (seed 001 ch. 5): an `Iterator` of [`CellCrossing`]s in increasing `t`, computed lazily in
+/// constant memory. Each coordinate's next crossing is computed once and cached until that coordinate's index
+/// changes.
+///
+/// Built by `SphericalGrid::march` (and the cylindrical and polar grids' `march`). When the ray is invalid for
+/// the grid or a bound is exceeded, iteration stops and [`SerialMarch::error`] says why.
+#[derive(Debug, Clone)]
+pub struct SerialMarch<'g, T> {
+    axes: &'g Axes<'g, T>,
+    rays: Option<Rays<T>>,
+    streams: [Stream<T>; 3],
+    heads: [Option<Event<T>>; 3],
+    em: Option<Emitter<T>>,
+    t_max: T,
+    steps: u32,
+    finished: bool,
+    error: Option<MarchError>,
+}
+
+impl<'g, T: Real> SerialMarch<'g, T> {
+    pub(crate) fn new(axes: &'g Axes<'g, T>, ray: &Ray<T>) -> Self {
+        let mut m = SerialMarch {
+            axes,
+            rays: None,
+            streams: [Stream::Fixed; 3],
+            heads: [None; 3],
+            em: None,
+            t_max: ray.t_max(),
+            steps: 0,
+            finished: true,
+            error: None,
+        };
+        match setup(axes, ray) {
+            Ok(Some(s)) => {
+                let mut streams = s.streams;
+                for slot in 0..3 {
+                    if let Some(h) = m.heads.get_mut(slot) {
+                        *h = next_event(axes, &s.rays, &mut streams, slot);
+                    }
+                }
+                m.streams = streams;
+                m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0));
+                m.rays = Some(s.rays);
+                m.finished = false;
+            }
+            Ok(None) => {}
+            Err(e) => m.error = Some(e),
+        }
+        m
+    }
+
+    /// Why the march stopped early, if it did: the ray could not be put into the grid's frame
+    /// ([`MarchError::Ray`]) or the iteration bound was exceeded ([`MarchError::IterationBound`]). The crossings
+    /// returned before an error are correct.
+    pub fn error(&self) -> Option<MarchError> {
+        self.error
+    }
+}
+
+impl<T: Real> Iterator for SerialMarch<'_, T> {
+    type Item = CellCrossing<T>;
+
+    fn next(&mut self) -> Option<CellCrossing<T>> {
+        let em = self.em.as_mut()?;
+        let rays = self.rays.as_ref()?;
+        loop {
+            if self.finished {
+                return em.pending.take();
+            }
+            let mut best: Option<(T, u32, usize)> = None;
+            for (slot, h) in self.heads.iter().enumerate() {
+                if let Some((t, b)) = *h {
+                    if best.is_none_or(|(bt, _, _)| t < bt) {
+                        best = Some((t, b, slot));
+                    }
+                }
+            }
+            let Some((t, band, slot)) = best else {
+                self.finished = true;
+                if let Some(c) = em.finish(self.t_max) {
+                    return Some(c);
+                }
+                continue;
+            };
+            self.steps = self.steps.saturating_add(1);
+            if self.steps > self.axes.max_events() {
+                self.error = Some(MarchError::IterationBound);
+                self.finished = true;
+                continue;
+            }
+            let next = next_event(self.axes, rays, &mut self.streams, slot);
+            if let Some(h) = self.heads.get_mut(slot) {
+                *h = next;
+            }
+            let out = em.on_event(t, slot, band);
+            if slot == 0 && next.is_none() && em.radial_band() >= self.axes.radial.len {
+                self.finished = true; // left the outer radius for good
+            }
+            if out.is_some() {
+                return out;
+            }
+        }
+    }
+}
+
+/// The separable marcher (seed 001 §3): each coordinate's crossings are listed into a `heapless` buffer of
+/// capacity `N`, then interleaved in linear time. Iterates the same [`CellCrossing`]s as [`SerialMarch`].
+///
+/// Built by `SphericalGrid::march_separable::<N>` (and the other grids'); a buffer that would overflow is
+/// [`MarchError::BufferFull`] at construction, never a truncated answer.
+#[derive(Debug, Clone)]
+pub struct SeparableMarch<T, const N: usize> {
+    lists: [heapless::Vec<Event<T>, N>; 3],
+    pos: [usize; 3],
+    em: Option<Emitter<T>>,
+    t_max: T,
+    finished: bool,
+}
+
+impl<T: Real, const N: usize> SeparableMarch<T, N> {
+    pub(crate) fn new(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Self, MarchError> {
+        let mut m = SeparableMarch {
+            lists: [
+                heapless::Vec::new(),
+                heapless::Vec::new(),
+                heapless::Vec::new(),
+            ],
+            pos: [0; 3],
+            em: None,
+            t_max: ray.t_max(),
+            finished: true,
+        };
+        let Some(s) = setup(axes, ray)? else {
+            return Ok(m);
+        };
+        let mut streams = s.streams;
+        let mut t_end = ray.t_max();
+        for slot in 0..3 {
+            let list = m.lists.get_mut(slot).ok_or(MarchError::IterationBound)?;
+            let mut last_band = s.bands.get(slot).copied().unwrap_or(0);
+            let mut last_t = None;
+            while let Some((t, b)) = next_event(axes, &s.rays, &mut streams, slot) {
+                if slot > 0 && t > t_end {
+                    break;
+                }
+                list.push((t, b)).map_err(|_| MarchError::BufferFull {
+                    axis: axes.axis_name(slot),
+                    capacity: N,
+                })?;
+                last_band = b;
+                last_t = Some(t);
+            }
+            if slot == 0 && last_band >= axes.radial.len {
+                if let Some(t) = last_t {
+                    t_end = t; // left the outer radius for good: nothing after matters
+                }
+            }
+        }
+        m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0));
+        m.finished = false;
+        Ok(m)
+    }
+
+    /// The number of crossings listed per coordinate (for sizing `N`).
+    pub fn listed(&self) -> [usize; 3] {
+        let mut out = [0usize; 3];
+        for (o, l) in out.iter_mut().zip(self.lists.iter()) {
+            *o = l.len();
+        }
+        out
+    }
+}
+
+impl<T: Real, const N: usize> Iterator for SeparableMarch<T, N> {
+    type Item = CellCrossing<T>;
+
+    fn next(&mut self) -> Option<CellCrossing<T>> {
+        let em = self.em.as_mut()?;
+        loop {
+            if self.finished {
+                return em.pending.take();
+            }
+            let mut best: Option<(T, u32, usize)> = None;
+            for (slot, (list, &p)) in self.lists.iter().zip(self.pos.iter()).enumerate() {
+                if let Some(&(t, b)) = list.get(p) {
+                    if best.is_none_or(|(bt, _, _)| t < bt) {
+                        best = Some((t, b, slot));
+                    }
+                }
+            }
+            let Some((t, band, slot)) = best else {
+                self.finished = true;
+                if let Some(c) = em.finish(self.t_max) {
+                    return Some(c);
+                }
+                continue;
+            };
+            if let Some(p) = self.pos.get_mut(slot) {
+                *p = p.saturating_add(1);
+            }
+            if let Some(c) = em.on_event(t, slot, band) {
+                return Some(c);
+            }
+        }
+    }
+}

@@ -1,0 +1,311 @@
+//! The three grids: spherical (r, θ, φ), cylindrical (ρ, φ, z) and 2-D polar (r, φ).
+
+use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
+use super::engine::{Axes, SeparableMarch, SerialMarch, SlotKind};
+use super::{Axis, GridError, MarchError};
+use crate::ray::Ray;
+use crate::real::Real;
+use crate::vec3::V3;
+
+fn check_center<T: Real>(c: V3<T>) -> Result<V3<T>, GridError> {
+    if c.is_finite() {
+        Ok(c)
+    } else {
+        Err(GridError::NonFiniteCenter)
+    }
+}
+
+fn check_workspace(got: usize, needed: usize) -> Result<(), GridError> {
+    if got < needed {
+        Err(GridError::WorkspaceTooSmall)
+    } else {
+        Ok(())
+    }
+}
+
+/// A spherical grid (seed 001): radius `r`, zenith angle θ from +z in [0, π], azimuth φ from +x toward +y.
+///
+/// Cell `[i, j, k]` is `r[i] <= r < r[i+1]`, `theta[j] <= θ < theta[j+1]`, `phi[k] <= φ < phi[k+1]` (φ taken
+/// modulo 2π). Breakpoints are borrowed, strictly increasing and non-uniform as the caller likes; the domain may
+/// be a shell (`r[0] > 0`), a zenith band excluding either pole, and an azimuth wedge of any width up to 2π,
+/// also across φ = 0 (e.g. `phi = [-0.5, 0.5]`). Points on the z axis have φ = 0 (the `atan2(0, 0)`
+/// convention); a point on the −z axis has θ = π, so it lies outside a grid whose last θ is π.
+///
+/// **Storage.** The pseudospherical breakpoints of §2 (r², sgnSqrCos θ with cos θ and sin θ, and (cos φ,
+/// sin φ)) are computed once into a caller-provided workspace of
+/// [`SphericalGrid::workspace_len`]`(r.len(), theta.len(), phi.len())` scalars (no allocation):
+///
+/// ```
+/// use curvicast::ray::Ray;
+/// use curvicast::spherical::SphericalGrid;
+/// use core::f64::consts::PI;
+/// let (r, theta, phi) = ([0.0, 0.5, 1.0], [0.0, PI / 2.0, PI], [0.0, PI, 2.0 * PI]);
+/// let mut ws = [0.0; SphericalGrid::<f64>::workspace_len(3, 3, 3)];
+/// let grid = SphericalGrid::new(&r, &theta, &phi, &mut ws)?;
+/// // a ray along +x at height z = 0.25, in front of the xz plane (y = 0.1)
+/// let ray = Ray::new([-2.0, 0.1, 0.25], [1.0, 0.0, 0.0])?;
+/// let cells: Vec<[u32; 3]> = grid.march(&ray).map(|c| c.cell).collect();
+/// assert_eq!(cells.first(), Some(&[1, 0, 0])); // outer shell, upper half, φ in [0, π)
+/// assert_eq!(cells.len(), 3); // outer shell, inner ball, outer shell
+/// # Ok::<(), Box<dyn core::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub struct SphericalGrid<'a, T> {
+    axes: Axes<'a, T>,
+}
+
+impl<T> SphericalGrid<'_, T> {
+    /// The workspace length (in scalars) that [`SphericalGrid::new`] needs: `nr + 3 nθ + 2 nφ`.
+    pub const fn workspace_len(nr: usize, ntheta: usize, nphi: usize) -> usize {
+        nr.saturating_add(ntheta.saturating_mul(3))
+            .saturating_add(nphi.saturating_mul(2))
+    }
+}
+
+impl<'a, T: Real> SphericalGrid<'a, T> {
+    /// A grid centred at the origin. Validates the breakpoints (at least 2 each, finite, strictly increasing,
+    /// `r[0] >= 0`, θ in [0, π], φ span at most 2π) and fills `workspace` with their pseudospherical form.
+    pub fn new(
+        r: &'a [T],
+        theta: &'a [T],
+        phi: &'a [T],
+        workspace: &'a mut [T],
+    ) -> Result<Self, GridError> {
+        check_workspace(
+            workspace.len(),
+            Self::workspace_len(r.len(), theta.len(), phi.len()),
+        )?;
+        let mut ws = workspace;
+        let radial = RadialAxis::build(Axis::R, r, &mut ws)?;
+        let zenith = ZenithAxis::build(theta, &mut ws)?;
+        let azimuth = AzimuthAxis::build(phi, &mut ws)?;
+        Ok(SphericalGrid {
+            axes: Axes {
+                radial,
+                zenith: Some(zenith),
+                azimuth,
+                height: None,
+                center: V3::ZERO,
+                flat_radius: false,
+                slots: [SlotKind::Radial, SlotKind::Zenith, SlotKind::Azimuth],
+            },
+        })
+    }
+
+    /// The same grid centred at `center` (an error if it is not finite).
+    pub fn with_center(mut self, center: impl Into<V3<T>>) -> Result<Self, GridError> {
+        self.axes.center = check_center(center.into())?;
+        Ok(self)
+    }
+
+    /// The center.
+    pub fn center(&self) -> V3<T> {
+        self.axes.center
+    }
+
+    /// The number of cells along each axis `[r, θ, φ]`.
+    pub fn shape(&self) -> [u32; 3] {
+        [
+            self.axes.radial.len.saturating_sub(1),
+            self.axes.zenith.map_or(0, |z| z.len.saturating_sub(1)),
+            self.axes.azimuth.sectors,
+        ]
+    }
+
+    /// True when the φ breakpoints span a full turn (the φ index wraps around).
+    pub fn azimuth_is_full_turn(&self) -> bool {
+        self.axes.azimuth.full
+    }
+
+    /// March `ray` through the grid with the serial engine (seed 001 ch. 5): a lazy iterator of the cells in
+    /// increasing `t`, in constant memory.
+    ///
+    /// ```
+    /// # use curvicast::{ray::Ray, spherical::SphericalGrid};
+    /// # use core::f64::consts::PI;
+    /// # let (r, theta, phi) = ([0.0, 1.0], [0.0, PI], [0.0, 2.0 * PI]);
+    /// # let mut ws = [0.0; SphericalGrid::<f64>::workspace_len(2, 2, 2)];
+    /// # let grid = SphericalGrid::new(&r, &theta, &phi, &mut ws)?;
+    /// // projection sampler (§6.1): Σ value × length, here a constant density 1 in the unit ball
+    /// let ray = Ray::new([-3.0, 0.6, 0.0], [1.0, 0.0, 0.0])?;
+    /// let column: f64 = grid.march(&ray).map(|c| 1.0 * (c.t_exit - c.t_enter)).sum();
+    /// assert!((column - 1.6).abs() < 1e-12); // the chord 2·sqrt(1 − 0.6²)
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn march(&self, ray: &Ray<T>) -> SerialMarch<'_, T> {
+        SerialMarch::new(&self.axes, ray)
+    }
+
+    /// March `ray` with the separable engine (seed 001 §3): each coordinate's crossings are listed into
+    /// buffers of capacity `N` first. Agrees exactly with [`SphericalGrid::march`]; a buffer that would overflow
+    /// is [`MarchError::BufferFull`].
+    pub fn march_separable<const N: usize>(
+        &self,
+        ray: &Ray<T>,
+    ) -> Result<SeparableMarch<T, N>, MarchError> {
+        SeparableMarch::new(&self.axes, ray)
+    }
+}
+
+/// A cylindrical grid: radius ρ from the z axis, azimuth φ, height z; cell `[i, k, m]` is
+/// `rho[i] <= ρ < rho[i+1]`, `phi[k] <= φ < phi[k+1]` (modulo 2π), `z[m] <= z < z[m+1]` (seed 001 §3.3).
+///
+/// Workspace: [`CylindricalGrid::workspace_len`]`(rho.len(), phi.len())` scalars (ρ² and (cos φ, sin φ)).
+///
+/// ```
+/// use curvicast::ray::Ray;
+/// use curvicast::spherical::CylindricalGrid;
+/// use core::f64::consts::PI;
+/// let (rho, phi, z) = ([0.0, 1.0, 2.0], [0.0, PI, 2.0 * PI], [-1.0, 0.0, 1.0]);
+/// let mut ws = [0.0; CylindricalGrid::<f64>::workspace_len(3, 3)];
+/// let grid = CylindricalGrid::new(&rho, &phi, &z, &mut ws)?;
+/// let ray = Ray::new([0.5, 0.5, -5.0], [0.0, 0.0, 1.0])?; // vertical, inside ρ < 1, φ = π/4
+/// let cells: Vec<[u32; 3]> = grid.march(&ray).map(|c| c.cell).collect();
+/// assert_eq!(cells, [[0, 0, 0], [0, 0, 1]]);
+/// # Ok::<(), Box<dyn core::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub struct CylindricalGrid<'a, T> {
+    axes: Axes<'a, T>,
+}
+
+impl<T> CylindricalGrid<'_, T> {
+    /// The workspace length (in scalars) that [`CylindricalGrid::new`] needs: `nρ + 2 nφ`.
+    pub const fn workspace_len(nrho: usize, nphi: usize) -> usize {
+        nrho.saturating_add(nphi.saturating_mul(2))
+    }
+}
+
+impl<'a, T: Real> CylindricalGrid<'a, T> {
+    /// A grid around the z axis through the origin; validates like [`SphericalGrid::new`] (z: finite, strictly
+    /// increasing, at least 2).
+    pub fn new(
+        rho: &'a [T],
+        phi: &'a [T],
+        z: &'a [T],
+        workspace: &'a mut [T],
+    ) -> Result<Self, GridError> {
+        check_workspace(workspace.len(), Self::workspace_len(rho.len(), phi.len()))?;
+        let mut ws = workspace;
+        let radial = RadialAxis::build(Axis::Rho, rho, &mut ws)?;
+        let azimuth = AzimuthAxis::build(phi, &mut ws)?;
+        let height = HeightAxis::build(z)?;
+        Ok(CylindricalGrid {
+            axes: Axes {
+                radial,
+                zenith: None,
+                azimuth,
+                height: Some(height),
+                center: V3::ZERO,
+                flat_radius: true,
+                slots: [SlotKind::Radial, SlotKind::Azimuth, SlotKind::Height],
+            },
+        })
+    }
+
+    /// The same grid with its axis through `center` (z breakpoints are relative to `center.z`).
+    pub fn with_center(mut self, center: impl Into<V3<T>>) -> Result<Self, GridError> {
+        self.axes.center = check_center(center.into())?;
+        Ok(self)
+    }
+
+    /// The number of cells along each axis `[ρ, φ, z]`.
+    pub fn shape(&self) -> [u32; 3] {
+        [
+            self.axes.radial.len.saturating_sub(1),
+            self.axes.azimuth.sectors,
+            self.axes.height.map_or(0, |h| h.len.saturating_sub(1)),
+        ]
+    }
+
+    /// The serial march (see [`SphericalGrid::march`]).
+    pub fn march(&self, ray: &Ray<T>) -> SerialMarch<'_, T> {
+        SerialMarch::new(&self.axes, ray)
+    }
+
+    /// The separable march (see [`SphericalGrid::march_separable`]).
+    pub fn march_separable<const N: usize>(
+        &self,
+        ray: &Ray<T>,
+    ) -> Result<SeparableMarch<T, N>, MarchError> {
+        SeparableMarch::new(&self.axes, ray)
+    }
+}
+
+/// A 2-D polar grid (seed 001 §3.4): radius r and azimuth φ in the plane; the rays' z components are ignored.
+/// Cell `[i, k, 0]` is `r[i] <= r < r[i+1]`, `phi[k] <= φ < phi[k+1]` (the CLI prints `[i, k]`).
+///
+/// Workspace: [`PolarGrid::workspace_len`]`(r.len(), phi.len())` scalars.
+///
+/// ```
+/// use curvicast::ray::Ray;
+/// use curvicast::spherical::PolarGrid;
+/// let (r, phi) = ([1.0, 2.0], [-0.5, 0.5]); // an annular wedge across φ = 0
+/// let mut ws = [0.0; PolarGrid::<f64>::workspace_len(2, 2)];
+/// let grid = PolarGrid::new(&r, &phi, &mut ws)?;
+/// let ray = Ray::new([0.0, 0.0, 7.0], [1.0, 0.0, 3.0])?; // z is ignored
+/// let c: Vec<_> = grid.march(&ray).collect();
+/// assert_eq!(c.len(), 1);
+/// assert_eq!((c[0].cell, c[0].t_enter, c[0].t_exit), ([0, 0, 0], 1.0, 2.0));
+/// # Ok::<(), Box<dyn core::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, Copy)]
+pub struct PolarGrid<'a, T> {
+    axes: Axes<'a, T>,
+}
+
+impl<T> PolarGrid<'_, T> {
+    /// The workspace length (in scalars) that [`PolarGrid::new`] needs: `nr + 2 nφ`.
+    pub const fn workspace_len(nr: usize, nphi: usize) -> usize {
+        nr.saturating_add(nphi.saturating_mul(2))
+    }
+}
+
+impl<'a, T: Real> PolarGrid<'a, T> {
+    /// A polar grid centred at the origin; validates like [`SphericalGrid::new`].
+    pub fn new(r: &'a [T], phi: &'a [T], workspace: &'a mut [T]) -> Result<Self, GridError> {
+        check_workspace(workspace.len(), Self::workspace_len(r.len(), phi.len()))?;
+        let mut ws = workspace;
+        let radial = RadialAxis::build(Axis::R, r, &mut ws)?;
+        let azimuth = AzimuthAxis::build(phi, &mut ws)?;
+        Ok(PolarGrid {
+            axes: Axes {
+                radial,
+                zenith: None,
+                azimuth,
+                height: None,
+                center: V3::ZERO,
+                flat_radius: true,
+                slots: [SlotKind::Radial, SlotKind::Azimuth, SlotKind::Absent],
+            },
+        })
+    }
+
+    /// The same grid centred at `(cx, cy)`.
+    pub fn with_center(mut self, center: [T; 2]) -> Result<Self, GridError> {
+        let [x, y] = center;
+        self.axes.center = check_center(V3::new(x, y, T::ZERO))?;
+        Ok(self)
+    }
+
+    /// The number of cells along each axis `[r, φ]`.
+    pub fn shape(&self) -> [u32; 2] {
+        [
+            self.axes.radial.len.saturating_sub(1),
+            self.axes.azimuth.sectors,
+        ]
+    }
+
+    /// The serial march (see [`SphericalGrid::march`]); cells are `[i, k, 0]`.
+    pub fn march(&self, ray: &Ray<T>) -> SerialMarch<'_, T> {
+        SerialMarch::new(&self.axes, ray)
+    }
+
+    /// The separable march (see [`SphericalGrid::march_separable`]).
+    pub fn march_separable<const N: usize>(
+        &self,
+        ray: &Ray<T>,
+    ) -> Result<SeparableMarch<T, N>, MarchError> {
+        SeparableMarch::new(&self.axes, ray)
+    }
+}
