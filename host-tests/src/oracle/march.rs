@@ -21,14 +21,15 @@
 //! # Conventions (documented choices where the contract leaves room)
 //!
 //! * Breakpoints are exact real numbers (the `f64` values given), except three canonical values: a zenith
-//!   breakpoint equal to `f64` `π/2` is the plane `z = 0`, one equal to `f64` `π` is the exact south pole, and an
-//!   azimuth range whose `f64` span `φ_last − φ_0` is at least `f64` `2π` is a full circle (its last breakpoint is
-//!   `φ_0 + 2π` exactly). A zenith breakpoint `0` is the north pole.
-//! * When the last zenith breakpoint is the south pole, the last zenith band is closed at `θ = π`: the negative
-//!   z axis belongs to it (otherwise no cell would contain it). Elsewhere the rule is strictly half-open.
-//! * A point on the z axis has no azimuth and the center has no zenith either: the oracle reports those
-//!   indices as unknown (`None`), and the comparison accepts any kernel index there. This matters only for rays
-//!   that run along the axis, whose every interval lies on it.
+//!   breakpoint equal to `π/2` rounded (to `f64` or to `f32`) is the plane `z = 0`, one equal to `π` rounded is
+//!   the exact south pole, and an azimuth range whose span `φ_last − φ_0` (in `f64`) is at least `f64` `2π` is a
+//!   full circle (its last breakpoint is `φ_0 + 2π` exactly). A zenith breakpoint `0` is the north pole.
+//! * The rule is strictly half-open, as the contract states it: a point on the negative z axis has `θ = π`,
+//!   which no band `θ_j <= θ < θ_{j+1}` contains (`θ_last <= π`), so it is outside the domain — a ray along the
+//!   −z axis has no crossings there. A point on the z axis has `φ = 0` (the kernel's documented convention; the
+//!   contract leaves it open), located in the wedge like any other azimuth. The center itself has neither θ nor
+//!   φ: the oracle reports those indices as unknown (`None`), which the comparison matches with any index; only
+//!   zero-length crossings exactly at the center can carry them.
 //! * **Ties.** Where several indices change at one parameter, the oracle emits zero-length crossings so that one
 //!   index changes per crossing, in the canonical order: first the radius (ρ) index, then zenith, then azimuth,
 //!   then z; each index moves one step at a time toward its value after the tie (an azimuth index on a full
@@ -129,8 +130,7 @@ pub enum GridKind {
     Polar,
 }
 
-/// A cell as the oracle knows it: `None` where the coordinate is undefined (azimuth on the z axis, zenith at the
-/// center). Unused third index of a polar grid is `Some(0)`.
+/// A cell as the oracle knows it: `None` where the coordinate is undefined (zenith and azimuth at the center). Unused third index of a polar grid is `Some(0)`.
 pub type OracleCell = [Option<u32>; 3];
 
 /// One crossing of the reference answer.
@@ -173,7 +173,6 @@ pub struct MarchOracle {
     /// Zenith breakpoints as generators `(sin θ, cos θ)` in the (ρ, z) half-plane, stored as `Dir2 { c: cos, s: sin }`.
     zenith: Vec<Dir2>,
     zenith_raw: Vec<f64>,
-    pole_closed: bool,
     azim: Vec<Dir2>,
     full: bool,
     zs: Vec<B>,
@@ -203,6 +202,18 @@ fn check_list(name: &str, v: &[f64]) -> Result<(), SpecError> {
         return Err(SpecError(format!("{name}: not strictly increasing")));
     }
     Ok(())
+}
+
+const TAU_F32: f64 = std::f32::consts::TAU as f64;
+const PI_F32: f64 = std::f32::consts::PI as f64;
+
+/// The canonical zenith value π: `f64` π or `f32` π (the south pole).
+fn is_pi(a: f64) -> bool {
+    a == std::f64::consts::PI || a == PI_F32
+}
+/// The canonical zenith value π/2 (the plane `z = 0`), in `f64` or `f32`.
+fn is_half_pi(a: f64) -> bool {
+    a == std::f64::consts::FRAC_PI_2 || a == std::f32::consts::FRAC_PI_2 as f64
 }
 
 fn hp_cos_sin(a: f64, cc: &mut Consts) -> Dir2 {
@@ -296,12 +307,13 @@ impl MarchOracle {
             return Err(SpecError("r: negative radius".into()));
         }
         check_list("phi", &phi)?;
-        if phi[phi.len() - 1] - phi[0] > std::f64::consts::TAU {
+        // f32 grids carry f32-rounded constants (2π and π round up in f32): accept those as well
+        if phi[phi.len() - 1] - phi[0] > TAU_F32 {
             return Err(SpecError("phi: span larger than 2π".into()));
         }
         if kind == GridKind::Spherical {
             check_list("theta", &theta)?;
-            if theta[0] < 0.0 || theta[theta.len() - 1] > std::f64::consts::PI {
+            if theta[0] < 0.0 || theta[theta.len() - 1] > PI_F32 {
                 return Err(SpecError("theta: outside [0, π]".into()));
             }
         }
@@ -319,12 +331,12 @@ impl MarchOracle {
         let zenith: Vec<Dir2> = theta
             .iter()
             .map(|&a| {
-                if a == std::f64::consts::FRAC_PI_2 {
+                if is_half_pi(a) {
                     Dir2 {
                         c: hp(0.0),
                         s: hp(1.0),
                     }
-                } else if a == std::f64::consts::PI {
+                } else if is_pi(a) {
                     Dir2 {
                         c: hp(-1.0),
                         s: hp(0.0),
@@ -334,7 +346,6 @@ impl MarchOracle {
                 }
             })
             .collect();
-        let pole_closed = theta.last() == Some(&std::f64::consts::PI);
         let radii_hp: Vec<B> = radii.iter().map(|&r| hp(r)).collect();
         let radii_sq = radii_hp.iter().map(|r| mul(r, r)).collect();
         let mut extent = radii[radii.len() - 1];
@@ -362,7 +373,6 @@ impl MarchOracle {
             radii_sq,
             zenith,
             zenith_raw: theta,
-            pole_closed,
             azim,
             full,
             zs: zs.iter().map(|&z| hp(z)).collect(),
@@ -419,7 +429,7 @@ impl MarchOracle {
         }
     }
 
-    /// The reference crossings of one ray.
+    /// The reference crossings of one ray (see the module docs for the conventions).
     pub fn march(&self, ray: &RaySpec) -> Reference {
         let r = self.hp_ray(ray);
         let l = self.extent.max(r.origin_dist);
@@ -459,7 +469,7 @@ impl MarchOracle {
         if self.kind == GridKind::Spherical {
             for (k, g) in self.zenith.iter().enumerate() {
                 let raw = self.zenith_raw[k];
-                if raw == 0.0 || raw == std::f64::consts::PI {
+                if raw == 0.0 || is_pi(raw) {
                     continue;
                 }
                 let s2 = mul(&g.s, &g.s);
@@ -494,7 +504,7 @@ impl MarchOracle {
             let x = add(&q[0], &mul(&t, &d[0]));
             let y = add(&q[1], &mul(&t, &d[1]));
             let side = add(&mul(&x, &w.c), &mul(&y, &w.s));
-            if !side.is_negative() || le(&abs(&side), apex_tol) {
+            if sign(&side) >= 0 || le(&abs(&side), apex_tol) {
                 ev.push(t);
             }
         }
@@ -696,49 +706,39 @@ impl MarchOracle {
                         -1 => false,
                         _ => {
                             let dt = add(&mul(&rho, &g.s), &mul(z, &g.c));
-                            dt.is_positive() || (g.c.cmp(&hp(1.0)) == Some(0))
+                            sign(&dt) > 0 || (g.c.cmp(&hp(1.0)) == Some(0))
                         }
                     }
                 };
                 let count = self.zenith.iter().take_while(|g| ge(g)).count();
                 let n = self.zenith.len();
-                let j = if count == 0 {
+                if count == 0 || count == n {
                     return None;
-                } else if count == n {
-                    if self.pole_closed {
-                        n - 2
-                    } else {
-                        return None;
-                    }
-                } else {
-                    count - 1
-                };
-                let k = if on_axis {
-                    None
-                } else {
-                    Some(self.locate_phi(x, y)?)
-                };
-                Some([Some(i), Some(j as u32), k])
+                }
+                let j = count - 1;
+                let k = self.locate_phi_or_axis(x, y, on_axis)?;
+                Some([Some(i), Some(j as u32), Some(k)])
             }
             GridKind::Cylindrical => {
                 let i = locate_sorted(&self.radii_sq, &rho2)?;
                 let m = locate_sorted(&self.zs, z)?;
-                let k = if on_axis {
-                    None
-                } else {
-                    Some(self.locate_phi(x, y)?)
-                };
+                let k = Some(self.locate_phi_or_axis(x, y, on_axis)?);
                 Some([Some(i), k, Some(m)])
             }
             GridKind::Polar => {
                 let i = locate_sorted(&self.radii_sq, &rho2)?;
-                let k = if on_axis {
-                    None
-                } else {
-                    Some(self.locate_phi(x, y)?)
-                };
+                let k = Some(self.locate_phi_or_axis(x, y, on_axis)?);
                 Some([Some(i), k, Some(0)])
             }
+        }
+    }
+
+    /// Azimuth index; a point on the z axis has φ = 0 (the kernel's documented convention).
+    fn locate_phi_or_axis(&self, x: &B, y: &B, on_axis: bool) -> Option<u32> {
+        if on_axis {
+            self.locate_phi(&hp(1.0), &hp(0.0))
+        } else {
+            self.locate_phi(x, y)
         }
     }
 
@@ -792,12 +792,8 @@ impl MarchOracle {
             }
             1 => {
                 let g = self.zenith.get(idx)?;
-                let raw = self.zenith_raw[idx];
-                if raw == std::f64::consts::PI && self.pole_closed {
-                    return None;
-                }
                 let proj = add(&mul(&rho, &g.s), &mul(z, &g.c));
-                if proj.is_negative() {
+                if sign(&proj) < 0 {
                     Some(sqrt(&dot(p, p)))
                 } else {
                     Some(abs(&sub(&mul(&rho, &g.c), &mul(z, &g.s))))
@@ -806,7 +802,7 @@ impl MarchOracle {
             2 => {
                 let w = self.azim.get(idx)?;
                 let proj = add(&mul(x, &w.c), &mul(y, &w.s));
-                if proj.is_negative() {
+                if sign(&proj) < 0 {
                     Some(rho)
                 } else {
                     Some(abs(&sub(&mul(y, &w.c), &mul(x, &w.s))))
@@ -983,11 +979,11 @@ fn solve_quadratic(a: &B, b: &B, c: &B) -> Vec<B> {
         return vec![div(c, &mul(b, &hp(2.0))).neg()];
     }
     let disc = sub(&mul(b, b), &mul(a, c));
-    if disc.is_negative() {
+    if sign(&disc) < 0 {
         return Vec::new();
     }
     let s = sqrt(&disc);
-    let q = if b.is_negative() {
+    let q = if sign(&b) < 0 {
         sub(&s, b)
     } else {
         add(b, &s).neg()
@@ -1020,7 +1016,7 @@ fn angle_le(e0: &Dir2, w: &Dir2, u: &Dir2) -> bool {
             -1 => 1,
             _ => {
                 let dt = add(&mul(&e0.c, &v.c), &mul(&e0.s, &v.s));
-                if dt.is_positive() { 0 } else { 1 }
+                if sign(&dt) > 0 { 0 } else { 1 }
             }
         }
     };
@@ -1030,7 +1026,7 @@ fn angle_le(e0: &Dir2, w: &Dir2, u: &Dir2) -> bool {
     }
     // same half: w ≤ u ⟺ cross(w, u) ≥ 0
     let cr = sub(&mul(&w.c, &u.s), &mul(&w.s, &u.c));
-    !cr.is_negative()
+    sign(&cr) >= 0
 }
 
 /// Statistics of a successful comparison.

@@ -2,3 +2,4 @@
 //! hard cases.
 
 pub mod spec;
+pub mod march_cases;
