@@ -27,6 +27,16 @@ enum Command {
         #[arg(long, default_value = "out")]
         out: PathBuf,
     },
+    /// Marching against the independent oracle on random rays over random grids (both engines, every precision);
+    /// exit code 1 when an f64 ray fails the criterion or any list breaks the contract's invariants.
+    MarchOracle {
+        /// Number of random rays (20 per random grid).
+        #[arg(long, default_value_t = 200_000)]
+        rays: usize,
+        /// Seed of the generator.
+        #[arg(long, default_value_t = 7)]
+        seed: u64,
+    },
 }
 
 fn main() -> ExitCode {
@@ -48,6 +58,14 @@ fn main() -> ExitCode {
                 out_dir: out,
             })
             .map(|_| ())
+        }
+        Command::MarchOracle { rays, seed } => {
+            let (text, ok) = curvicast_host::report::march::oracle_suite_text(rays, seed);
+            print!("{text}");
+            if !ok {
+                return ExitCode::from(1);
+            }
+            Ok(())
         }
     };
     match result {

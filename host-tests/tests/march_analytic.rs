@@ -19,7 +19,9 @@ use std::f64::consts::{PI, TAU};
 const TOL: f64 = 1e-12;
 
 fn uniform(n: usize, lo: f64, hi: f64) -> Vec<f64> {
-    (0..=n).map(|i| lo + (hi - lo) * i as f64 / n as f64).collect()
+    (0..=n)
+        .map(|i| lo + (hi - lo) * i as f64 / n as f64)
+        .collect()
 }
 
 struct Grid {
@@ -63,10 +65,11 @@ impl Grid {
 
     /// The crossings of both engines (asserting that they agree).
     fn march(&self, origin: [f64; 3], dir: [f64; 3]) -> Vec<CellCrossing<f64>> {
-        let mut ws = vec![
-            0.0;
-            SphericalGrid::<f64>::workspace_len(self.r.len(), self.theta.len(), self.phi.len())
-        ];
+        let mut ws =
+            vec![
+                0.0;
+                SphericalGrid::<f64>::workspace_len(self.r.len(), self.theta.len(), self.phi.len())
+            ];
         let grid = SphericalGrid::new(&self.r, &self.theta, &self.phi, &mut ws).unwrap();
         let ray = Ray::new(origin, dir).unwrap();
         let mut it = grid.march(&ray);
@@ -139,7 +142,11 @@ fn rays() -> Vec<([f64; 3], [f64; 3], f64)> {
         let w = [u[1], -u[0], 0.0];
         let wn = norm(w);
         let off = rng.random_range(0.0..0.98f64).sqrt();
-        let c = if wn > 1e-6 { w.map(|a| a / wn * off) } else { [off, 0.0, 0.0] };
+        let c = if wn > 1e-6 {
+            w.map(|a| a / wn * off)
+        } else {
+            [off, 0.0, 0.0]
+        };
         let origin = [0, 1, 2].map(|i| c[i] - 3.0 * u[i]);
         out.push((origin, u, off));
     }
@@ -163,14 +170,22 @@ fn constant_density_ball_column_is_the_chord() {
             let exact = 2.0 * (1.0 - rho * rho).sqrt();
             let e = rel(col, exact);
             worst = worst.max(e);
-            assert!(e <= TOL, "column {col} vs chord {exact} (ρ = {rho}): rel {e:e}");
+            assert!(
+                e <= TOL,
+                "column {col} vs chord {exact} (ρ = {rho}): rel {e:e}"
+            );
         }
     }
     println!("constant density: max relative error {worst:e}");
 }
 
 fn chi_exact(rho: f64) -> f64 {
-    2.0 * (1.0 - rho * rho).sqrt() + if rho < 0.5 { 2.0 * (0.25 - rho * rho).sqrt() } else { 0.0 }
+    2.0 * (1.0 - rho * rho).sqrt()
+        + if rho < 0.5 {
+            2.0 * (0.25 - rho * rho).sqrt()
+        } else {
+            0.0
+        }
 }
 
 #[test]
@@ -183,13 +198,21 @@ fn step_field_chi_half_on_grid_with_breakpoint_at_the_jump() {
             .march(p, d)
             .iter()
             .map(|c| {
-                let v = if g.r[c.cell[0] as usize + 1] <= 0.5 { 2.0 } else { 1.0 };
+                let v = if g.r[c.cell[0] as usize + 1] <= 0.5 {
+                    2.0
+                } else {
+                    1.0
+                };
                 v * (c.t_exit - c.t_enter) * norm(d)
             })
             .sum();
         let e = rel(col, chi_exact(rho));
         worst = worst.max(e);
-        assert!(e <= TOL, "χ column {col} vs {} (ρ = {rho}): rel {e:e}", chi_exact(rho));
+        assert!(
+            e <= TOL,
+            "χ column {col} vs {} (ρ = {rho}): rel {e:e}",
+            chi_exact(rho)
+        );
     }
     println!("χ0.5 aligned: max relative error {worst:e}");
 }
@@ -211,7 +234,11 @@ fn step_field_chi_half_on_grids_not_aligned_with_the_jump() {
                 .sum();
             let e = rel(col, chi_exact(rho));
             worst = worst.max(e);
-            assert!(e <= TOL, "χ column {col} vs {} (ρ = {rho}): rel {e:e}", chi_exact(rho));
+            assert!(
+                e <= TOL,
+                "χ column {col} vs {} (ρ = {rho}): rel {e:e}",
+                chi_exact(rho)
+            );
         }
     }
     println!("χ0.5 unaligned: max relative error {worst:e}");
@@ -231,7 +258,10 @@ fn field_r_squared_integrates_to_the_closed_form() {
             let exact = 2.0 / 3.0 * a * (1.0 + 2.0 * rho * rho);
             let e = rel(col, exact);
             worst = worst.max(e);
-            assert!(e <= TOL, "r² column {col} vs {exact} (ρ = {rho}): rel {e:e}");
+            assert!(
+                e <= TOL,
+                "r² column {col} vs {exact} (ρ = {rho}): rel {e:e}"
+            );
         }
     }
     println!("r²: max relative error {worst:e}");

@@ -45,7 +45,10 @@ fn assert_list(got: &[([Option<u32>; 3], f64, f64)], want: &[([Option<u32>; 3], 
     assert_eq!(got.len(), want.len(), "got {got:?}\nwant {want:?}");
     for (g, w) in got.iter().zip(want) {
         assert_eq!(g.0, w.0, "got {got:?}\nwant {want:?}");
-        assert!(close(g.1, w.1) && close(g.2, w.2), "got {got:?}\nwant {want:?}");
+        assert!(
+            close(g.1, w.1) && close(g.2, w.2),
+            "got {got:?}\nwant {want:?}"
+        );
     }
 }
 
@@ -77,7 +80,11 @@ fn oracle_diameter_in_plane_z0_with_known_cells() {
 #[test]
 fn oracle_diagonal_through_origin_emits_tie_cells_in_canonical_order() {
     // before the origin θ = acos(−1/√3) ≈ 2.19, φ = 5π/4; after θ ≈ 0.96, φ = π/4
-    let g = sph(&[0.0, 1.0, 2.0], &[0.0, 1.0, 2.0, PI], &[0.0, 1.0, 4.0, TAU]);
+    let g = sph(
+        &[0.0, 1.0, 2.0],
+        &[0.0, 1.0, 2.0, PI],
+        &[0.0, 1.0, 4.0, TAU],
+    );
     let got = oracle_list(&g, &RaySpec::new([-2.0, -2.0, -2.0], [1.0, 1.0, 1.0]));
     let s = 1.0 / 3f64.sqrt();
     assert_list(
@@ -172,7 +179,7 @@ fn oracle_corner_tie_steps_radius_then_zenith_then_azimuth() {
 #[test]
 fn oracle_is_consistent_with_its_own_classification_on_random_rays() {
     use curvicast_host::oracle::march::PRECISION;
-    assert!(PRECISION >= 256);
+    const { assert!(PRECISION >= 256) };
     for (g, rays) in mc::random_suite_inputs(400, 77) {
         let o = MarchOracle::new(&g).unwrap();
         for ray in &rays {

@@ -108,10 +108,10 @@ pub fn to_f64(a: &B) -> f64 {
     }
     match r.as_raw_parts() {
         Some((m, _, s, e, _)) => {
-            let top = m.last().copied().unwrap_or(0) as u64;
+            // 64-bit words (the host targets): one word holds the 53-bit mantissa
+            let top: u64 = m.last().copied().unwrap_or(0);
             // value = 0.top × 2^e with the top word's highest bit the leading bit
             let v = (top as f64) * 2f64.powi(-64);
-            let e = e as i32;
             let v = v * 2f64.powi(e / 2) * 2f64.powi(e - e / 2);
             if s == Sign::Neg { -v } else { v }
         }
@@ -710,7 +710,8 @@ impl MarchOracle {
                         }
                     }
                 };
-                let count = self.zenith.iter().take_while(|g| ge(g)).count();
+                // θ ≥ θ_k is monotone in k: binary search
+                let count = self.zenith.partition_point(ge);
                 let n = self.zenith.len();
                 if count == 0 || count == n {
                     return None;
@@ -752,14 +753,8 @@ impl MarchOracle {
         };
         // number of breakpoints k (k < n − 1 when full) with β_k ≤ α
         let upto = if self.full { n - 1 } else { n };
-        let mut count = 0usize;
-        for w in self.azim.iter().take(upto) {
-            if angle_le(e0, w, &u) {
-                count += 1;
-            } else {
-                break;
-            }
-        }
+        // the breakpoints are sorted by angle from φ_0, so β_k ≤ α is monotone in k: binary search
+        let count = self.azim[..upto].partition_point(|w| angle_le(e0, w, &u));
         if count == 0 {
             // cannot happen (β_0 = 0 ≤ α), kept for safety
             return None;
@@ -833,6 +828,13 @@ impl MarchOracle {
     pub fn boundary_distance(&self, ray: &HpRay, t: f64, which: Option<(usize, usize)>) -> f64 {
         let p = self.point(ray, &hp(t));
         let d = match which {
+            // two sectors on a full circle: a step 0 ↔ 1 crosses either breakpoint
+            Some((c, _)) if c == self.phi_coord() && self.full && self.dims[c] == 2 => {
+                match (self.dist_to(&p, c, 0), self.dist_to(&p, c, 1)) {
+                    (Some(a), Some(b)) => Some(min_b(a, b)),
+                    (a, b) => a.or(b),
+                }
+            }
             Some((c, i)) => self.dist_to(&p, c, i),
             None => {
                 let mut best: Option<B> = None;
@@ -841,10 +843,7 @@ impl MarchOracle {
                         if c == 0 && self.radii[i] == 0.0 {
                             continue;
                         }
-                        if self.kind == GridKind::Spherical
-                            && c == 1
-                            && self.zenith_raw[i] == 0.0
-                        {
+                        if self.kind == GridKind::Spherical && c == 1 && self.zenith_raw[i] == 0.0 {
                             continue;
                         }
                         if let Some(v) = self.dist_to(&p, c, i) {
@@ -871,8 +870,11 @@ impl MarchOracle {
         t_max: f64,
     ) -> Result<(), String> {
         for (n, c) in list.iter().enumerate() {
-            if !(c.t_enter <= c.t_exit) {
-                return Err(format!("crossing {n}: t_enter {} > t_exit {}", c.t_enter, c.t_exit));
+            if c.t_enter.partial_cmp(&c.t_exit).is_none_or(|o| o.is_gt()) {
+                return Err(format!(
+                    "crossing {n}: t_enter {} > t_exit {}",
+                    c.t_enter, c.t_exit
+                ));
             }
             if c.t_enter < t_min || c.t_exit > t_max {
                 return Err(format!(
@@ -882,7 +884,10 @@ impl MarchOracle {
             }
             for k in 0..3 {
                 if c.cell[k] >= self.dims[k] {
-                    return Err(format!("crossing {n}: cell {:?} out of range {:?}", c.cell, self.dims));
+                    return Err(format!(
+                        "crossing {n}: cell {:?} out of range {:?}",
+                        c.cell, self.dims
+                    ));
                 }
             }
             if n == 0 {
@@ -897,7 +902,9 @@ impl MarchOracle {
             }
             if c.t_enter == p.t_exit {
                 self.one_step(&p.cell.map(Some), &c.cell.map(Some))
-                    .map_err(|e| format!("crossings {}→{n}: {:?}→{:?}: {e}", n - 1, p.cell, c.cell))?;
+                    .map_err(|e| {
+                        format!("crossings {}→{n}: {:?}→{:?}: {e}", n - 1, p.cell, c.cell)
+                    })?;
             }
         }
         Ok(())
@@ -921,7 +928,11 @@ impl MarchOracle {
                 y as usize
             } else if y + 1 == x {
                 x as usize
-            } else if k == self.phi_coord() && self.full && n > 1 && ((x == 0 && y == n - 1) || (y == 0 && x == n - 1)) {
+            } else if k == self.phi_coord()
+                && self.full
+                && n > 1
+                && ((x == 0 && y == n - 1) || (y == 0 && x == n - 1))
+            {
                 0
             } else {
                 return Err(format!("index {k} jumps {x}→{y}"));
@@ -952,11 +963,17 @@ impl MarchOracle {
                 return Err(format!("oracle crossings {n}: not ordered"));
             }
             if w[1].t_enter == w[0].t_exit {
-                if w[0].cell.iter().chain(w[1].cell.iter()).any(|c| c.is_none()) {
+                if w[0]
+                    .cell
+                    .iter()
+                    .chain(w[1].cell.iter())
+                    .any(|c| c.is_none())
+                {
                     continue;
                 }
-                self.one_step(&w[0].cell, &w[1].cell)
-                    .map_err(|e| format!("oracle crossings {n}: {:?}→{:?}: {e}", w[0].cell, w[1].cell))?;
+                self.one_step(&w[0].cell, &w[1].cell).map_err(|e| {
+                    format!("oracle crossings {n}: {:?}→{:?}: {e}", w[0].cell, w[1].cell)
+                })?;
             }
         }
         Ok(())
@@ -964,7 +981,10 @@ impl MarchOracle {
 }
 
 fn dot(a: &[B; 3], b: &[B; 3]) -> B {
-    add(&add(&mul(&a[0], &b[0]), &mul(&a[1], &b[1])), &mul(&a[2], &b[2]))
+    add(
+        &add(&mul(&a[0], &b[0]), &mul(&a[1], &b[1])),
+        &mul(&a[2], &b[2]),
+    )
 }
 fn dot2(a: &[B; 3], b: &[B; 3]) -> B {
     add(&mul(&a[0], &b[0]), &mul(&a[1], &b[1]))
@@ -983,7 +1003,7 @@ fn solve_quadratic(a: &B, b: &B, c: &B) -> Vec<B> {
         return Vec::new();
     }
     let s = sqrt(&disc);
-    let q = if sign(&b) < 0 {
+    let q = if sign(b) < 0 {
         sub(&s, b)
     } else {
         add(b, &s).neg()
@@ -999,7 +1019,7 @@ fn solve_quadratic(a: &B, b: &B, c: &B) -> Vec<B> {
 
 /// Index `i` with `v[i] <= x < v[i+1]`, or `None`.
 fn locate_sorted(v: &[B], x: &B) -> Option<u32> {
-    let count = v.iter().take_while(|b| le(b, x)).count();
+    let count = v.partition_point(|b| le(b, x));
     if count == 0 || count == v.len() {
         None
     } else {
@@ -1082,7 +1102,10 @@ impl fmt::Display for Mismatch {
                 Ok(())
             }
             Mismatch::Backward { t, err_eps } => {
-                write!(f, "crossing point at t = {t:e} lies {err_eps:.1} eps·L from its surface")
+                write!(
+                    f,
+                    "crossing point at t = {t:e} lies {err_eps:.1} eps·L from its surface"
+                )
             }
         }
     }
@@ -1210,7 +1233,9 @@ pub fn compare(
                 continue;
             }
             let neighbour = if end == 0 {
-                n.checked_sub(1).map(|m| &kernel[m]).filter(|p| p.t_exit == t)
+                n.checked_sub(1)
+                    .map(|m| &kernel[m])
+                    .filter(|p| p.t_exit == t)
             } else {
                 kernel.get(n + 1).filter(|p| p.t_enter == t)
             };
@@ -1239,13 +1264,44 @@ pub fn compare(
     })
 }
 
+/// Only the sequence part of [`compare`]: whether the cell sequences agree after dropping crossings shorter
+/// than `1e-7·L` from both lists (no structural or backward-error check; for baselines such as a voxel march
+/// mapped back to cells, whose lists need not satisfy the contract).
+pub fn same_sequence(reference: &Reference, list: &[KernelCrossing]) -> bool {
+    let min_t = DROP_REL * reference.l / reference.ray.dir_norm;
+    let k_list: Vec<(OracleCell, f64, f64)> = list
+        .iter()
+        .map(|c| (c.cell.map(Some), c.t_enter, c.t_exit))
+        .collect();
+    let o_list: Vec<(OracleCell, f64, f64)> = reference
+        .crossings
+        .iter()
+        .map(|c| (c.cell, c.t_enter, c.t_exit))
+        .collect();
+    let (kr, or) = (reduce(&k_list, min_t), reduce(&o_list, min_t));
+    kr.len() == or.len()
+        && kr
+            .iter()
+            .zip(&or)
+            .all(|(k, o)| cells_match(&k.cell, &o.cell))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn to_f64_round_trips() {
-        for &x in &[1.0, -2.5, 1e-300, 6.4e6, 0.1, 1e30, -1e-30, 3.141592653589793] {
+        for &x in &[
+            1.0,
+            -2.5,
+            1e-300,
+            6.4e6,
+            0.1,
+            1e30,
+            -1e-30,
+            std::f64::consts::PI,
+        ] {
             assert_eq!(to_f64(&hp(x)), x, "{x}");
         }
         let third = div(&hp(1.0), &hp(3.0));

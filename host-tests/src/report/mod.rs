@@ -4,6 +4,8 @@
 
 use std::path::Path;
 
+pub mod march;
+
 /// One section of the report.
 #[derive(Debug, Clone, Default)]
 pub struct Section {
@@ -26,7 +28,7 @@ pub struct Options {
 pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
     std::fs::create_dir_all(&opts.out_dir)?;
     type SectionFn = fn(&Options) -> anyhow::Result<Section>;
-    let sections: &[SectionFn] = &[];
+    let sections: &[SectionFn] = &[march::section];
     let mut done = Vec::new();
     let mut md = String::from("# curvicast report\n\n");
     md.push_str(&format!(

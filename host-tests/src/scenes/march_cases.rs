@@ -123,7 +123,9 @@ fn conv<T: Real>(v: &[f64]) -> Vec<T> {
     v.iter().map(|&a| T::from_f64(a)).collect()
 }
 
-fn collect<T: Real>(it: impl Iterator<Item = curvicast::spherical::CellCrossing<T>>) -> Vec<KernelCrossing> {
+fn collect<T: Real>(
+    it: impl Iterator<Item = curvicast::spherical::CellCrossing<T>>,
+) -> Vec<KernelCrossing> {
     it.map(|c| KernelCrossing {
         cell: c.cell,
         t_enter: c.t_enter.to_f64(),
@@ -132,7 +134,11 @@ fn collect<T: Real>(it: impl Iterator<Item = curvicast::spherical::CellCrossing<
     .collect()
 }
 
-fn run_typed<T: Real>(g: &GridSpec, r: &RaySpec, engine: Engine) -> Result<Vec<KernelCrossing>, String> {
+fn run_typed<T: Real>(
+    g: &GridSpec,
+    r: &RaySpec,
+    engine: Engine,
+) -> Result<Vec<KernelCrossing>, String> {
     let origin: [T; 3] = r.origin.map(T::from_f64);
     let dir: [T; 3] = r.dir.map(T::from_f64);
     let ray = Ray::new(origin, dir)
@@ -165,7 +171,8 @@ fn run_typed<T: Real>(g: &GridSpec, r: &RaySpec, engine: Engine) -> Result<Vec<K
             phi,
         } => {
             let (r, th, ph) = (conv::<T>(r), conv::<T>(theta), conv::<T>(phi));
-            let mut ws = vec![T::ZERO; SphericalGrid::<T>::workspace_len(r.len(), th.len(), ph.len())];
+            let mut ws =
+                vec![T::ZERO; SphericalGrid::<T>::workspace_len(r.len(), th.len(), ph.len())];
             let grid = SphericalGrid::new(&r, &th, &ph, &mut ws)
                 .and_then(|g| g.with_center(center.unwrap_or([0.0; 3]).map(T::from_f64)))
                 .map_err(|e| format!("grid: {e}"))?;
@@ -552,7 +559,11 @@ pub fn in_plane_z0() -> Vec<Case> {
                 let a: f64 = rng.random_range(0.0..TAU);
                 let b: f64 = rng.random_range(-0.9..0.9);
                 rays.push(RaySpec::new(
-                    [-2.0 * a.cos() - b * a.sin(), -2.0 * a.sin() + b * a.cos(), 0.0],
+                    [
+                        -2.0 * a.cos() - b * a.sin(),
+                        -2.0 * a.sin() + b * a.cos(),
+                        0.0,
+                    ],
                     [a.cos(), a.sin(), 0.0],
                 ));
             }
@@ -577,14 +588,18 @@ pub fn crossing_z_axis_off_origin() -> Vec<Case> {
                 let a: f64 = rng.random_range(-1.0..1.0);
                 let b: f64 = rng.random_range(-1.0..1.0);
                 let z0: f64 = rng.random_range(-0.9..0.9);
-                let dz: f64 = if n % 3 == 0 { 0.0 } else { rng.random_range(-0.5..0.5) };
-                rays.push(RaySpec::new(
-                    [c[0] - a, c[1] - b, c[2] + z0],
-                    [a, b, dz],
-                ));
+                let dz: f64 = if n % 3 == 0 {
+                    0.0
+                } else {
+                    rng.random_range(-0.5..0.5)
+                };
+                rays.push(RaySpec::new([c[0] - a, c[1] - b, c[2] + z0], [a, b, dz]));
             }
             // through the axis point exactly on a zenith band edge region and on a sphere: (0, 0, 3/4)
-            rays.push(RaySpec::new([c[0] - 0.5, c[1] - 0.25, c[2] + 0.75], [0.5, 0.25, 0.0]));
+            rays.push(RaySpec::new(
+                [c[0] - 0.5, c[1] - 0.25, c[2] + 0.75],
+                [0.5, 0.25, 0.0],
+            ));
             Case {
                 name: "crossing_z_axis_off_origin",
                 grid,
@@ -611,9 +626,18 @@ pub fn parallel_to_cone_generator() -> Vec<Case> {
                 let g = [t.sin() * f64::cos(phi), t.sin() * f64::sin(phi), t.cos()];
                 // offset from the apex: a line through the apex along g would lie in the cone up to the
                 // rounding of g, where either side is a correct answer (an ill-posed case, not tested here)
-                for &off in &[[0.1, 0.0, 0.0], [0.0, -0.2, 0.05], [0.0, 0.0, 0.3], [0.0, 0.0, -0.25]] {
+                for &off in &[
+                    [0.1, 0.0, 0.0],
+                    [0.0, -0.2, 0.05],
+                    [0.0, 0.0, 0.3],
+                    [0.0, 0.0, -0.25],
+                ] {
                     rays.push(RaySpec::new(
-                        [off[0] - 2.0 * g[0], off[1] - 2.0 * g[1], off[2] - 2.0 * g[2]],
+                        [
+                            off[0] - 2.0 * g[0],
+                            off[1] - 2.0 * g[1],
+                            off[2] - 2.0 * g[2],
+                        ],
                         g,
                     ));
                 }
@@ -632,7 +656,11 @@ pub fn parallel_to_cone_generator() -> Vec<Case> {
 /// tangency; also tangent to the inner sphere of the partial grid.
 pub fn tangent_to_shell() -> Vec<Case> {
     let mut out = Vec::new();
-    for (grid, rr) in [(full_grid(), 0.5625), (partial_grid(), 0.25), (partial_grid(), 0.625)] {
+    for (grid, rr) in [
+        (full_grid(), 0.5625),
+        (partial_grid(), 0.25),
+        (partial_grid(), 0.625),
+    ] {
         let mut rays = Vec::new();
         for &f in &[1.0, 1.0 - 1e-12, 1.0 + 1e-12] {
             let y = rr * f;
@@ -659,14 +687,24 @@ pub fn through_edge() -> Vec<Case> {
     for &rr in &[0.25, 0.5625, 0.75] {
         for &p in &[[0.0, rr, 0.0], [0.0, -rr, 0.0]] {
             for d in [[0.5, 0.25, 0.5], [-0.25, 0.5, -0.75], [1.0, 0.0, 0.25]] {
-                rays.push(RaySpec::new([p[0] - 2.0 * d[0], p[1] - 2.0 * d[1], p[2] - 2.0 * d[2]], d));
+                rays.push(RaySpec::new(
+                    [p[0] - 2.0 * d[0], p[1] - 2.0 * d[1], p[2] - 2.0 * d[2]],
+                    d,
+                ));
             }
         }
         for &t in &[0.4, 1.1, 2.0, 2.7] {
             let phi: f64 = 1.3;
-            let p = [rr * t.sin() * phi.cos(), rr * t.sin() * phi.sin(), rr * t.cos()];
+            let p = [
+                rr * t.sin() * phi.cos(),
+                rr * t.sin() * phi.sin(),
+                rr * t.cos(),
+            ];
             for d in [[0.5, 0.25, 0.5], [-0.25, 0.5, -0.75]] {
-                rays.push(RaySpec::new([p[0] - 2.0 * d[0], p[1] - 2.0 * d[1], p[2] - 2.0 * d[2]], d));
+                rays.push(RaySpec::new(
+                    [p[0] - 2.0 * d[0], p[1] - 2.0 * d[1], p[2] - 2.0 * d[2]],
+                    d,
+                ));
             }
         }
     }
@@ -690,12 +728,22 @@ pub fn through_corner() -> Vec<Case> {
             [0.0, 0.5, 0.5],
         ] {
             let p = [rr, 0.0, 0.0];
-            rays.push(RaySpec::new([p[0] - 2.0 * d[0], p[1] - 2.0 * d[1], p[2] - 2.0 * d[2]], d));
+            rays.push(RaySpec::new(
+                [p[0] - 2.0 * d[0], p[1] - 2.0 * d[1], p[2] - 2.0 * d[2]],
+                d,
+            ));
         }
         for (t, phi) in [(0.4f64, 0.7f64), (1.1, 2.0), (2.0, 3.3), (2.7, 5.5)] {
-            let p = [rr * t.sin() * phi.cos(), rr * t.sin() * phi.sin(), rr * t.cos()];
+            let p = [
+                rr * t.sin() * phi.cos(),
+                rr * t.sin() * phi.sin(),
+                rr * t.cos(),
+            ];
             for d in [[0.5, 0.25, 0.5], [-0.25, 0.5, -0.75]] {
-                rays.push(RaySpec::new([p[0] - 2.0 * d[0], p[1] - 2.0 * d[1], p[2] - 2.0 * d[2]], d));
+                rays.push(RaySpec::new(
+                    [p[0] - 2.0 * d[0], p[1] - 2.0 * d[1], p[2] - 2.0 * d[2]],
+                    d,
+                ));
             }
         }
     }
@@ -728,7 +776,11 @@ pub fn starting_on_boundary() -> Vec<Case> {
         [0.4, 0.0, 0.1],
         {
             let (t, p): (f64, f64) = (1.1, 2.5);
-            [0.6 * t.sin() * p.cos(), 0.6 * t.sin() * p.sin(), 0.6 * t.cos()]
+            [
+                0.6 * t.sin() * p.cos(),
+                0.6 * t.sin() * p.sin(),
+                0.6 * t.cos(),
+            ]
         },
         [0.0, 0.0, 0.0],
         [0.75, 0.0, 0.0],
@@ -751,7 +803,12 @@ pub fn starting_on_boundary() -> Vec<Case> {
     out.push(Case {
         name: "starting_on_boundary",
         grid: partial_grid(),
-        rays: rays(&[[0.0, 0.25, 0.0], [0.125, 0.0, 0.0], [0.3, 0.2, 0.0], [0.5, 0.0, 0.0]]),
+        rays: rays(&[
+            [0.0, 0.25, 0.0],
+            [0.125, 0.0, 0.0],
+            [0.3, 0.2, 0.0],
+            [0.5, 0.0, 0.0],
+        ]),
     });
     out.push(Case {
         name: "starting_on_boundary",
@@ -761,7 +818,12 @@ pub fn starting_on_boundary() -> Vec<Case> {
             phi: vec![0.0, 1.5, 3.0, 4.5, TAU],
             z: vec![-1.0, -0.25, 0.5, 1.0],
         },
-        rays: rays(&[[0.375, 0.5, 0.0], [0.5, 0.0, -0.25], [0.3, 0.2, 0.5], [0.25, 0.0, -1.0]]),
+        rays: rays(&[
+            [0.375, 0.5, 0.0],
+            [0.5, 0.0, -0.25],
+            [0.3, 0.2, 0.5],
+            [0.25, 0.0, -1.0],
+        ]),
     });
     out.push(Case {
         name: "starting_on_boundary",
@@ -1046,7 +1108,8 @@ pub fn run_suite(
                             Err(msg) => {
                                 row.engine_errors += 1;
                                 if row.failures.len() < 5 {
-                                    row.failures.push(format!("{msg}\n  grid {g:?}\n  ray {ray:?}"));
+                                    row.failures
+                                        .push(format!("{msg}\n  grid {g:?}\n  ray {ray:?}"));
                                 }
                                 continue;
                             }
@@ -1073,7 +1136,8 @@ pub fn run_suite(
                                     row.structure_violations += 1;
                                 }
                                 if row.failures.len() < 5 {
-                                    row.failures.push(format!("{m}\n  grid {g:?}\n  ray {ray:?}"));
+                                    row.failures
+                                        .push(format!("{m}\n  grid {g:?}\n  ray {ray:?}"));
                                 }
                             }
                         }

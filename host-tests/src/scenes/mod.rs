@@ -1,5 +1,5 @@
 //! Scenes: the JSON input formats of the command-line contract, analytic fields, real datasets and generators of
 //! hard cases.
 
-pub mod spec;
 pub mod march_cases;
+pub mod spec;
