@@ -37,6 +37,21 @@ enum Command {
         #[arg(long, default_value_t = 7)]
         seed: u64,
     },
+    /// March rays through a spherical, cylindrical or polar grid: one JSON line of cell crossings per ray.
+    March {
+        /// The grid file (JSON).
+        #[arg(long)]
+        grid: PathBuf,
+        /// The rays file (JSON Lines); standard input when absent.
+        #[arg(long)]
+        rays: Option<PathBuf>,
+        /// The engine.
+        #[arg(long, value_enum, default_value = "serial")]
+        engine: curvicast_host::cli::march::Engine,
+        /// The scalar type.
+        #[arg(long, value_enum, default_value = "f64")]
+        precision: curvicast_host::cli::march::Precision,
+    },
 }
 
 fn main() -> ExitCode {
@@ -67,6 +82,20 @@ fn main() -> ExitCode {
             }
             Ok(())
         }
+        Command::March {
+            grid,
+            rays,
+            engine,
+            precision,
+        } => curvicast_host::cli::march::run(
+            &curvicast_host::cli::march::MarchArgs {
+                grid,
+                rays,
+                engine,
+                precision,
+            },
+            &mut std::io::stdout().lock(),
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

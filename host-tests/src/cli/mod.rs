@@ -4,3 +4,4 @@
 //! a one-line message on stderr naming the file, exit code 2, and nothing on stdout.
 
 pub mod io;
+pub mod march;

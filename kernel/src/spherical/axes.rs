@@ -171,7 +171,6 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
 /// wider than π is the union of two half-spaces (seed 001 §3.1.3); the sector logic here never needs to say so.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct AzimuthAxis<'a, T> {
-    pub phi: &'a [T],
     pub cos: &'a [T],
     pub sin: &'a [T],
     /// Number of sectors inside the domain (`m`).
@@ -211,7 +210,6 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
         }
         let sectors = len.saturating_sub(1);
         Ok(AzimuthAxis {
-            phi,
             cos,
             sin,
             sectors,
@@ -230,6 +228,12 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
         ))
     }
 
+    /// `(cos, sin)` of the boundary `j` (cyclic index below `boundaries`).
+    #[inline]
+    pub(crate) fn dir_of(&self, j: u32) -> (T, T) {
+        self.dir(j as usize)
+    }
+
     /// `(cos, sin)` of boundary `j`.
     #[inline]
     fn dir(&self, j: usize) -> (T, T) {
@@ -239,14 +243,14 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
         )
     }
 
-    /// Is the boundary `j` at an angle of π or more counter-clockwise from boundary 0? Decided from the given
-    /// angles (exact up to one subtraction), not from rounded sines.
+    /// Is the direction `(x, y)` at an angle of π or more counter-clockwise from boundary 0? The same sign test
+    /// decides it for points and for boundaries, so the two are ordered consistently even where the test is
+    /// ill-conditioned (directions within rounding of φ_0 + π).
     #[inline]
-    fn boundary_half(&self, j: usize) -> bool {
-        match (self.phi.get(j), self.phi.first()) {
-            (Some(&p), Some(&p0)) => p - p0 >= T::PI,
-            _ => false,
-        }
+    fn lower_half_excluded(&self, x: T, y: T) -> bool {
+        let (c0, s0) = self.dir(0);
+        let cr0 = c0 * y - s0 * x;
+        cr0 < T::ZERO || (cr0 == T::ZERO && c0 * x + s0 * y < T::ZERO)
     }
 
     /// The sector of the horizontal direction `(x, y)`; the zero vector counts as φ = 0 (the `atan2(0, 0)`
@@ -257,16 +261,14 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
         } else {
             (x, y)
         };
-        let (c0, s0) = self.dir(0);
-        let cr0 = c0 * y - s0 * x;
-        let half_v = cr0 < T::ZERO || (cr0 == T::ZERO && c0 * x + s0 * y < T::ZERO);
+        let half_v = self.lower_half_excluded(x, y);
         // v is at or after boundary j (counter-clockwise from boundary 0) — a prefix of the boundaries.
         let at_or_after = |j: usize| -> bool {
-            let hj = j != 0 && self.boundary_half(j);
+            let (c, s) = self.dir(j);
+            let hj = j != 0 && self.lower_half_excluded(c, s);
             if hj != half_v {
                 return half_v;
             }
-            let (c, s) = self.dir(j);
             c * y - s * x >= T::ZERO
         };
         let nb = self.boundaries as usize;

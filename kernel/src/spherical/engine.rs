@@ -116,11 +116,14 @@ impl<T: Real> Axes<'_, T> {
 }
 
 /// The rays in the grid's frame: `rel` (relative to the center) and `flat` (its projection on z = 0, used by
-/// the radius of the cylinder and the polar grid).
+/// the radius of the cylinder and the polar grid), both open-ended (`t_max = +∞`) so that the surface solvers
+/// report every crossing ahead and the streams can check their topology against the limit at infinity; the
+/// ray's own `t_max` cuts the events.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Rays<T> {
     rel: Ray<T>,
     flat: Option<Ray<T>>,
+    t_max: T,
 }
 
 impl<T: Real> Rays<T> {
@@ -146,10 +149,10 @@ fn next_event<T: Real>(
 ) -> Option<Event<T>> {
     let s = streams.get_mut(slot)?;
     match axes.slots.get(slot)? {
-        SlotKind::Radial => s.next_radial(&axes.radial, rays.radial()),
-        SlotKind::Zenith => s.next_zenith(axes.zenith.as_ref()?, &rays.rel),
-        SlotKind::Azimuth => s.next_azimuth(&axes.azimuth, &rays.rel),
-        SlotKind::Height => s.next_height(axes.height.as_ref()?, &rays.rel),
+        SlotKind::Radial => s.next_radial(&axes.radial, rays.radial(), rays.t_max),
+        SlotKind::Zenith => s.next_zenith(axes.zenith.as_ref()?, &rays.rel, rays.t_max),
+        SlotKind::Azimuth => s.next_azimuth(&axes.azimuth, &rays.rel, rays.t_max),
+        SlotKind::Height => s.next_height(axes.height.as_ref()?, &rays.rel, rays.t_max),
         SlotKind::Absent => None,
     }
 }
@@ -157,7 +160,10 @@ fn next_event<T: Real>(
 /// Locates the ray, finds where it enters the outer radius, and starts the other coordinates there.
 /// `Ok(None)` when the ray cannot meet the domain.
 fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, MarchError> {
-    let rel = ray.relative_to(axes.center).map_err(MarchError::Ray)?;
+    let rel = ray
+        .relative_to(axes.center)
+        .and_then(|r| r.with_interval(ray.t_min(), T::INFINITY))
+        .map_err(MarchError::Ray)?;
     let flat = if axes.flat_radius {
         let (p, d) = (rel.origin(), rel.dir());
         Ray::new(V3::new(p.x, p.y, T::ZERO), V3::new(d.x, d.y, T::ZERO))
@@ -167,7 +173,11 @@ fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, 
         None
     };
     let radial_moves = !axes.flat_radius || flat.is_some();
-    let rays = Rays { rel, flat };
+    let rays = Rays {
+        rel,
+        flat,
+        t_max: ray.t_max(),
+    };
     let t_min = rel.t_min();
     let mut streams = [Stream::Fixed; 3];
     let mut bands = [0u32; 3];
@@ -179,7 +189,7 @@ fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, 
     };
     let mut t0 = t_min;
     if rband >= axes.radial.len {
-        match rs.next_radial(&axes.radial, rays.radial()) {
+        match rs.next_radial(&axes.radial, rays.radial(), rays.t_max) {
             Some((t, b)) => {
                 t0 = t;
                 rband = b;

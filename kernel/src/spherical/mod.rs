@@ -237,3 +237,6 @@ impl core::fmt::Display for MarchError {
 }
 
 impl core::error::Error for MarchError {}
+
+#[cfg(test)]
+mod tests;

@@ -50,7 +50,6 @@ pub(crate) enum Stream<T> {
     Radial {
         band: u32,
         t_own: T,
-        hinge: T,
         descending: bool,
         /// The leaving root of the sphere last entered: `(sphere index, t)`.
         cache: Option<(u32, T)>,
@@ -69,6 +68,8 @@ pub(crate) enum Stream<T> {
         t_own: T,
         ccw: bool,
         walk: Option<Walk<T>>,
+        /// The horizontal direction where the remaining sweep of φ starts (the last boundary crossed).
+        from: (T, T),
     },
     Height {
         band: u32,
@@ -88,10 +89,71 @@ fn sphere_roots<T: Real>(r: T, ray: &Ray<T>) -> Option<(T, T)> {
     Some((ray.t_from_scaled(a), ray.t_from_scaled(b)))
 }
 
+/// True when a cross product (of largest component `w`) is at the level of its own rounding error for factors
+/// of largest components `a` and `b`: the line then passes the center (or the z axis) within rounding, and the
+/// sign of the cross product carries no information. Such lines are treated as passing exactly through it.
+/// Max-norms, not squares, so that nothing underflows.
+#[inline]
+fn rounding_level<T: Real>(w: T, a: T, b: T) -> bool {
+    w.abs() <= T::EPSILON * T::from_f64(8.0) * a * b
+}
+
+/// True before the hinge of r (Lemma 8): `⟨p + t d | d⟩ < 0`, decided without a division.
+#[inline]
+fn before_hinge<T: Real>(ray: &Ray<T>, t: T) -> bool {
+    if t.is_finite() {
+        ray.pd() + ray.t_to_scaled(t) * ray.dd() < T::ZERO
+    } else {
+        t < T::ZERO
+    }
+}
+
 /// `s mod nb` (0 when `nb = 0`).
 #[inline]
 fn cyc(s: u32, nb: u32) -> u32 {
     s.checked_rem(nb).unwrap_or(0)
+}
+
+/// The way round from sector `from` to sector `to` for a jump of φ taken in zero length: the one that does not
+/// pass the outside sector of a wedge when there is one (there is when both ends are inside), else `prefer`
+/// (the turning sense) if given, else the shorter (counter-clockwise on a tie). Returns `(ccw, steps)`.
+fn walk_way<T: Real>(
+    axis: &AzimuthAxis<'_, T>,
+    from: u32,
+    to: u32,
+    prefer: Option<bool>,
+) -> (bool, u32) {
+    let nb = axis.boundaries.max(1);
+    let ccw_steps = cyc(to.wrapping_sub(from).wrapping_add(nb), nb);
+    let cw_steps = cyc(from.wrapping_sub(to).wrapping_add(nb), nb);
+    let shorter = prefer.unwrap_or(ccw_steps <= cw_steps);
+    let ccw = if axis.full {
+        shorter
+    } else {
+        let out = axis.sectors;
+        let passes = |steps: u32, dir_ccw: bool| -> bool {
+            let mut s = from;
+            for _ in 1..steps {
+                s = if dir_ccw {
+                    cyc(s.wrapping_add(1), nb)
+                } else {
+                    cyc(s.wrapping_add(nb).wrapping_sub(1), nb)
+                };
+                if s == out {
+                    return true;
+                }
+            }
+            false
+        };
+        if passes(ccw_steps, true) {
+            false
+        } else if passes(cw_steps, false) {
+            true
+        } else {
+            shorter
+        }
+    };
+    (ccw, if ccw { ccw_steps } else { cw_steps })
 }
 
 /// The point of the ray at `t` (computed in the scaled parameter).
@@ -104,10 +166,14 @@ pub(crate) fn point_at<T: Real>(ray: &Ray<T>, t: T) -> V3<T> {
 impl<T: Real> Stream<T> {
     /// The radius stream for a ray starting at `t0` (finite, or −∞).
     pub(crate) fn radial(axis: &RadialAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
-        let hinge = ray.t_closest();
-        let band = if t0.is_finite() {
-            let q = point_at(ray, t0);
-            axis.band_of_r2(q.length_squared())
+        let r2 = if t0.is_finite() {
+            point_at(ray, t0).length_squared()
+        } else {
+            T::INFINITY
+        };
+        // a start point too far to represent (p + t d overflows to ∞ or NaN) is outside the outer radius
+        let band = if r2.is_finite() {
+            axis.band_of_r2(r2)
         } else {
             axis.len
         };
@@ -115,8 +181,7 @@ impl<T: Real> Stream<T> {
             Stream::Radial {
                 band,
                 t_own: t0,
-                hinge,
-                descending: t0 < hinge,
+                descending: before_hinge(ray, t0),
                 cache: None,
             },
             band,
@@ -127,7 +192,19 @@ impl<T: Real> Stream<T> {
     pub(crate) fn zenith(axis: &ZenithAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
         let w = ray.p_cross_d();
         let d = ray.scaled_dir();
-        if w == V3::ZERO {
+        let p = ray.origin();
+        if p.z == T::ZERO && d.z == T::ZERO {
+            // a line in the plane z = 0: θ = π/2 throughout
+            return (
+                Stream::Fixed,
+                axis.band_of(V3::new(T::ONE, T::ZERO, T::ZERO), false),
+            );
+        }
+        // p × d = 0, or its horizontal part is 0 (which for a line not in the plane z = 0 means p × d is a
+        // rounding residue): the line passes through the center.
+        if (w.x == T::ZERO && w.y == T::ZERO)
+            || rounding_level(w.max_abs(), p.max_abs(), d.max_abs())
+        {
             // The line passes through the center: θ is that of −d before it and of +d after it.
             let t_c = ray.t_from_scaled(-ray.pd() / ray.dd());
             let after = axis.band_of(d, false);
@@ -162,18 +239,13 @@ impl<T: Real> Stream<T> {
         let v = V3::new(-w.y, w.x, T::ZERO);
         let f = q.dot(v);
         let g = d.dot(v);
-        let (up, constant) = if f < T::ZERO {
-            (true, false)
+        let up = if f < T::ZERO {
+            true
         } else if f > T::ZERO {
-            (false, false)
-        } else if g != T::ZERO {
-            (g < T::ZERO, false)
+            false
         } else {
-            (true, true) // v = 0: a line in the plane z = 0, θ = π/2 throughout
+            g < T::ZERO
         };
-        if constant {
-            return (Stream::Fixed, band);
-        }
         (
             Stream::Zenith {
                 band,
@@ -195,51 +267,27 @@ impl<T: Real> Stream<T> {
             return (Stream::Fixed, axis.sector_of(p.x, p.y)); // parallel to the z axis
         }
         let wz = ray.p_cross_d().z;
-        if wz == T::ZERO {
+        let (pm, dm) = (p.x.abs().max(p.y.abs()), d.x.abs().max(d.y.abs()));
+        if rounding_level(wz, pm, dm) {
             // The line meets the z axis: φ is that of −d before, of +d after.
             let s_a = -(p.x * d.x + p.y * d.y) / (d.x * d.x + d.y * d.y);
             let t_a = ray.t_from_scaled(s_a);
+            if !t_a.is_finite() {
+                // d's horizontal part is too small to place the axis crossing: parallel to the z axis
+                return (Stream::Fixed, axis.sector_of(p.x, p.y));
+            }
             let after = axis.sector_of(d.x, d.y);
             if !(t_a > t0) {
                 return (Stream::Fixed, after);
             }
             let before = axis.sector_of(-d.x, -d.y);
-            let nb = axis.boundaries.max(1);
-            let ccw_steps = cyc(after.wrapping_sub(before).wrapping_add(nb), nb);
-            let cw_steps = cyc(before.wrapping_sub(after).wrapping_add(nb), nb);
-            let ccw = if axis.full {
-                ccw_steps <= cw_steps
-            } else {
-                // Go the way round that does not pass the outside sector (there is one when both ends are in).
-                let out = axis.sectors;
-                let passes = |from: u32, steps: u32, dir_ccw: bool| -> bool {
-                    let mut s = from;
-                    for _ in 1..steps {
-                        s = if dir_ccw {
-                            cyc(s.wrapping_add(1), nb)
-                        } else {
-                            cyc(s.wrapping_add(nb).wrapping_sub(1), nb)
-                        };
-                        if s == out {
-                            return true;
-                        }
-                    }
-                    false
-                };
-                if passes(before, ccw_steps, true) {
-                    false
-                } else if passes(before, cw_steps, false) {
-                    true
-                } else {
-                    ccw_steps <= cw_steps
-                }
-            };
-            let steps = if ccw { ccw_steps } else { cw_steps };
+            let (ccw, steps) = walk_way(axis, before, after, None);
             return (
                 Stream::Azimuth {
                     sector: before,
                     t_own: t0,
                     ccw,
+                    from: (-d.x, -d.y),
                     walk: Some(Walk {
                         t: t_a,
                         remaining: steps,
@@ -250,11 +298,13 @@ impl<T: Real> Stream<T> {
             );
         }
         let q = point_at(ray, t0);
-        let sector = if q.x == T::ZERO && q.y == T::ZERO {
+        let on_axis = q.x == T::ZERO && q.y == T::ZERO;
+        let sector = if on_axis {
             axis.sector_of(d.x, d.y)
         } else {
             axis.sector_of(q.x, q.y)
         };
+        let from = if on_axis { (-d.x, -d.y) } else { (q.x, q.y) };
         let stream = if axis.boundaries <= 1 && axis.full {
             Stream::Fixed // one sector all round: no boundary to cross
         } else {
@@ -263,6 +313,7 @@ impl<T: Real> Stream<T> {
                 t_own: t0,
                 ccw: wz > T::ZERO,
                 walk: None,
+                from,
             }
         };
         (stream, sector)
@@ -296,25 +347,27 @@ impl<T: Real> Stream<T> {
         &mut self,
         axis: &RadialAxis<'_, T>,
         ray: &Ray<T>,
+        t_max: T,
     ) -> Option<Event<T>> {
         let Stream::Radial {
             band,
             t_own,
-            hinge,
             descending,
             cache,
         } = self
         else {
             return None;
         };
-        let t_max = ray.t_max();
         if *descending {
             let inner = band.checked_sub(1);
             let hit = match inner {
-                Some(j) if *t_own < *hinge => axis
+                Some(j) if before_hinge(ray, *t_own) => axis
                     .r
                     .get(j as usize)
                     .and_then(|&r| sphere_roots(r, ray))
+                    // a touch (double root) does not enter: the touching point has r = r_j, which belongs
+                    // to the outer band (half-open cells)
+                    .filter(|&(t_in, t_out)| t_in < t_out)
                     .map(|roots| (j, roots)),
                 _ => None,
             };
@@ -365,6 +418,7 @@ impl<T: Real> Stream<T> {
         &mut self,
         axis: &ZenithAxis<'_, T>,
         ray: &Ray<T>,
+        t_max: T,
     ) -> Option<Event<T>> {
         let Stream::Zenith {
             band,
@@ -377,7 +431,6 @@ impl<T: Real> Stream<T> {
         else {
             return None;
         };
-        let t_max = ray.t_max();
         if let Some(w) = walk {
             if w.remaining == 0 || w.t > t_max {
                 *self = Stream::Fixed;
@@ -442,6 +495,26 @@ impl<T: Real> Stream<T> {
             *switched = true;
             *up = !*up;
         }
+        // No further cone is crossed. Topology check: far along the ray θ tends to the zenith angle of d, so
+        // the band must end as the band of d. When the line passes within rounding of the center the cone
+        // solver cannot see the crossings near the apex; they are completed here, at the closest approach.
+        let target = axis.band_of(ray.scaled_dir(), true);
+        let b = *band;
+        let on_limit_boundary = b.abs_diff(target) == 1 && {
+            let k = b.min(target);
+            let d = ray.scaled_dir();
+            axis.sgn_sqr_cos
+                .get(k as usize)
+                .is_some_and(|&c| c * d.length_squared() == d.z * d.z.abs())
+        };
+        if target != b && !on_limit_boundary && walk.is_none() {
+            *walk = Some(Walk {
+                t: ray.t_closest().max(*t_own),
+                remaining: b.abs_diff(target),
+                up: target > b,
+            });
+            return self.next_zenith(axis, ray, t_max);
+        }
         *self = Stream::Fixed;
         None
     }
@@ -451,18 +524,19 @@ impl<T: Real> Stream<T> {
         &mut self,
         axis: &AzimuthAxis<'_, T>,
         ray: &Ray<T>,
+        t_max: T,
     ) -> Option<Event<T>> {
         let Stream::Azimuth {
             sector,
             t_own,
             ccw,
             walk,
+            from,
         } = self
         else {
             return None;
         };
         let nb = axis.boundaries.max(1);
-        let t_max = ray.t_max();
         let step = |s: u32, ccw: bool| -> u32 {
             if ccw {
                 cyc(s.wrapping_add(1), nb)
@@ -482,6 +556,21 @@ impl<T: Real> Stream<T> {
             return Some((t, *sector));
         }
         let j = if *ccw { step(*sector, true) } else { *sector };
+        // Topology first: the boundary is crossed only if its direction lies in the arc that φ still sweeps,
+        // from the current point's direction to the direction of d (less than π, Lemma 6). Sign tests only.
+        // The arc starts at the last boundary crossed (exact stored directions, robust even when the line passes
+        // within rounding of the z axis), or at the start point's direction.
+        let (fx, fy) = *from;
+        let d = ray.scaled_dir();
+        let (bc, bs) = axis.dir_of(j);
+        let sg = if *ccw { T::ONE } else { -T::ONE };
+        let f_b = (fx * bs - fy * bc) * sg;
+        let b_d = (bc * d.y - bs * d.x) * sg;
+        let ahead =
+            b_d > T::ZERO && (f_b > T::ZERO || (f_b == T::ZERO && fx * bc + fy * bs > T::ZERO));
+        if !ahead {
+            return self.complete_azimuth(axis, ray, t_max);
+        }
         let root = axis.plane(j).and_then(|h| h.scaled_root(ray));
         match root {
             Some((s, _)) => {
@@ -492,13 +581,52 @@ impl<T: Real> Stream<T> {
                 }
                 *sector = step(*sector, *ccw);
                 *t_own = t;
+                *from = (bc, bs);
                 Some((t, *sector))
             }
-            None => {
-                *self = Stream::Fixed;
-                None
-            }
+            None => self.complete_azimuth(axis, ray, t_max),
         }
+    }
+
+    /// No further boundary is ahead. Topology check: far along the ray φ tends to the azimuth of d, so the
+    /// sector must end as the sector of d (unless d lies exactly on a boundary, approached from one side). When
+    /// the line passes within rounding of the z axis the half-plane tests cannot order the crossings there; they
+    /// are completed here, at the closest approach to the axis, in the turning sense.
+    fn complete_azimuth(
+        &mut self,
+        axis: &AzimuthAxis<'_, T>,
+        ray: &Ray<T>,
+        t_max: T,
+    ) -> Option<Event<T>> {
+        let Stream::Azimuth {
+            sector,
+            t_own,
+            ccw,
+            walk,
+            ..
+        } = self
+        else {
+            return None;
+        };
+        let d = ray.scaled_dir();
+        let target = axis.sector_of(d.x, d.y);
+        let (way, steps) = walk_way(axis, *sector, target, Some(*ccw));
+        let on_boundary = (0..axis.boundaries).any(|k| {
+            let (c, s) = axis.dir_of(k);
+            c * d.y - s * d.x == T::ZERO && c * d.x + s * d.y > T::ZERO
+        });
+        if steps == 0 || on_boundary || walk.is_some() {
+            *self = Stream::Fixed;
+            return None;
+        }
+        let p = ray.origin();
+        let s_a = -(p.x * d.x + p.y * d.y) / (d.x * d.x + d.y * d.y);
+        *walk = Some(Walk {
+            t: ray.t_from_scaled(s_a).max(*t_own),
+            remaining: steps,
+            up: way,
+        });
+        self.next_azimuth(axis, ray, t_max)
     }
 
     /// The next height event (one division), or `None`.
@@ -506,6 +634,7 @@ impl<T: Real> Stream<T> {
         &mut self,
         axis: &HeightAxis<'_, T>,
         ray: &Ray<T>,
+        t_max: T,
     ) -> Option<Event<T>> {
         let Stream::Height { band, t_own, up } = self else {
             return None;
@@ -522,7 +651,7 @@ impl<T: Real> Stream<T> {
         match (j, root) {
             (Some(j), Some((s, _))) => {
                 let t = ray.t_from_scaled(s).max(*t_own);
-                if t > ray.t_max() || t.is_nan() {
+                if t > t_max || t.is_nan() {
                     *self = Stream::Fixed;
                     return None;
                 }
