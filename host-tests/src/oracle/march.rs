@@ -22,8 +22,9 @@
 //!
 //! * Breakpoints are exact real numbers (the `f64` values given), except three canonical values: a zenith
 //!   breakpoint equal to `π/2` rounded (to `f64` or to `f32`) is the plane `z = 0`, one equal to `π` rounded is
-//!   the exact south pole, and an azimuth range whose span `φ_last − φ_0` (in `f64`) is at least `f64` `2π` is a
-//!   full circle (its last breakpoint is `φ_0 + 2π` exactly). A zenith breakpoint `0` is the north pole.
+//!   the exact south pole, and an azimuth range whose span `φ_last − φ_0` is within `8·eps·2π` of `2π` (`eps` of
+//!   the precision in use; the kernel's tolerance) is a full circle: its last breakpoint is taken as `φ_0 + 2π`
+//!   exactly. A zenith breakpoint `0` is the north pole.
 //! * The rule is strictly half-open, as the contract states it: a point on the negative z axis has `θ = π`,
 //!   which no band `θ_j <= θ < θ_{j+1}` contains (`θ_last <= π`), so it is outside the domain — a ray along the
 //!   −z axis has no crossings there. A point on the z axis has `φ = 0` (the kernel's documented convention; the
@@ -204,7 +205,6 @@ fn check_list(name: &str, v: &[f64]) -> Result<(), SpecError> {
     Ok(())
 }
 
-const TAU_F32: f64 = std::f32::consts::TAU as f64;
 const PI_F32: f64 = std::f32::consts::PI as f64;
 
 /// The canonical zenith value π: `f64` π or `f32` π (the south pole).
@@ -214,6 +214,13 @@ fn is_pi(a: f64) -> bool {
 /// The canonical zenith value π/2 (the plane `z = 0`), in `f64` or `f32`.
 fn is_half_pi(a: f64) -> bool {
     a == std::f64::consts::FRAC_PI_2 || a == std::f32::consts::FRAC_PI_2 as f64
+}
+
+/// Whether an azimuth range `[p0, p1]` is a full turn: its span is within `8·eps·2π` of `2π`, `eps` the machine
+/// epsilon of the precision the grid is used in (the tolerance the kernel applies; the contract says only "a full
+/// 2π", and `2π` itself is not representable).
+fn is_full_turn(p0: f64, p1: f64, eps: f64) -> bool {
+    p1 - p0 >= std::f64::consts::TAU * (1.0 - 8.0 * eps)
 }
 
 fn hp_cos_sin(a: f64, cc: &mut Consts) -> Dir2 {
@@ -257,8 +264,14 @@ pub struct Reference {
 }
 
 impl MarchOracle {
-    /// Builds the oracle's grid from a spec, validating it by the contract's rules.
+    /// Builds the oracle's grid from a spec, validating it by the contract's rules, for use against `f64`.
     pub fn new(spec: &GridSpec) -> Result<Self, SpecError> {
+        Self::new_for(spec, f64::EPSILON)
+    }
+
+    /// As [`MarchOracle::new`] for a grid used in a precision of machine epsilon `eps` (this only sets the
+    /// full-turn tolerance of the azimuth range, see the module docs).
+    pub fn new_for(spec: &GridSpec, eps: f64) -> Result<Self, SpecError> {
         let mut cc = Consts::new().map_err(|e| SpecError(format!("astro-float: {e:?}")))?;
         let (kind, center, radii, theta, phi, zs) = match spec {
             GridSpec::Spherical {
@@ -308,7 +321,9 @@ impl MarchOracle {
         }
         check_list("phi", &phi)?;
         // f32 grids carry f32-rounded constants (2π and π round up in f32): accept those as well
-        if phi[phi.len() - 1] - phi[0] > TAU_F32 {
+        if phi[phi.len() - 1] - phi[0]
+            > std::f64::consts::TAU * (1.0 + 8.0 * eps.max(f32::EPSILON as f64))
+        {
             return Err(SpecError("phi: span larger than 2π".into()));
         }
         if kind == GridKind::Spherical {
@@ -320,7 +335,7 @@ impl MarchOracle {
         if kind == GridKind::Cylindrical {
             check_list("z", &zs)?;
         }
-        let full = phi[phi.len() - 1] - phi[0] >= std::f64::consts::TAU;
+        let full = is_full_turn(phi[0], phi[phi.len() - 1], eps);
         let mut azim: Vec<Dir2> = phi.iter().map(|&a| hp_cos_sin(a, &mut cc)).collect();
         if full {
             let first = azim[0].clone();

@@ -171,7 +171,7 @@ struct Accuracy {
 
 fn accuracy(g: &GridSpec, sample: &[RaySpec], e: Engine, p: Precision) -> Accuracy {
     let g = p.round_grid(g);
-    let Ok(o) = MarchOracle::new(&g) else {
+    let Ok(o) = MarchOracle::new_for(&g, p.eps()) else {
         return Accuracy {
             same: 0,
             n: 0,
