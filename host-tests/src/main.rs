@@ -50,6 +50,16 @@ enum Command {
         #[arg(long, default_value_t = 16)]
         block: usize,
     },
+    /// Marching against the independent oracle on random rays over random grids (both engines, every precision);
+    /// exit code 1 when an f64 ray fails the criterion or any list breaks the contract's invariants.
+    MarchOracle {
+        /// Number of random rays (20 per random grid).
+        #[arg(long, default_value_t = 200_000)]
+        rays: usize,
+        /// Seed of the generator.
+        #[arg(long, default_value_t = 7)]
+        seed: u64,
+    },
     /// March rays through a spherical, cylindrical or polar grid: one JSON line of cell crossings per ray.
     March {
         /// The grid file (JSON).
@@ -104,6 +114,14 @@ fn main() -> ExitCode {
         }
         Command::Tessellate { args } => {
             curvicast_host::cli::tessellate::run(&args).map_err(anyhow::Error::from)
+        }
+        Command::MarchOracle { rays, seed } => {
+            let (text, ok) = curvicast_host::report::march::oracle_suite_text(rays, seed);
+            print!("{text}");
+            if !ok {
+                return ExitCode::from(1);
+            }
+            Ok(())
         }
         Command::March {
             grid,

@@ -3,5 +3,6 @@
 //! Rule: nothing in this module calls into the `curvicast` kernel. It re-derives every answer by brute force in
 //! high precision with logic of its own, so that a bug cannot hide in both.
 
+pub mod march;
 pub mod surfaces;
 pub mod terrain;

@@ -2,6 +2,7 @@
 //!
 //! Each section lives in its own module and returns a [`Section`]; [`run`] runs them in order.
 
+pub mod march;
 pub mod surfaces;
 pub mod terrain;
 pub mod tessellate;
@@ -30,7 +31,12 @@ pub struct Options {
 pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
     std::fs::create_dir_all(&opts.out_dir)?;
     type SectionFn = fn(&Options) -> anyhow::Result<Section>;
-    let sections: &[SectionFn] = &[surfaces::section, terrain::section, tessellate::section];
+    let sections: &[SectionFn] = &[
+        surfaces::section,
+        march::section,
+        terrain::section,
+        tessellate::section,
+    ];
     let mut done = Vec::new();
     let mut md = String::from("# curvicast report\n\n");
     md.push_str(&format!(

@@ -1,0 +1,1189 @@
+//! Grids and rays for testing the marchers (seed 001, Hannasch, ch. 3 and 5) against the oracle: random
+//! non-uniform full and partial grids with rays aimed at them, one generator per named hard case, and a runner
+//! that feeds a [`GridSpec`] and a [`RaySpec`] to either kernel engine in `f64`, `f32` or fast-math `f32`.
+//!
+//! Exact ties need exact inputs: the named cases use dyadic breakpoints and rays whose tie points are
+//! representable (a corner at `(R, 0, 0)` with `R` dyadic, an axis crossing at `t = 1` of `(−a, −b, z) + t (a, b,
+//! dz)`), so the oracle sees a true tie, not two crossings a rounding apart.
+
+use crate::oracle::march::KernelCrossing;
+use crate::scenes::spec::{GridSpec, RaySpec};
+use curvicast::ray::Ray;
+use curvicast::real::{F32Fast, Real};
+use curvicast::spherical::{CylindricalGrid, PolarGrid, SphericalGrid};
+use rand::Rng;
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+/// Which kernel engine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Engine {
+    /// `grid.march(&ray)` (seed 001 ch. 5).
+    Serial,
+    /// `grid.march_separable::<N>(&ray)` (seed 001 §3).
+    Separable,
+}
+
+/// Which scalar type.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Precision {
+    /// `f64`.
+    F64,
+    /// `f32` with the exact math backend.
+    F32,
+    /// `f32` with the fast-math backend ([`F32Fast`]).
+    F32Fast,
+}
+
+impl Precision {
+    /// The machine epsilon of the scalar.
+    pub fn eps(self) -> f64 {
+        match self {
+            Precision::F64 => f64::EPSILON,
+            _ => f32::EPSILON as f64,
+        }
+    }
+    /// The name used in tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Precision::F64 => "f64",
+            Precision::F32 => "f32",
+            Precision::F32Fast => "f32-fast",
+        }
+    }
+    /// The grid as the engine of this precision sees it (values rounded to `f32` where it is `f32`), so that
+    /// the oracle measures the engine and not the rounding of its input.
+    pub fn round_grid(self, g: &GridSpec) -> GridSpec {
+        if self == Precision::F64 {
+            return g.clone();
+        }
+        let v = |x: &Vec<f64>| x.iter().map(|&a| a as f32 as f64).collect::<Vec<_>>();
+        match g {
+            GridSpec::Spherical {
+                center,
+                r,
+                theta,
+                phi,
+            } => GridSpec::Spherical {
+                center: center.map(|c| c.map(|a| a as f32 as f64)),
+                r: v(r),
+                theta: v(theta),
+                phi: v(phi),
+            },
+            GridSpec::Cylindrical {
+                center,
+                rho,
+                phi,
+                z,
+            } => GridSpec::Cylindrical {
+                center: center.map(|c| c.map(|a| a as f32 as f64)),
+                rho: v(rho),
+                phi: v(phi),
+                z: v(z),
+            },
+            GridSpec::Polar { center, r, phi } => GridSpec::Polar {
+                center: center.map(|c| c.map(|a| a as f32 as f64)),
+                r: v(r),
+                phi: v(phi),
+            },
+        }
+    }
+    /// The ray as the engine of this precision sees it.
+    pub fn round_ray(self, r: &RaySpec) -> RaySpec {
+        if self == Precision::F64 {
+            return *r;
+        }
+        let f = |a: f64| a as f32 as f64;
+        RaySpec {
+            origin: r.origin.map(f),
+            dir: r.dir.map(f),
+            t_min: f(r.t_min),
+            t_max: r.t_max.map(f),
+        }
+    }
+}
+
+/// Capacity of the separable engine's per-coordinate buffers in these tests.
+pub const SEPARABLE_CAPACITY: usize = 512;
+
+/// Runs one engine on one ray; an error names what the kernel rejected or why the march stopped.
+pub fn run_engine(
+    grid: &GridSpec,
+    ray: &RaySpec,
+    engine: Engine,
+    precision: Precision,
+) -> Result<Vec<KernelCrossing>, String> {
+    match precision {
+        Precision::F64 => run_typed::<f64>(grid, ray, engine),
+        Precision::F32 => run_typed::<f32>(grid, ray, engine),
+        Precision::F32Fast => run_typed::<F32Fast>(grid, ray, engine),
+    }
+}
+
+fn conv<T: Real>(v: &[f64]) -> Vec<T> {
+    v.iter().map(|&a| T::from_f64(a)).collect()
+}
+
+fn collect<T: Real>(
+    it: impl Iterator<Item = curvicast::spherical::CellCrossing<T>>,
+) -> Vec<KernelCrossing> {
+    it.map(|c| KernelCrossing {
+        cell: c.cell,
+        t_enter: c.t_enter.to_f64(),
+        t_exit: c.t_exit.to_f64(),
+    })
+    .collect()
+}
+
+fn run_typed<T: Real>(
+    g: &GridSpec,
+    r: &RaySpec,
+    engine: Engine,
+) -> Result<Vec<KernelCrossing>, String> {
+    let origin: [T; 3] = r.origin.map(T::from_f64);
+    let dir: [T; 3] = r.dir.map(T::from_f64);
+    let ray = Ray::new(origin, dir)
+        .and_then(|ray| ray.with_interval(T::from_f64(r.t_min), T::from_f64(r.t_max_or_inf())))
+        .map_err(|e| format!("ray: {e}"))?;
+    macro_rules! go {
+        ($grid:expr) => {{
+            let grid = $grid;
+            match engine {
+                Engine::Serial => {
+                    let mut it = grid.march(&ray);
+                    let v = collect(it.by_ref());
+                    match it.error() {
+                        Some(e) => Err(format!("serial march: {e}")),
+                        None => Ok(v),
+                    }
+                }
+                Engine::Separable => grid
+                    .march_separable::<SEPARABLE_CAPACITY>(&ray)
+                    .map(collect)
+                    .map_err(|e| format!("separable march: {e}")),
+            }
+        }};
+    }
+    match g {
+        GridSpec::Spherical {
+            center,
+            r,
+            theta,
+            phi,
+        } => {
+            let (r, th, ph) = (conv::<T>(r), conv::<T>(theta), conv::<T>(phi));
+            let mut ws =
+                vec![T::ZERO; SphericalGrid::<T>::workspace_len(r.len(), th.len(), ph.len())];
+            let grid = SphericalGrid::new(&r, &th, &ph, &mut ws)
+                .and_then(|g| g.with_center(center.unwrap_or([0.0; 3]).map(T::from_f64)))
+                .map_err(|e| format!("grid: {e}"))?;
+            go!(grid)
+        }
+        GridSpec::Cylindrical {
+            center,
+            rho,
+            phi,
+            z,
+        } => {
+            let (rho, ph, z) = (conv::<T>(rho), conv::<T>(phi), conv::<T>(z));
+            let mut ws = vec![T::ZERO; CylindricalGrid::<T>::workspace_len(rho.len(), ph.len())];
+            let grid = CylindricalGrid::new(&rho, &ph, &z, &mut ws)
+                .and_then(|g| g.with_center(center.unwrap_or([0.0; 3]).map(T::from_f64)))
+                .map_err(|e| format!("grid: {e}"))?;
+            go!(grid)
+        }
+        GridSpec::Polar { center, r, phi } => {
+            let (r, ph) = (conv::<T>(r), conv::<T>(phi));
+            let mut ws = vec![T::ZERO; PolarGrid::<T>::workspace_len(r.len(), ph.len())];
+            let grid = PolarGrid::new(&r, &ph, &mut ws)
+                .and_then(|g| g.with_center(center.unwrap_or([0.0; 2]).map(T::from_f64)))
+                .map_err(|e| format!("grid: {e}"))?;
+            go!(grid)
+        }
+    }
+}
+
+/// A named hard case: one grid and the rays that exercise it.
+#[derive(Debug, Clone)]
+pub struct Case {
+    /// What the geometry is.
+    pub name: &'static str,
+    /// The grid.
+    pub grid: GridSpec,
+    /// The rays.
+    pub rays: Vec<RaySpec>,
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// random grids and rays
+
+fn sorted_uniform(rng: &mut impl Rng, n: usize, lo: f64, hi: f64) -> Vec<f64> {
+    let mut v: Vec<f64> = (0..n).map(|_| rng.random_range(lo..hi)).collect();
+    v.sort_by(|a, b| a.total_cmp(b));
+    v.dedup();
+    v
+}
+
+/// Breakpoints `lo = b_0 < … < b_n = hi` with `n − 1` random interior values.
+fn breakpoints(rng: &mut impl Rng, lo: f64, hi: f64, max_interior: usize) -> Vec<f64> {
+    let n = rng.random_range(0..=max_interior);
+    let mut v = vec![lo];
+    let margin = (hi - lo) * 1e-3;
+    v.extend(
+        sorted_uniform(rng, n, lo + margin, hi - margin)
+            .into_iter()
+            .filter(|&x| x > lo && x < hi),
+    );
+    v.push(hi);
+    v.dedup();
+    v
+}
+
+fn random_azimuth(rng: &mut impl Rng) -> Vec<f64> {
+    if rng.random_bool(0.45) {
+        // full circle: φ_0 + 2π must round so that the span is exactly 2π in f64
+        loop {
+            let p0 = match rng.random_range(0..3) {
+                0 => 0.0,
+                1 => -PI,
+                _ => rng.random_range(-PI..TAU),
+            };
+            let p1 = p0 + TAU;
+            if p1 - p0 == TAU {
+                return breakpoints(rng, p0, p1, 8);
+            }
+        }
+    }
+    // a wedge of any width (incl. wider than π), starting anywhere (incl. across φ = 0)
+    let w = rng.random_range(0.1..6.2);
+    let p0 = rng.random_range(-PI..TAU);
+    breakpoints(rng, p0, p0 + w, 6)
+}
+
+fn random_radii(rng: &mut impl Rng, scale: f64) -> Vec<f64> {
+    let r0 = if rng.random_bool(0.6) {
+        0.0
+    } else {
+        rng.random_range(0.05..0.5) * scale
+    };
+    breakpoints(rng, r0, scale, 8)
+}
+
+/// A random spherical grid: non-uniform radii (inner radius 0 or > 0), a full zenith range or a band that
+/// excludes a pole (sometimes with the plane θ = π/2 as a breakpoint), a full azimuth circle or a wedge.
+pub fn random_spherical(rng: &mut impl Rng) -> GridSpec {
+    let scale = 10f64.powf(rng.random_range(-1.0..1.0));
+    let center = if rng.random_bool(0.5) {
+        None
+    } else {
+        Some([0; 3].map(|_| rng.random_range(-1.0..1.0) * scale))
+    };
+    let (t0, t1) = match rng.random_range(0..4) {
+        0 => (0.0, PI),
+        1 => (rng.random_range(0.05..1.4), PI),
+        2 => (0.0, rng.random_range(1.7..3.1)),
+        _ => (rng.random_range(0.05..1.4), rng.random_range(1.7..3.1)),
+    };
+    let mut theta = breakpoints(rng, t0, t1, 6);
+    if rng.random_bool(0.3) && !theta.contains(&FRAC_PI_2) {
+        theta.push(FRAC_PI_2);
+        theta.sort_by(|a, b| a.total_cmp(b));
+    }
+    GridSpec::Spherical {
+        center,
+        r: random_radii(rng, scale),
+        theta,
+        phi: random_azimuth(rng),
+    }
+}
+
+/// A random cylindrical grid.
+pub fn random_cylindrical(rng: &mut impl Rng) -> GridSpec {
+    let scale = 10f64.powf(rng.random_range(-1.0..1.0));
+    let z0 = rng.random_range(-1.0..0.5) * scale;
+    let z1 = z0 + rng.random_range(0.2..2.0) * scale;
+    GridSpec::Cylindrical {
+        center: if rng.random_bool(0.5) {
+            None
+        } else {
+            Some([0; 3].map(|_| rng.random_range(-1.0..1.0) * scale))
+        },
+        rho: random_radii(rng, scale),
+        phi: random_azimuth(rng),
+        z: breakpoints(rng, z0, z1, 6),
+    }
+}
+
+/// A random polar grid.
+pub fn random_polar(rng: &mut impl Rng) -> GridSpec {
+    let scale = 10f64.powf(rng.random_range(-1.0..1.0));
+    GridSpec::Polar {
+        center: if rng.random_bool(0.5) {
+            None
+        } else {
+            Some([0; 2].map(|_| rng.random_range(-1.0..1.0) * scale))
+        },
+        r: random_radii(rng, scale),
+        phi: random_azimuth(rng),
+    }
+}
+
+/// A random grid: 70 % spherical, 15 % cylindrical, 15 % polar.
+pub fn random_grid(rng: &mut impl Rng) -> GridSpec {
+    match rng.random_range(0..20) {
+        0..=13 => random_spherical(rng),
+        14..=16 => random_cylindrical(rng),
+        _ => random_polar(rng),
+    }
+}
+
+/// Center and a radius that bounds a grid.
+pub fn bounds(g: &GridSpec) -> ([f64; 3], f64) {
+    match g {
+        GridSpec::Spherical { center, r, .. } => (center.unwrap_or([0.0; 3]), r[r.len() - 1]),
+        GridSpec::Cylindrical { center, rho, z, .. } => {
+            let c = center.unwrap_or([0.0; 3]);
+            let (z0, z1) = (z[0], z[z.len() - 1]);
+            let h = (z1 - z0) / 2.0;
+            (
+                [c[0], c[1], c[2] + (z0 + z1) / 2.0],
+                (rho[rho.len() - 1].powi(2) + h * h).sqrt(),
+            )
+        }
+        GridSpec::Polar { center, r, .. } => {
+            let c = center.unwrap_or([0.0; 2]);
+            ([c[0], c[1], 0.0], r[r.len() - 1])
+        }
+    }
+}
+
+fn unit(rng: &mut impl Rng) -> [f64; 3] {
+    loop {
+        let v = [0; 3].map(|_| rng.random_range(-1.0..1.0));
+        let n2: f64 = v.iter().map(|a| a * a).sum();
+        if n2 > 1e-4 && n2 <= 1.0 {
+            let n = n2.sqrt();
+            return v.map(|a| a / n);
+        }
+    }
+}
+
+/// A random ray aimed at the grid: origin inside the bounding ball or outside it (up to 4 radii away), aimed at
+/// a random point of the ball, direction length `10^U(-2, 2)`; sometimes a finite `[t_min, t_max]` that starts
+/// or ends inside.
+pub fn random_ray(rng: &mut impl Rng, g: &GridSpec) -> RaySpec {
+    let (c, rad) = bounds(g);
+    let inside = rng.random_bool(0.4);
+    let u = unit(rng);
+    let dist = if inside {
+        rng.random_range(0.0..1.0) * rad
+    } else {
+        rng.random_range(1.05..4.0) * rad
+    };
+    let origin = [0, 1, 2].map(|i| c[i] + u[i] * dist);
+    let v = unit(rng);
+    let target = [0, 1, 2].map(|i| c[i] + v[i] * rng.random_range(0.0..1.0) * rad);
+    let mut dir = [0, 1, 2].map(|i| target[i] - origin[i]);
+    let n = dir.iter().map(|a| a * a).sum::<f64>().sqrt();
+    if n < 1e-9 * rad {
+        dir = unit(rng);
+    }
+    let len = 10f64.powf(rng.random_range(-2.0..2.0));
+    let n = dir.iter().map(|a| a * a).sum::<f64>().sqrt();
+    let dir = dir.map(|a| a / n * len);
+    let mut ray = RaySpec::new(origin, dir);
+    // the ray's natural t scale
+    let ts = rad / len;
+    match rng.random_range(0..10) {
+        0 => {
+            ray.t_min = rng.random_range(0.0..3.0) * ts;
+            ray.t_max = Some(ray.t_min + rng.random_range(0.0..3.0) * ts);
+        }
+        1 => ray.t_max = Some(rng.random_range(0.0..4.0) * ts),
+        2 => ray.t_min = -rng.random_range(0.0..4.0) * ts,
+        _ => {}
+    }
+    ray
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// named hard cases
+
+/// A full spherical grid with dyadic radii and a θ = π/2 plane: r = [0, 1/4, 9/16, 3/4, 1], θ = [0, 0.4, 1.1,
+/// π/2, 2.0, 2.7, π], φ = [0, 0.7, 2.0, 3.3, 4.4, 5.5, 2π].
+pub fn full_grid() -> GridSpec {
+    GridSpec::Spherical {
+        center: None,
+        r: vec![0.0, 0.25, 0.5625, 0.75, 1.0],
+        theta: vec![0.0, 0.4, 1.1, FRAC_PI_2, 2.0, 2.7, PI],
+        phi: vec![0.0, 0.7, 2.0, 3.3, 4.4, 5.5, TAU],
+    }
+}
+
+/// A partial spherical grid: inner radius 1/4, a zenith band [0.3, 2.5] excluding both poles with π/2 a
+/// breakpoint, and a wedge [−0.5, 4.0] wider than π across φ = 0.
+pub fn partial_grid() -> GridSpec {
+    GridSpec::Spherical {
+        center: None,
+        r: vec![0.25, 0.5, 0.625, 1.0],
+        theta: vec![0.3, 1.0, FRAC_PI_2, 2.5],
+        phi: vec![-0.5, 0.3, 1.5, 3.6, 4.0],
+    }
+}
+
+/// A spherical grid centred off the origin (to test the centre shift), otherwise [`full_grid`].
+pub fn shifted_grid() -> GridSpec {
+    match full_grid() {
+        GridSpec::Spherical { r, theta, phi, .. } => GridSpec::Spherical {
+            center: Some([0.5, -0.25, 2.0]),
+            r,
+            theta,
+            phi,
+        },
+        g => g,
+    }
+}
+
+fn shift(c: [f64; 3], o: [f64; 3]) -> [f64; 3] {
+    [c[0] + o[0], c[1] + o[1], c[2] + o[2]]
+}
+
+fn deterministic_rng(seed: u64) -> rand_chacha::ChaCha8Rng {
+    use rand::SeedableRng;
+    rand_chacha::ChaCha8Rng::seed_from_u64(seed)
+}
+
+/// Rays through the center in many directions (θ jumps to π − θ, φ by π), on the full, partial and shifted grids.
+pub fn through_origin() -> Vec<Case> {
+    let mut rng = deterministic_rng(1);
+    let mut out = Vec::new();
+    for grid in [full_grid(), partial_grid(), shifted_grid()] {
+        let (c, _) = bounds(&grid);
+        let mut rays = Vec::new();
+        for n in 0..24 {
+            let u = unit(&mut rng);
+            // dyadic multiples keep the center exactly on the line: origin = c − 2u (rounded), dir = u
+            let origin = [0, 1, 2].map(|i| c[i] - 2.0 * u[i]);
+            let dir = [0, 1, 2].map(|i| c[i] - origin[i]);
+            let mut ray = RaySpec::new(origin, dir);
+            if n % 4 == 3 {
+                ray.t_min = 0.5;
+                ray.t_max = Some(1.5);
+            }
+            rays.push(ray);
+        }
+        out.push(Case {
+            name: "through_origin",
+            grid,
+            rays,
+        });
+    }
+    out
+}
+
+fn axis_rays(sign: f64) -> Vec<RaySpec> {
+    let mut v = Vec::new();
+    for &start in &[-2.0, -0.6, 0.0, 0.3, 2.0] {
+        let mut r = RaySpec::new([0.0, 0.0, start * sign], [0.0, 0.0, sign]);
+        if start == 2.0 {
+            r.dir = [0.0, 0.0, -sign];
+        }
+        v.push(r);
+    }
+    v.push(RaySpec {
+        origin: [0.0, 0.0, -1.5 * sign],
+        dir: [0.0, 0.0, 0.5 * sign],
+        t_min: 1.0,
+        t_max: Some(4.0),
+    });
+    v
+}
+
+/// Rays along the +z axis (every point on the axis: φ undefined, θ = 0 or π).
+pub fn along_plus_z_axis() -> Vec<Case> {
+    [full_grid(), partial_grid(), shifted_grid()]
+        .into_iter()
+        .map(|grid| {
+            let (c, _) = bounds(&grid);
+            let rays = axis_rays(1.0)
+                .into_iter()
+                .map(|mut r| {
+                    r.origin = shift(r.origin, c);
+                    r
+                })
+                .collect();
+            Case {
+                name: "along_plus_z_axis",
+                grid,
+                rays,
+            }
+        })
+        .collect()
+}
+
+/// Rays along the −z axis.
+pub fn along_minus_z_axis() -> Vec<Case> {
+    [full_grid(), partial_grid(), shifted_grid()]
+        .into_iter()
+        .map(|grid| {
+            let (c, _) = bounds(&grid);
+            let rays = axis_rays(-1.0)
+                .into_iter()
+                .map(|mut r| {
+                    r.origin = shift(r.origin, c);
+                    r
+                })
+                .collect();
+            Case {
+                name: "along_minus_z_axis",
+                grid,
+                rays,
+            }
+        })
+        .collect()
+}
+
+/// Rays lying in the plane z = 0, which is the zenith breakpoint π/2 (the half-open rule puts them in the band
+/// below it), through the origin and not.
+pub fn in_plane_z0() -> Vec<Case> {
+    let mut rng = deterministic_rng(2);
+    [full_grid(), partial_grid()]
+        .into_iter()
+        .map(|grid| {
+            let mut rays = vec![
+                RaySpec::new([-2.0, 0.0, 0.0], [1.0, 0.0, 0.0]),
+                RaySpec::new([-2.0, 0.3, 0.0], [1.0, 0.0, 0.0]),
+                RaySpec::new([0.1, -2.0, 0.0], [0.0, 1.0, 0.0]),
+                RaySpec::new([0.0, 0.0, 0.0], [0.6, 0.8, 0.0]),
+            ];
+            for _ in 0..12 {
+                let a: f64 = rng.random_range(0.0..TAU);
+                let b: f64 = rng.random_range(-0.9..0.9);
+                rays.push(RaySpec::new(
+                    [
+                        -2.0 * a.cos() - b * a.sin(),
+                        -2.0 * a.sin() + b * a.cos(),
+                        0.0,
+                    ],
+                    [a.cos(), a.sin(), 0.0],
+                ));
+            }
+            Case {
+                name: "in_plane_z0",
+                grid,
+                rays,
+            }
+        })
+        .collect()
+}
+
+/// Rays that cross the z axis exactly, off the origin: `(−a, −b, z0) + t (a, b, dz)` meets the axis at `t = 1`.
+pub fn crossing_z_axis_off_origin() -> Vec<Case> {
+    let mut rng = deterministic_rng(3);
+    [full_grid(), partial_grid(), shifted_grid()]
+        .into_iter()
+        .map(|grid| {
+            let (c, _) = bounds(&grid);
+            let mut rays = Vec::new();
+            for n in 0..16 {
+                let a: f64 = rng.random_range(-1.0..1.0);
+                let b: f64 = rng.random_range(-1.0..1.0);
+                let z0: f64 = rng.random_range(-0.9..0.9);
+                let dz: f64 = if n % 3 == 0 {
+                    0.0
+                } else {
+                    rng.random_range(-0.5..0.5)
+                };
+                rays.push(RaySpec::new([c[0] - a, c[1] - b, c[2] + z0], [a, b, dz]));
+            }
+            // through the axis point exactly on a zenith band edge region and on a sphere: (0, 0, 3/4)
+            rays.push(RaySpec::new(
+                [c[0] - 0.5, c[1] - 0.25, c[2] + 0.75],
+                [0.5, 0.25, 0.0],
+            ));
+            Case {
+                name: "crossing_z_axis_off_origin",
+                grid,
+                rays,
+            }
+        })
+        .collect()
+}
+
+/// Rays parallel to a generator of a zenith cone (the quadratic degenerates to a linear equation), offset from
+/// the apex in several directions (also along the axis, where the line meets the cone once).
+pub fn parallel_to_cone_generator() -> Vec<Case> {
+    let mut out = Vec::new();
+    for grid in [full_grid(), partial_grid()] {
+        let GridSpec::Spherical { theta, .. } = &grid else {
+            continue;
+        };
+        let mut rays = Vec::new();
+        for &t in theta.iter() {
+            if t == 0.0 || t == PI || t == FRAC_PI_2 {
+                continue;
+            }
+            // azimuths that are no breakpoint: the line offset along the axis lies in the vertical plane of g
+            for &phi in &[0.45, 2.2, 3.8] {
+                let g = [t.sin() * f64::cos(phi), t.sin() * f64::sin(phi), t.cos()];
+                // offset from the apex: a line through the apex along g would lie in the cone up to the
+                // rounding of g, where either side is a correct answer (an ill-posed case, not tested here)
+                for &off in &[
+                    [0.1, 0.0, 0.0],
+                    [0.0, -0.2, 0.05],
+                    [0.0, 0.0, 0.3],
+                    [0.0, 0.0, -0.25],
+                ] {
+                    rays.push(RaySpec::new(
+                        [
+                            off[0] - 2.0 * g[0],
+                            off[1] - 2.0 * g[1],
+                            off[2] - 2.0 * g[2],
+                        ],
+                        g,
+                    ));
+                }
+            }
+        }
+        out.push(Case {
+            name: "parallel_to_cone_generator",
+            grid,
+            rays,
+        });
+    }
+    out
+}
+
+/// Rays tangent to the shell r = 9/16 (exactly: the discriminant is 0), and 1e-12 (relative) inside and outside
+/// tangency; also tangent to the inner sphere of the partial grid.
+pub fn tangent_to_shell() -> Vec<Case> {
+    let mut out = Vec::new();
+    for (grid, rr) in [
+        (full_grid(), 0.5625),
+        (partial_grid(), 0.25),
+        (partial_grid(), 0.625),
+    ] {
+        let mut rays = Vec::new();
+        for &f in &[1.0, 1.0 - 1e-12, 1.0 + 1e-12] {
+            let y = rr * f;
+            rays.push(RaySpec::new([-2.0, y, 0.0], [1.0, 0.0, 0.0]));
+            rays.push(RaySpec::new([-2.0, 0.0, y], [1.0, 0.0, 0.0]));
+            rays.push(RaySpec::new([0.0, -2.0, -y], [0.0, 1.0, 0.0]));
+            rays.push(RaySpec::new([y, 0.0, -2.0], [0.0, 0.0, 1.0]));
+            rays.push(RaySpec::new([0.6 * y, 0.8 * y, -2.0], [0.0, 0.0, 1.0]));
+        }
+        out.push(Case {
+            name: "tangent_to_shell",
+            grid,
+            rays,
+        });
+    }
+    out
+}
+
+/// Rays through edges: sphere ∩ plane θ = π/2 exactly (points (0, ±R, 0)), and sphere ∩ cone (the f64 point
+/// nearest the edge: a tie up to rounding, which the comparison tolerates).
+pub fn through_edge() -> Vec<Case> {
+    let grid = full_grid();
+    let mut rays = Vec::new();
+    for &rr in &[0.25, 0.5625, 0.75] {
+        for &p in &[[0.0, rr, 0.0], [0.0, -rr, 0.0]] {
+            for d in [[0.5, 0.25, 0.5], [-0.25, 0.5, -0.75], [1.0, 0.0, 0.25]] {
+                rays.push(RaySpec::new(
+                    [p[0] - 2.0 * d[0], p[1] - 2.0 * d[1], p[2] - 2.0 * d[2]],
+                    d,
+                ));
+            }
+        }
+        for &t in &[0.4, 1.1, 2.0, 2.7] {
+            let phi: f64 = 1.3;
+            let p = [
+                rr * t.sin() * phi.cos(),
+                rr * t.sin() * phi.sin(),
+                rr * t.cos(),
+            ];
+            for d in [[0.5, 0.25, 0.5], [-0.25, 0.5, -0.75]] {
+                rays.push(RaySpec::new(
+                    [p[0] - 2.0 * d[0], p[1] - 2.0 * d[1], p[2] - 2.0 * d[2]],
+                    d,
+                ));
+            }
+        }
+    }
+    vec![Case {
+        name: "through_edge",
+        grid,
+        rays,
+    }]
+}
+
+/// Rays through corners sphere ∩ plane θ = π/2 ∩ half-plane φ = 0 (the exact point (R, 0, 0)), and the f64
+/// point nearest a corner sphere ∩ cone ∩ half-plane.
+pub fn through_corner() -> Vec<Case> {
+    let grid = full_grid();
+    let mut rays = Vec::new();
+    for &rr in &[0.25, 0.5625, 0.75, 1.0] {
+        for d in [
+            [-0.5, 0.25, 0.5],
+            [-0.25, -0.5, -0.75],
+            [1.0, 0.5, 0.25],
+            [0.0, 0.5, 0.5],
+        ] {
+            let p = [rr, 0.0, 0.0];
+            rays.push(RaySpec::new(
+                [p[0] - 2.0 * d[0], p[1] - 2.0 * d[1], p[2] - 2.0 * d[2]],
+                d,
+            ));
+        }
+        for (t, phi) in [(0.4f64, 0.7f64), (1.1, 2.0), (2.0, 3.3), (2.7, 5.5)] {
+            let p = [
+                rr * t.sin() * phi.cos(),
+                rr * t.sin() * phi.sin(),
+                rr * t.cos(),
+            ];
+            for d in [[0.5, 0.25, 0.5], [-0.25, 0.5, -0.75]] {
+                rays.push(RaySpec::new(
+                    [p[0] - 2.0 * d[0], p[1] - 2.0 * d[1], p[2] - 2.0 * d[2]],
+                    d,
+                ));
+            }
+        }
+    }
+    vec![Case {
+        name: "through_corner",
+        grid,
+        rays,
+    }]
+}
+
+fn directions() -> [[f64; 3]; 6] {
+    [
+        [1.0, 0.0, 0.0],
+        [-0.5, 0.25, 0.5],
+        [0.25, -0.5, -0.75],
+        [0.0, 0.0, 1.0],
+        [0.0, 1.0, 0.0],
+        [-0.75, -0.5, 0.125],
+    ]
+}
+
+/// Rays starting exactly on a sphere (`(1/4, 1/2, 1/2)` has r = 3/4), on the plane θ = π/2, on the half-plane
+/// φ = 0, near a cone (the nearest f64 point), on the inner sphere of a partial grid, on a cylinder and a plane
+/// z of a cylindrical grid and on a circle and half-line of a polar grid; in several directions each.
+pub fn starting_on_boundary() -> Vec<Case> {
+    let mut out = Vec::new();
+    let starts_sph: Vec<[f64; 3]> = vec![
+        [0.25, 0.5, 0.5],
+        [0.3, 0.2, 0.0],
+        [0.4, 0.0, 0.1],
+        {
+            let (t, p): (f64, f64) = (1.1, 2.5);
+            [
+                0.6 * t.sin() * p.cos(),
+                0.6 * t.sin() * p.sin(),
+                0.6 * t.cos(),
+            ]
+        },
+        [0.0, 0.0, 0.0],
+        [0.75, 0.0, 0.0],
+    ];
+    let rays = |starts: &[[f64; 3]]| {
+        let mut v = Vec::new();
+        for s in starts {
+            for d in directions() {
+                v.push(RaySpec::new(*s, d));
+                v.push(RaySpec::new(*s, d.map(|a| -a)));
+            }
+        }
+        v
+    };
+    out.push(Case {
+        name: "starting_on_boundary",
+        grid: full_grid(),
+        rays: rays(&starts_sph),
+    });
+    out.push(Case {
+        name: "starting_on_boundary",
+        grid: partial_grid(),
+        rays: rays(&[
+            [0.0, 0.25, 0.0],
+            [0.125, 0.0, 0.0],
+            [0.3, 0.2, 0.0],
+            [0.5, 0.0, 0.0],
+        ]),
+    });
+    out.push(Case {
+        name: "starting_on_boundary",
+        grid: GridSpec::Cylindrical {
+            center: None,
+            rho: vec![0.0, 0.25, 0.625, 1.0],
+            phi: vec![0.0, 1.5, 3.0, 4.5, TAU],
+            z: vec![-1.0, -0.25, 0.5, 1.0],
+        },
+        rays: rays(&[
+            [0.375, 0.5, 0.0],
+            [0.5, 0.0, -0.25],
+            [0.3, 0.2, 0.5],
+            [0.25, 0.0, -1.0],
+        ]),
+    });
+    out.push(Case {
+        name: "starting_on_boundary",
+        grid: GridSpec::Polar {
+            center: None,
+            r: vec![0.0, 0.25, 0.625, 1.0],
+            phi: vec![0.0, 1.5, 3.0, 4.5, TAU],
+        },
+        rays: rays(&[[0.375, 0.5, 0.0], [0.5, 0.0, 0.7], [0.0, 0.0, 0.0]])
+            .into_iter()
+            .filter(|r| r.dir[0] != 0.0 || r.dir[1] != 0.0)
+            .collect(),
+    });
+    out
+}
+
+/// Rays whose interval `[t_min, t_max]` starts and ends inside the domain (also inside a single cell).
+pub fn starting_and_ending_inside() -> Vec<Case> {
+    let mut rng = deterministic_rng(4);
+    [full_grid(), partial_grid(), shifted_grid()]
+        .into_iter()
+        .map(|grid| {
+            let (c, rad) = bounds(&grid);
+            let mut rays = Vec::new();
+            for n in 0..24 {
+                let u = unit(&mut rng);
+                let v = unit(&mut rng);
+                let o = [0, 1, 2].map(|i| c[i] + 0.9 * rad * u[i]);
+                let mut r = RaySpec::new(o, v);
+                r.t_min = if n % 2 == 0 { 0.0 } else { 0.05 };
+                r.t_max = Some(r.t_min + if n % 3 == 0 { 1e-3 } else { 0.3 });
+                rays.push(r);
+            }
+            Case {
+                name: "starting_and_ending_inside",
+                grid,
+                rays,
+            }
+        })
+        .collect()
+}
+
+/// Rays that leave a wedge wider than π (φ ∈ [−0.5, 4.0]) through one face and re-enter through the other.
+pub fn reentering_wide_wedge() -> Vec<Case> {
+    let mut rays = Vec::new();
+    for &y in &[-0.3, -0.6, -0.15] {
+        for &z in &[0.0, 0.1, -0.2] {
+            rays.push(RaySpec::new([-2.0, y, z], [1.0, 0.0, 0.0]));
+            rays.push(RaySpec::new([2.0, y, z], [-1.0, 0.0, 0.0]));
+            rays.push(RaySpec::new([-2.0, y, z], [1.0, 0.125, 0.0625]));
+        }
+    }
+    let mut out = vec![Case {
+        name: "reentering_wide_wedge",
+        grid: partial_grid(),
+        rays: rays.clone(),
+    }];
+    out.push(Case {
+        name: "reentering_wide_wedge",
+        grid: GridSpec::Cylindrical {
+            center: None,
+            rho: vec![0.0, 0.5, 1.0],
+            phi: vec![-0.5, 1.0, 2.5, 4.0],
+            z: vec![-1.0, 0.0, 1.0],
+        },
+        rays: rays.clone(),
+    });
+    out.push(Case {
+        name: "reentering_wide_wedge",
+        grid: GridSpec::Polar {
+            center: None,
+            r: vec![0.0, 0.5, 1.0],
+            phi: vec![-0.5, 1.0, 2.5, 4.0],
+        },
+        rays,
+    });
+    out
+}
+
+/// Rays crossing the θ = π/2 boundary at steep and grazing angles, and skimming just above and below it.
+pub fn theta_half_pi_boundary() -> Vec<Case> {
+    let mut rays = Vec::new();
+    for &dz in &[1.0, 0.1, 1e-3, 1e-8, -1e-8, -0.5] {
+        rays.push(RaySpec::new([-2.0, 0.1, -2.0 * dz], [1.0, 0.0, dz]));
+        rays.push(RaySpec::new([-2.0, -0.4, -dz], [1.0, 0.25, dz]));
+    }
+    for &z in &[1e-12, -1e-12, 1e-300, -1e-300] {
+        rays.push(RaySpec::new([-2.0, 0.2, z], [1.0, 0.0, 0.0]));
+    }
+    [full_grid(), partial_grid()]
+        .into_iter()
+        .map(|grid| Case {
+            name: "theta_half_pi_boundary",
+            grid,
+            rays: rays.clone(),
+        })
+        .collect()
+}
+
+/// A grid at Earth scale: radii 6 371 000 m … +24 m in 1 m shells (non-uniform at the ends), a zenith band of
+/// 1e-6 rad bands around θ = 0.8 and an azimuth wedge of 1e-6 rad sectors around φ = 0.3; rays vertical,
+/// slanted and grazing through it.
+pub fn earth_scale() -> Vec<Case> {
+    let r0 = 6_371_000.0;
+    let mut r: Vec<f64> = (0..=24).map(|i| r0 + i as f64).collect();
+    r.insert(1, r0 + 0.25);
+    let theta: Vec<f64> = (0..=12).map(|i| 0.8 + i as f64 * 1e-6).collect();
+    let phi: Vec<f64> = (0..=12).map(|i| 0.3 + i as f64 * 1e-6).collect();
+    let grid = GridSpec::Spherical {
+        center: None,
+        r,
+        theta,
+        phi,
+    };
+    let (t, p) = (0.8 + 6.3e-6f64, 0.3 + 5.7e-6f64);
+    let up = [t.sin() * p.cos(), t.sin() * p.sin(), t.cos()];
+    let east = [-p.sin(), p.cos(), 0.0];
+    let north = [t.cos() * p.cos(), t.cos() * p.sin(), -t.sin()];
+    let at = |h: f64| up.map(|a| a * (r0 + h));
+    let mut rays = Vec::new();
+    let combo = |a: [f64; 3], b: [f64; 3], s: f64| [0, 1, 2].map(|i| a[i] + s * b[i]);
+    // vertical, downward from 100 m above
+    rays.push(RaySpec::new(at(100.0), up.map(|a| -a)));
+    // slanted
+    for &(e, n) in &[(1.0, 0.0), (0.0, 1.0), (0.7, -0.7), (3.0, 1.0)] {
+        let d = combo(combo(up.map(|a| -a), east, e), north, n);
+        rays.push(RaySpec::new(combo(at(30.0), d, -3.0), d));
+    }
+    // grazing: nearly horizontal at 12.5 m height
+    for &s in &[1e-3, 1e-5] {
+        let d = combo(east, up, -s);
+        rays.push(RaySpec::new(combo(at(12.5), east, -3.0), d));
+    }
+    vec![Case {
+        name: "earth_scale",
+        grid,
+        rays,
+    }]
+}
+
+/// [`full_grid`] and [`partial_grid`] scaled by 1e-6 (center shifted by 1e-6), with random rays scaled alike.
+pub fn micro_scale() -> Vec<Case> {
+    let mut rng = deterministic_rng(5);
+    let s = 1e-6;
+    let scale = |g: GridSpec| match g {
+        GridSpec::Spherical { r, theta, phi, .. } => GridSpec::Spherical {
+            center: Some([s, -0.5 * s, 0.25 * s]),
+            r: r.iter().map(|a| a * s).collect(),
+            theta,
+            phi,
+        },
+        g => g,
+    };
+    [scale(full_grid()), scale(partial_grid())]
+        .into_iter()
+        .map(|grid| {
+            let rays = (0..40).map(|_| random_ray(&mut rng, &grid)).collect();
+            Case {
+                name: "micro_scale",
+                grid,
+                rays,
+            }
+        })
+        .collect()
+}
+
+/// Random rays on the full and partial grids with the direction scaled to length `len` (1e-30 or 1e30): the
+/// parameters t scale by 1/len and nothing may overflow or underflow.
+pub fn direction_length(len: f64) -> Vec<Case> {
+    let mut rng = deterministic_rng(6);
+    [full_grid(), partial_grid()]
+        .into_iter()
+        .map(|grid| {
+            let rays = (0..40)
+                .map(|_| {
+                    let mut r = random_ray(&mut rng, &grid);
+                    let n = r.dir.iter().map(|a| a * a).sum::<f64>().sqrt();
+                    let k = len / n;
+                    r.dir = r.dir.map(|a| a * k);
+                    r.t_min *= n / len;
+                    r.t_max = r.t_max.map(|t| t * n / len);
+                    r
+                })
+                .collect();
+            Case {
+                name: "direction_length",
+                grid,
+                rays,
+            }
+        })
+        .collect()
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// the random suite
+
+/// Results of one engine in one precision over a set of rays.
+#[derive(Debug, Clone, Default)]
+pub struct SuiteRow {
+    /// The engine.
+    pub engine: Option<Engine>,
+    /// The precision.
+    pub precision: Option<Precision>,
+    /// Rays run.
+    pub rays: usize,
+    /// Rays whose cell sequence equals the oracle's after dropping crossings shorter than `1e-7·L`.
+    pub same_sequence: usize,
+    /// Rays whose cell sequence equals the oracle's without dropping anything.
+    pub identical_raw: usize,
+    /// Rays whose every crossing point lies within `16·eps·L` of its boundary surface.
+    pub within_backward_bound: usize,
+    /// Rays that pass the whole criterion (structure, sequence, backward bound).
+    pub pass: usize,
+    /// Rays breaking a structural invariant of the contract.
+    pub structure_violations: usize,
+    /// Rays the engine refused or stopped on with an error.
+    pub engine_errors: usize,
+    /// Largest backward error seen, in `eps·L`.
+    pub max_backward_eps: f64,
+    /// Largest forward error of t seen (matched clean ends), in `eps·L / |d|`.
+    pub max_forward_eps: f64,
+    /// Crossings the engine produced in total.
+    pub crossings: usize,
+    /// The first few failures, described.
+    pub failures: Vec<String>,
+}
+
+/// Grids and rays of the random suite: `n_rays` rays, 20 per random grid, reproducible from `seed`.
+pub fn random_suite_inputs(n_rays: usize, seed: u64) -> Vec<(GridSpec, Vec<RaySpec>)> {
+    let mut rng = deterministic_rng(seed);
+    let mut out = Vec::new();
+    let mut left = n_rays;
+    while left > 0 {
+        let g = random_grid(&mut rng);
+        let k = left.min(20);
+        let rays = (0..k).map(|_| random_ray(&mut rng, &g)).collect();
+        out.push((g, rays));
+        left -= k;
+    }
+    out
+}
+
+/// Runs the engine/precision pairs over the inputs against the oracle (in parallel) and tabulates the results.
+pub fn run_suite(
+    inputs: &[(GridSpec, Vec<RaySpec>)],
+    modes: &[(Engine, Precision)],
+) -> Vec<SuiteRow> {
+    use crate::oracle::march::{MarchOracle, compare};
+    use rayon::prelude::*;
+    let bound = 16.0;
+    let per_grid: Vec<Vec<SuiteRow>> = inputs
+        .par_iter()
+        .map(|(g0, rays)| {
+            let mut rows: Vec<SuiteRow> = modes
+                .iter()
+                .map(|&(e, p)| SuiteRow {
+                    engine: Some(e),
+                    precision: Some(p),
+                    ..Default::default()
+                })
+                .collect();
+            let mut oracles: Vec<(Precision, GridSpec, Option<MarchOracle>)> = Vec::new();
+            for &(_, p) in modes {
+                if !oracles.iter().any(|o| o.0 == p) {
+                    let g = p.round_grid(g0);
+                    let o = MarchOracle::new_for(&g, p.eps()).ok();
+                    oracles.push((p, g, o));
+                }
+            }
+            for ray0 in rays {
+                for (p, g, o) in &oracles {
+                    let Some(o) = o else { continue };
+                    let ray = p.round_ray(ray0);
+                    let reference = o.march(&ray);
+                    for (row, &(e, mp)) in rows.iter_mut().zip(modes) {
+                        if mp != *p {
+                            continue;
+                        }
+                        row.rays += 1;
+                        let k = match run_engine(g, &ray, e, mp) {
+                            Ok(k) => k,
+                            Err(msg) => {
+                                row.engine_errors += 1;
+                                if row.failures.len() < 5 {
+                                    row.failures
+                                        .push(format!("{msg}\n  grid {g:?}\n  ray {ray:?}"));
+                                }
+                                continue;
+                            }
+                        };
+                        row.crossings += k.len();
+                        match compare(o, &reference, &k, mp.eps(), None) {
+                            Ok(s) => {
+                                row.same_sequence += 1;
+                                row.identical_raw += usize::from(s.identical_raw);
+                                let ok_b = s.max_backward_eps <= bound;
+                                row.within_backward_bound += usize::from(ok_b);
+                                row.pass += usize::from(ok_b);
+                                row.max_backward_eps = row.max_backward_eps.max(s.max_backward_eps);
+                                row.max_forward_eps = row.max_forward_eps.max(s.max_forward_eps);
+                                if !ok_b && row.failures.len() < 5 {
+                                    row.failures.push(format!(
+                                        "backward error {:.1} eps·L\n  grid {g:?}\n  ray {ray:?}",
+                                        s.max_backward_eps
+                                    ));
+                                }
+                            }
+                            Err(m) => {
+                                if matches!(m, crate::oracle::march::Mismatch::Structure(_)) {
+                                    row.structure_violations += 1;
+                                }
+                                if row.failures.len() < 5 {
+                                    row.failures
+                                        .push(format!("{m}\n  grid {g:?}\n  ray {ray:?}"));
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            rows
+        })
+        .collect();
+    let mut total: Vec<SuiteRow> = modes
+        .iter()
+        .map(|&(e, p)| SuiteRow {
+            engine: Some(e),
+            precision: Some(p),
+            ..Default::default()
+        })
+        .collect();
+    for rows in per_grid {
+        for (t, r) in total.iter_mut().zip(rows) {
+            t.rays += r.rays;
+            t.same_sequence += r.same_sequence;
+            t.identical_raw += r.identical_raw;
+            t.within_backward_bound += r.within_backward_bound;
+            t.pass += r.pass;
+            t.structure_violations += r.structure_violations;
+            t.engine_errors += r.engine_errors;
+            t.crossings += r.crossings;
+            t.max_backward_eps = t.max_backward_eps.max(r.max_backward_eps);
+            t.max_forward_eps = t.max_forward_eps.max(r.max_forward_eps);
+            for f in r.failures {
+                if t.failures.len() < 5 {
+                    t.failures.push(f);
+                }
+            }
+        }
+    }
+    total
+}
+
+/// All engine × precision pairs.
+pub const ALL_MODES: [(Engine, Precision); 6] = [
+    (Engine::Serial, Precision::F64),
+    (Engine::Separable, Precision::F64),
+    (Engine::Serial, Precision::F32),
+    (Engine::Separable, Precision::F32),
+    (Engine::Serial, Precision::F32Fast),
+    (Engine::Separable, Precision::F32Fast),
+];
