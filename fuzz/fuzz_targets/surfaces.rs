@@ -91,11 +91,17 @@ impl Dd {
     fn two_sum(a: f64, b: f64) -> Dd {
         let s = a + b;
         let bb = s - a;
-        Dd { hi: s, lo: (a - (s - bb)) + (b - bb) }
+        Dd {
+            hi: s,
+            lo: (a - (s - bb)) + (b - bb),
+        }
     }
     fn fast_two_sum(a: f64, b: f64) -> Dd {
         let s = a + b;
-        Dd { hi: s, lo: b - (s - a) }
+        Dd {
+            hi: s,
+            lo: b - (s - a),
+        }
     }
     fn add(self, o: Dd) -> Dd {
         let s = Dd::two_sum(self.hi, o.hi);
@@ -104,7 +110,10 @@ impl Dd {
         Dd::fast_two_sum(v.hi, v.lo + t.lo)
     }
     fn neg(self) -> Dd {
-        Dd { hi: -self.hi, lo: -self.lo }
+        Dd {
+            hi: -self.hi,
+            lo: -self.lo,
+        }
     }
     fn sub(self, o: Dd) -> Dd {
         self.add(o.neg())
@@ -165,7 +174,8 @@ fn finite(x: f64) -> bool {
 /// underflow, so the error bound applies.
 fn well_scaled(xs: &[f64], l: i32) -> bool {
     let (lo, hi) = (2f64.powi(-l), 2f64.powi(l));
-    xs.iter().all(|&x| x == 0.0 || (x.abs() >= lo && x.abs() <= hi))
+    xs.iter()
+        .all(|&x| x == 0.0 || (x.abs() >= lo && x.abs() <= hi))
 }
 
 fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
@@ -184,7 +194,11 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
     if let Some((a, b)) = input.interval {
         let (a, b) = (r(a), r(b));
         let (af, bf) = (a.to_f64(), b.to_f64());
-        let valid = !af.is_nan() && !bf.is_nan() && af <= bf && af < f64::INFINITY && bf > f64::NEG_INFINITY;
+        let valid = !af.is_nan()
+            && !bf.is_nan()
+            && af <= bf
+            && af < f64::INFINITY
+            && bf > f64::NEG_INFINITY;
         match ray.with_interval(a, b) {
             Ok(rr) => {
                 assert!(valid, "with_interval({af}, {bf}) accepted");
@@ -217,20 +231,34 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
             let (kf, thf) = (k.to_f64(), theta.to_f64());
             let c = AxialCone::from_zenith(k, theta);
             let valid = finite(kf) && finite(thf) && (0.0..=T::PI.to_f64()).contains(&thf);
-            assert_eq!(c.is_ok(), valid, "AxialCone::from_zenith({kf}, {thf}) = {c:?}");
+            assert_eq!(
+                c.is_ok(),
+                valid,
+                "AxialCone::from_zenith({kf}, {thf}) = {c:?}"
+            );
             let Ok(c) = c else { return };
             let (cf, sf) = (c.cos().to_f64(), c.sin().to_f64());
-            assert!(sf >= 0.0 && (cf * cf + sf * sf - 1.0).abs() <= 8.0 * eps, "cone cos/sin {cf} {sf}");
+            assert!(
+                sf >= 0.0 && (cf * cf + sf * sf - 1.0).abs() <= 8.0 * eps,
+                "cone cos/sin {cf} {sf}"
+            );
             Built::Cone(c, kf, cf, sf)
         }
         Shape::HalfPlane(phi) => {
             let phi = r(phi);
             let pf = phi.to_f64();
             let h = HalfPlane::from_azimuth(phi);
-            assert_eq!(h.is_ok(), finite(pf), "HalfPlane::from_azimuth({pf}) = {h:?}");
+            assert_eq!(
+                h.is_ok(),
+                finite(pf),
+                "HalfPlane::from_azimuth({pf}) = {h:?}"
+            );
             let Ok(h) = h else { return };
             let (cf, sf) = (h.cos().to_f64(), h.sin().to_f64());
-            assert!((cf * cf + sf * sf - 1.0).abs() <= 8.0 * eps, "half-plane cos/sin {cf} {sf}");
+            assert!(
+                (cf * cf + sf * sf - 1.0).abs() <= 8.0 * eps,
+                "half-plane cos/sin {cf} {sf}"
+            );
             Built::HalfPlane(h, cf, sf)
         }
         Shape::PlaneZ(c) => {
@@ -251,16 +279,30 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
     };
     let ts: Vec<f64> = xs.iter().map(|c| c.t.to_f64()).collect();
     let sides: Vec<Side> = xs.iter().map(|c| c.into).collect();
-    let ctx = || format!("{} {ts:?} {sides:?} ray {of:?} + t {df:?} in [{t_min}, {t_max}]", T::NAME);
+    let ctx = || {
+        format!(
+            "{} {ts:?} {sides:?} ray {of:?} + t {df:?} in [{t_min}, {t_max}]",
+            T::NAME
+        )
+    };
 
     // Invariants on every valid input.
     for &t in &ts {
         assert!(!t.is_nan(), "NaN crossing: {}", ctx());
-        assert!(t_min <= t && t <= t_max, "crossing outside the interval: {}", ctx());
+        assert!(
+            t_min <= t && t <= t_max,
+            "crossing outside the interval: {}",
+            ctx()
+        );
     }
     if ts.len() == 2 {
         assert!(ts[0] <= ts[1], "unsorted: {}", ctx());
-        assert_ne!(sides[0], sides[1], "two crossings into the same side: {}", ctx());
+        assert_ne!(
+            sides[0],
+            sides[1],
+            "two crossings into the same side: {}",
+            ctx()
+        );
     }
     if matches!(built, Built::HalfPlane(..) | Built::PlaneZ(..)) {
         assert!(ts.len() <= 1, "a plane crossed twice: {}", ctx());
@@ -273,7 +315,12 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
         Built::HalfPlane(..) => vec![],
         Built::PlaneZ(_, c) => vec![*c],
     };
-    let scalars: Vec<f64> = of.iter().chain(df.iter()).chain(params.iter()).copied().collect();
+    let scalars: Vec<f64> = of
+        .iter()
+        .chain(df.iter())
+        .chain(params.iter())
+        .copied()
+        .collect();
     if !well_scaled(&scalars, l) || ts.iter().any(|t| !t.is_finite()) {
         return;
     }
@@ -296,7 +343,11 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
                 let nx = norm(pf(x));
                 let dist = g.f().abs() / (nx + a);
                 let big_s = big_s0.max(nx);
-                assert!(dist <= k_tol * eps * big_s, "spheroid crossing {i} is {dist} off (S {big_s}): {}", ctx());
+                assert!(
+                    dist <= k_tol * eps * big_s,
+                    "spheroid crossing {i} is {dist} off (S {big_s}): {}",
+                    ctx()
+                );
             }
             // Count and sides where the line clearly cuts or clearly misses the spheroid.
             let dd = dot(ds, ds);
@@ -306,11 +357,18 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
             let rel = disc / (dd_f * a2.f());
             let margin = 1e3 * eps * big_s0 / dd_f.sqrt();
             if rel < -1e-6 {
-                assert!(ts.is_empty(), "spheroid: a clear miss reported as a hit: {}", ctx());
+                assert!(
+                    ts.is_empty(),
+                    "spheroid: a clear miss reported as a hit: {}",
+                    ctx()
+                );
             } else if rel > 1e-6 {
                 let pd = dot(ps, ds).f();
                 let sq = disc.sqrt();
-                let roots = [((-pd - sq) / dd_f, Side::Negative), ((-pd + sq) / dd_f, Side::Positive)];
+                let roots = [
+                    ((-pd - sq) / dd_f, Side::Negative),
+                    ((-pd + sq) / dd_f, Side::Positive),
+                ];
                 expect_roots(&roots, margin, t_min, t_max, &ts, &sides, &ctx);
             }
         }
@@ -336,9 +394,17 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
                 };
                 let big_s = big_s0.max(norm(pf(x))).max(qn);
                 let tol = k_tol * eps * big_s;
-                assert!(dist <= tol, "cone crossing {i} is {dist} off (S {big_s}, tol {tol}): {}", ctx());
+                assert!(
+                    dist <= tol,
+                    "cone crossing {i} is {dist} off (S {big_s}, tol {tol}): {}",
+                    ctx()
+                );
                 if c != 0.0 {
-                    assert!(qz * c.signum() >= -tol, "cone crossing {i} on the wrong nappe (z - k = {qz}): {}", ctx());
+                    assert!(
+                        qz * c.signum() >= -tol,
+                        "cone crossing {i} on the wrong nappe (z - k = {qz}): {}",
+                        ctx()
+                    );
                 }
             }
         }
@@ -352,19 +418,43 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
                 let dist = normal_dot(x).f().abs();
                 let big_s = big_s0.max(norm(pf(x)));
                 let tol = k_tol * eps * big_s;
-                assert!(dist <= tol, "half-plane crossing {i} is {dist} off (S {big_s}): {}", ctx());
-                assert!(along(x).f() >= -tol, "half-plane crossing {i} on the other half: {}", ctx());
+                assert!(
+                    dist <= tol,
+                    "half-plane crossing {i} is {dist} off (S {big_s}): {}",
+                    ctx()
+                );
+                assert!(
+                    along(x).f() >= -tol,
+                    "half-plane crossing {i} on the other half: {}",
+                    ctx()
+                );
             }
             let nd = normal_dot(dvec).f();
             if nd.abs() >= 1e-3 * dn {
                 let t_star = normal_dot(p).neg().f() / nd;
                 let a_star = along(point(t_star)).f();
-                let side = if nd > 0.0 { Side::Positive } else { Side::Negative };
+                let side = if nd > 0.0 {
+                    Side::Positive
+                } else {
+                    Side::Negative
+                };
                 let margin = 1e3 * eps * big_s0.max(t_star.abs() * dn);
                 if a_star < -margin {
-                    assert!(ts.is_empty(), "half-plane: the other half reported as a crossing: {}", ctx());
+                    assert!(
+                        ts.is_empty(),
+                        "half-plane: the other half reported as a crossing: {}",
+                        ctx()
+                    );
                 } else if a_star > margin {
-                    expect_roots(&[(t_star, side)], margin / nd.abs(), t_min, t_max, &ts, &sides, &ctx);
+                    expect_roots(
+                        &[(t_star, side)],
+                        margin / nd.abs(),
+                        t_min,
+                        t_max,
+                        &ts,
+                        &sides,
+                        &ctx,
+                    );
                 }
             }
         }
@@ -374,14 +464,26 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
                 let x = point(t);
                 let dist = x[2].sub(Dd::n(cz)).f().abs();
                 let big_s = big_s0.max(norm(pf(x)));
-                assert!(dist <= k_tol * eps * big_s, "plane crossing {i} is {dist} off (S {big_s}): {}", ctx());
+                assert!(
+                    dist <= k_tol * eps * big_s,
+                    "plane crossing {i} is {dist} off (S {big_s}): {}",
+                    ctx()
+                );
             }
             let dz = df[2];
             if dz == 0.0 {
-                assert!(ts.is_empty(), "plane: a horizontal ray crossed it: {}", ctx());
+                assert!(
+                    ts.is_empty(),
+                    "plane: a horizontal ray crossed it: {}",
+                    ctx()
+                );
             } else if dz.abs() >= 1e-3 * dn {
                 let t_star = Dd::n(cz).sub(p[2]).f() / dz;
-                let side = if dz > 0.0 { Side::Positive } else { Side::Negative };
+                let side = if dz > 0.0 {
+                    Side::Positive
+                } else {
+                    Side::Negative
+                };
                 let margin = 1e3 * eps * big_s0 / dz.abs();
                 expect_roots(&[(t_star, side)], margin, t_min, t_max, &ts, &sides, &ctx);
             }
@@ -412,9 +514,19 @@ fn expect_roots(
             want.push((t, side));
         }
     }
-    assert_eq!(ts.len(), want.len(), "expected crossings {want:?} (margin {margin}): {}", ctx());
-    for (i, (&(t, side), (&got_t, &got_side))) in want.iter().zip(ts.iter().zip(sides)).enumerate() {
+    assert_eq!(
+        ts.len(),
+        want.len(),
+        "expected crossings {want:?} (margin {margin}): {}",
+        ctx()
+    );
+    for (i, (&(t, side), (&got_t, &got_side))) in want.iter().zip(ts.iter().zip(sides)).enumerate()
+    {
         assert_eq!(got_side, side, "crossing {i}: wrong side: {}", ctx());
-        assert!((got_t - t).abs() <= margin, "crossing {i}: t = {got_t}, expected {t} ± {margin}: {}", ctx());
+        assert!(
+            (got_t - t).abs() <= margin,
+            "crossing {i}: t = {got_t}, expected {t} ± {margin}: {}",
+            ctx()
+        );
     }
 }
