@@ -311,8 +311,10 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
     // Independent re-evaluation, where the input is well scaled.
     let params: Vec<f64> = match &built {
         Built::Spheroid(_, a, b) => vec![*a, *b],
-        Built::Cone(_, k, ..) => vec![*k],
-        Built::HalfPlane(..) => vec![],
+        // cos and sin multiply the coordinates (and are squared by the cone's solver): a tiny one (an angle within
+        // 1e-30 of a multiple of π/2) underflows.
+        Built::Cone(_, k, c, s) => vec![*k, *c, *s],
+        Built::HalfPlane(_, c, s) => vec![*c, *s],
         Built::PlaneZ(_, c) => vec![*c],
     };
     let scalars: Vec<f64> = of
@@ -373,25 +375,24 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
             }
         }
         Built::Cone(_, kz, c, s) => {
-            let apex = [Dd::n(0.0), Dd::n(0.0), Dd::n(kz)];
+            // Distance from q (relative to the apex) to the double cone, exactly: |q| sin Δ, Δ the angle between
+            // q and the nearest generator (capped at π/2, where the apex is nearest). The point is evaluated in
+            // double-double; the angles in f64 (absolute error a few ε, i.e. a few ε·|q| of distance).
+            let theta = s.atan2(c);
             let big_s0 = norm(of).max(kz.abs());
-            let (c2, s2) = (Dd::n(c).mul(Dd::n(c)), Dd::n(s).mul(Dd::n(s)));
             for (i, &t) in ts.iter().enumerate() {
                 let x = point(t);
-                let q = [x[0].sub(apex[0]), x[1].sub(apex[1]), x[2].sub(apex[2])];
-                let rho2 = q[0].mul(q[0]).add(q[1].mul(q[1]));
-                let f = c2.mul(rho2).sub(s2.mul(q[2]).mul(q[2])).f();
-                let (rho2f, qz) = (rho2.f(), q[2].f());
-                let grad = 2.0 * (c2.f() * c2.f() * rho2f + s2.f() * s2.f() * qz * qz).sqrt();
+                let q = [x[0], x[1], x[2].sub(Dd::n(kz))];
+                let rho = q[0].mul(q[0]).add(q[1].mul(q[1])).f().sqrt();
+                let qz = q[2].f();
                 let qn = norm(pf(q));
-                // θ = π/2 is the plane z = k (F = −q_z², a double plane: its gradient vanishes on it).
-                let dist = if c == 0.0 {
-                    qz.abs()
-                } else if grad > 0.0 {
-                    (f.abs() / grad).min(qn)
-                } else {
-                    qn // at the apex
-                };
+                let theta_q = rho.atan2(qz);
+                let half_pi = core::f64::consts::FRAC_PI_2;
+                let delta = (theta_q - theta)
+                    .abs()
+                    .min((theta_q - (core::f64::consts::PI - theta)).abs())
+                    .min(half_pi);
+                let dist = qn * delta.sin();
                 let big_s = big_s0.max(norm(pf(x))).max(qn);
                 let tol = k_tol * eps * big_s;
                 assert!(
