@@ -424,9 +424,13 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
                     "half-plane crossing {i} is {dist} off (S {big_s}): {}",
                     ctx()
                 );
+                // Which half is a forward error: along the plane, the point's error is the backward error
+                // divided by the sine of the angle between ray and plane.
+                let sin_angle = normal_dot(dvec).f().abs() / dn;
+                let a = along(x).f();
                 assert!(
-                    along(x).f() >= -tol,
-                    "half-plane crossing {i} on the other half: {}",
+                    a >= -tol / sin_angle,
+                    "half-plane crossing {i} on the other half ({a}, sin angle {sin_angle}): {}",
                     ctx()
                 );
             }

@@ -193,6 +193,13 @@ impl<T: Real> Surface<T> for AxialCone<T> {
         let mut roots = [(T::ZERO, Side::Negative); 2];
         let mut n = 0usize;
         if root_d == T::ZERO {
+            // A line parallel to a generator (A = 0 up to rounding) with a zero discriminant lies in the tangent
+            // plane along that generator and never meets the cone (the line through the apex was handled above):
+            // no crossing, not a touch at the meaningless root of a noise-sized A.
+            let a_scale = c2 * (d.x * d.x + d.y * d.y) + s2 * d.z * d.z;
+            if a.abs() <= T::from_f64(8.0) * T::EPSILON * a_scale {
+                return Crossings::NONE;
+            }
             // Tangent along a generator: a touch, from the side the line is on (the sign of A) and back.
             if on_nappe(s_dec) {
                 let line_side = if a > T::ZERO {
@@ -391,5 +398,19 @@ mod tests {
             AxialCone::from_cos_sin(0.0, 0.5, -0.5),
             Err(SurfaceError::AngleOutOfRange)
         );
+    }
+
+    #[test]
+    fn ray_parallel_to_a_generator_in_its_tangent_plane_never_touches() {
+        // Found by the `surfaces` fuzz target: the line (−π, y0 + u, y0 + u) is parallel to the generator
+        // (0, 1, 1) of the 45° cone and lies in the tangent plane along it, so it never meets the cone. A = c² − s²
+        // is rounding noise there, the discriminant is 0, and a spurious touch at t = 0 used to be reported.
+        let y0 = 0.000_476_792_28;
+        let cone = AxialCone::from_zenith(0.0_f32, core::f32::consts::FRAC_PI_4).unwrap();
+        let r = Ray::new([-core::f32::consts::PI, y0, y0], [0.0, 43690.0, 43690.0]).unwrap();
+        assert!(cone.crossings(&r).is_empty(), "{:?}", cone.crossings(&r));
+        let cone = AxialCone::from_zenith(0.0_f64, FRAC_PI_4).unwrap();
+        let r = Ray::new([-PI, f64::from(y0), f64::from(y0)], [0.0, 1.0, 1.0]).unwrap();
+        assert!(cone.crossings(&r).is_empty(), "{:?}", cone.crossings(&r));
     }
 }
