@@ -200,14 +200,17 @@ impl<T: Real> Surface<T> for AxialCone<T> {
             if a.abs() <= T::from_f64(8.0) * T::EPSILON * a_scale {
                 return Crossings::NONE;
             }
-            // Tangent along a generator: a touch, from the side the line is on (the sign of A) and back.
-            if on_nappe(s_dec) {
+            // Tangent along a generator: a touch, from the side the line is on (the sign of A) and back. The double
+            // root is taken as −B/A: the other form, C/q, divides C (whose two terms cancel on a tangent line) by
+            // a small q and can land far from the point of tangency.
+            let s_touch = -b / a;
+            if on_nappe(s_touch) {
                 let line_side = if a > T::ZERO {
                     into_when_q_rises
                 } else {
                     into_when_q_rises.flip()
                 };
-                roots = [(s_dec, line_side.flip()), (s_dec, line_side)];
+                roots = [(s_touch, line_side.flip()), (s_touch, line_side)];
                 n = 2;
             }
         } else {
@@ -412,5 +415,17 @@ mod tests {
         let cone = AxialCone::from_zenith(0.0_f64, FRAC_PI_4).unwrap();
         let r = Ray::new([-PI, f64::from(y0), f64::from(y0)], [0.0, 1.0, 1.0]).unwrap();
         assert!(cone.crossings(&r).is_empty(), "{:?}", cone.crossings(&r));
+    }
+
+    #[test]
+    fn tangent_ray_touches_at_the_point_of_tangency_f32() {
+        // Found by the `surfaces` fuzz target: a ray along x at y = z = 341 touches the 45° cone at x = 0. C's two
+        // terms cancel there, and the double root used to be taken as C/q, which put the touch at x ≈ 2.
+        let cone = AxialCone::from_zenith(0.0_f32, core::f32::consts::FRAC_PI_4).unwrap();
+        let r = Ray::new([-1.0 / 256.0, 341.0, 341.0], [341.0_f32, 0.0, 0.0]).unwrap();
+        for c in &cone.crossings(&r) {
+            let x = -1.0 / 256.0 + c.t * 341.0;
+            assert!(x.abs() <= 0.2, "touch at x = {x}");
+        }
     }
 }
