@@ -312,6 +312,11 @@ mod fast {
         }
     }
 
+    /// Beyond this |argument| micromath's `sin`/`cos` are not used: they reduce the angle as `x / 2π` through an
+    /// `i32` cast, which loses more than their own approximation error (~2e-3) above 2^12 and saturates above
+    /// ~1.3e10 (returning values far outside [-1, 1], or NaN). libm's exactly reduced `sinf`/`cosf` take over there.
+    const FAST_TRIG_MAX_ARG: f32 = 4096.0;
+
     impl Real for F32Fast {
         const ZERO: Self = F32Fast(0.0);
         const ONE: Self = F32Fast(1.0);
@@ -360,10 +365,16 @@ mod fast {
         }
         #[inline]
         fn sin(self) -> Self {
+            if self.0.abs() > FAST_TRIG_MAX_ARG {
+                return F32Fast(libm::sinf(self.0));
+            }
             F32Fast(F32(self.0).sin().0)
         }
         #[inline]
         fn cos(self) -> Self {
+            if self.0.abs() > FAST_TRIG_MAX_ARG {
+                return F32Fast(libm::cosf(self.0));
+            }
             F32Fast(F32(self.0).cos().0)
         }
         #[inline]
@@ -435,5 +446,20 @@ mod tests {
         assert_eq!(F32Fast(0.0).sqrt().0, 0.0);
         assert!(F32Fast(-1.0).sqrt().is_nan());
         assert_eq!(F32Fast(1.5) * F32Fast(2.0), F32Fast(3.0));
+    }
+
+    #[cfg(feature = "fast-math")]
+    #[test]
+    fn f32_fast_sin_cos_of_huge_angles_stay_on_the_unit_circle() {
+        // Found by the `surfaces` fuzz target: HalfPlane::<F32Fast>::from_azimuth(7.9e28) was rejected as
+        // non-finite, because micromath's argument reduction saturates an i32 cast.
+        use super::F32Fast;
+        for x in [4096.5_f32, -5000.0, 1e10, -1.4e10, 7.946_028e28, 3.0e38] {
+            let (s, c) = (F32Fast(x).sin().0, F32Fast(x).cos().0);
+            assert!((s - libm::sinf(x)).abs() <= 2e-3, "sin {x}: {s}");
+            assert!((c - libm::cosf(x)).abs() <= 2e-3, "cos {x}: {c}");
+        }
+        assert!(crate::surface::HalfPlane::from_azimuth(F32Fast(7.946_028e28)).is_ok());
+        assert!(F32Fast(f32::INFINITY).sin().is_nan());
     }
 }

@@ -234,14 +234,24 @@ impl<T: Real> Surface<T> for AxialCone<T> {
         let mut roots = [(T::ZERO, Side::Negative); 2];
         let mut n = 0usize;
         if root_d == T::ZERO {
-            // Tangent along a generator: a touch, from the side the line is on (the sign of A) and back.
-            if on_nappe(s_dec) {
+            // A line parallel to a generator (A = 0 up to rounding) with a zero discriminant lies in the tangent
+            // plane along that generator and never meets the cone (the line through the apex was handled above):
+            // no crossing, not a touch at the meaningless root of a noise-sized A.
+            let a_scale = c2 * (d.x * d.x + d.y * d.y) + s2 * d.z * d.z;
+            if a.abs() <= T::from_f64(8.0) * T::EPSILON * a_scale {
+                return Crossings::NONE;
+            }
+            // Tangent along a generator: a touch, from the side the line is on (the sign of A) and back. The double
+            // root is taken as −B/A: the other form, C/q, divides C (whose two terms cancel on a tangent line) by
+            // a small q and can land far from the point of tangency.
+            let s_touch = -b / a;
+            if on_nappe(s_touch) {
                 let line_side = if a > T::ZERO {
                     into_when_q_rises
                 } else {
                     into_when_q_rises.flip()
                 };
-                roots = [(s_dec, line_side.flip()), (s_dec, line_side)];
+                roots = [(s_touch, line_side.flip()), (s_touch, line_side)];
                 n = 2;
             }
         } else {
@@ -462,5 +472,31 @@ mod tests {
             AxialCone::from_cos_sin(0.0, 0.5, -0.5),
             Err(SurfaceError::AngleOutOfRange)
         );
+    }
+
+    #[test]
+    fn ray_parallel_to_a_generator_in_its_tangent_plane_never_touches() {
+        // Found by the `surfaces` fuzz target: the line (−π, y0 + u, y0 + u) is parallel to the generator
+        // (0, 1, 1) of the 45° cone and lies in the tangent plane along it, so it never meets the cone. A = c² − s²
+        // is rounding noise there, the discriminant is 0, and a spurious touch at t = 0 used to be reported.
+        let y0 = 0.000_476_792_28;
+        let cone = AxialCone::from_zenith(0.0_f32, core::f32::consts::FRAC_PI_4).unwrap();
+        let r = Ray::new([-core::f32::consts::PI, y0, y0], [0.0, 43690.0, 43690.0]).unwrap();
+        assert!(cone.crossings(&r).is_empty(), "{:?}", cone.crossings(&r));
+        let cone = AxialCone::from_zenith(0.0_f64, FRAC_PI_4).unwrap();
+        let r = Ray::new([-PI, f64::from(y0), f64::from(y0)], [0.0, 1.0, 1.0]).unwrap();
+        assert!(cone.crossings(&r).is_empty(), "{:?}", cone.crossings(&r));
+    }
+
+    #[test]
+    fn tangent_ray_touches_at_the_point_of_tangency_f32() {
+        // Found by the `surfaces` fuzz target: a ray along x at y = z = 341 touches the 45° cone at x = 0. C's two
+        // terms cancel there, and the double root used to be taken as C/q, which put the touch at x ≈ 2.
+        let cone = AxialCone::from_zenith(0.0_f32, core::f32::consts::FRAC_PI_4).unwrap();
+        let r = Ray::new([-1.0 / 256.0, 341.0, 341.0], [341.0_f32, 0.0, 0.0]).unwrap();
+        for c in &cone.crossings(&r) {
+            let x = -1.0 / 256.0 + c.t * 341.0;
+            assert!(x.abs() <= 0.2, "touch at x = {x}");
+        }
     }
 }

@@ -96,7 +96,14 @@ impl<T: Real> Spheroid<T> {
         }
         let c = p.length_squared() - self.a2;
         // ‖d‖² grows toward outside ⇒ the root where the quadratic decreases is the entry into the ball.
-        Some(stable_quadratic(dd, pd, c, disc.sqrt()))
+        let (s_in, s_out) = stable_quadratic(dd, pd, c, disc.sqrt());
+        // Near tangency the two roots are equal within rounding, and the two roundings (q/a, c/q) can put them in
+        // reverse order: that is a touch, reported at their midpoint (the tangency convention of `surface`).
+        if s_in > s_out {
+            let mid = s_in * T::HALF + s_out * T::HALF;
+            return Some((mid, mid));
+        }
+        Some((s_in, s_out))
     }
 }
 
@@ -217,5 +224,21 @@ mod tests {
         assert_eq!(Spheroid::sphere(0.0), Err(SurfaceError::BadAxes));
         assert_eq!(Spheroid::sphere(f64::NAN), Err(SurfaceError::NonFinite));
         assert_eq!(Spheroid::sphere(1e200), Err(SurfaceError::BadAxes));
+    }
+
+    #[test]
+    fn near_tangent_steep_ray_keeps_its_two_roots_sorted_f32() {
+        // Found by the `surfaces` fuzz target: a ray grazing the unit sphere at (1, 0, 0), its direction almost
+        // along +z and huge (5e29). The two roots are equal within rounding and the stable formula's two roundings
+        // (q/a and c/q) used to return them in reverse order.
+        let r = Ray::new(
+            [1.0_f32, 0.0, -0.5],
+            [-core::f32::consts::PI, 10922.5, 4.885_607_7e29],
+        )
+        .unwrap();
+        let c = Spheroid::sphere(1.0_f32).unwrap().crossings(&r);
+        assert_eq!(c.len(), 2);
+        assert!(c[0].t <= c[1].t, "{c:?}");
+        assert_eq!((c[0].into, c[1].into), (Side::Negative, Side::Positive));
     }
 }

@@ -1,0 +1,269 @@
+//! The curvicast kernel on an emulated Cortex-M4F (QEMU `mps2-an386`).
+//!
+//! Runs every case of [`cases::CASES`] (expected answers computed on the host by the arbitrary-precision oracle)
+//! through the kernel's [`Surface::crossings`] in `f64` and in `f32`, prints one line per failure and a final pass
+//! line over semihosting, and exits (semihosting exit) with status 0 only if every case passes in both precisions.
+//!
+//! **The panic-path proof.** The `#[panic_handler]` below calls a function that is declared but defined nowhere.
+//! With `panic = "abort"`, LTO and one codegen unit, the handler is only linked if some code that can reach a
+//! panic survives optimisation; then the link fails with an undefined reference to
+//! `curvicast_panic_path_is_reachable`. So `cargo build --release` succeeding *is* the proof that nothing this
+//! binary calls (the kernel's ray and surface code in both precisions, libm, this file) can panic.
+//!
+//! Output is integers and strings only, formatted by the few lines below: `core::fmt`'s float formatting holds
+//! panic paths of its own and would make the proof fail for reasons outside the kernel.
+
+#![no_std]
+#![no_main]
+#![deny(unsafe_code)]
+
+// Generated on the host: its literals are oracle values, not approximations of named constants.
+#[allow(
+    clippy::approx_constant,
+    clippy::excessive_precision,
+    clippy::unreadable_literal
+)]
+mod cases;
+
+use cases::{CASES, Case, Kind};
+use cortex_m_rt::entry;
+use cortex_m_semihosting::{debug, hio};
+use curvicast::Real;
+use curvicast::ray::{Ray, RayError};
+use curvicast::surface::{
+    AxialCone, Crossings, HalfPlane, PlaneZ, Side, Spheroid, Surface, SurfaceError,
+};
+
+/// Why one case failed in one precision.
+enum Failure {
+    /// The kernel rejected the ray.
+    Ray(RayError),
+    /// The kernel rejected the surface parameters.
+    Surface(SurfaceError),
+    /// Wrong number of crossings.
+    Count { got: usize, want: usize },
+    /// Crossing `k` enters the wrong side.
+    Side { k: usize },
+    /// Crossing `k` is off by more than the tolerance: `|t − t_oracle|` in percent of the tolerance (saturating;
+    /// a NaN `t` shows as 0 % and is still a failure).
+    T { k: usize, percent_of_tol: u32 },
+}
+
+/// The crossings of one case's ray with its surface, in precision `T`.
+fn crossings<T: Real>(case: &Case) -> Result<Crossings<T>, Failure> {
+    let v = |a: [f64; 3]| [T::from_f64(a[0]), T::from_f64(a[1]), T::from_f64(a[2])];
+    let ray = Ray::new(v(case.origin), v(case.dir)).map_err(Failure::Ray)?;
+    let [p0, p1] = case.p;
+    let (p0, p1) = (T::from_f64(p0), T::from_f64(p1));
+    let c = match case.kind {
+        Kind::Spheroid => Spheroid::new(p0, p1)
+            .map_err(Failure::Surface)?
+            .crossings(&ray),
+        Kind::Cone => AxialCone::from_zenith(p0, p1)
+            .map_err(Failure::Surface)?
+            .crossings(&ray),
+        Kind::HalfPlane => HalfPlane::from_azimuth(p0)
+            .map_err(Failure::Surface)?
+            .crossings(&ray),
+        Kind::PlaneZ => PlaneZ::new(p0).map_err(Failure::Surface)?.crossings(&ray),
+    };
+    Ok(c)
+}
+
+/// Checks one case in precision `T` against the oracle's answer with the tolerance `tol`.
+fn check<T: Real>(case: &Case, tol: f64) -> Result<(), Failure> {
+    let c = crossings::<T>(case)?;
+    if c.len() != case.n {
+        return Err(Failure::Count {
+            got: c.len(),
+            want: case.n,
+        });
+    }
+    for (k, ((x, &t), &pos)) in c
+        .iter()
+        .zip(case.t.iter())
+        .zip(case.into_positive.iter())
+        .enumerate()
+    {
+        let err = (x.t.to_f64() - t).abs();
+        if err.is_nan() || err > tol {
+            // `as` saturates (and maps NaN to 0): no panic path.
+            let percent_of_tol = (err / tol * 100.0) as u32;
+            return Err(Failure::T { k, percent_of_tol });
+        }
+        if (x.into == Side::Positive) != pos {
+            return Err(Failure::Side { k });
+        }
+    }
+    Ok(())
+}
+
+/// A fixed line buffer written to the host's stdout over semihosting. Overlong lines are cut (with `...`); the
+/// pass line is short.
+struct Line {
+    buf: [u8; 160],
+    len: usize,
+}
+
+impl Line {
+    fn new() -> Self {
+        Line {
+            buf: [0; 160],
+            len: 0,
+        }
+    }
+    fn str(&mut self, s: &str) -> &mut Self {
+        for &b in s.as_bytes() {
+            if let Some(slot) = self.buf.get_mut(self.len) {
+                *slot = b;
+                self.len = self.len.wrapping_add(1);
+            }
+        }
+        self
+    }
+    /// Decimal digits of `n`, most significant first.
+    fn num(&mut self, n: usize) -> &mut Self {
+        let mut digits = [0u8; 20];
+        let mut i = digits.len();
+        let mut n = n;
+        loop {
+            i = i.wrapping_sub(1);
+            if let Some(d) = digits.get_mut(i) {
+                *d = b'0'.wrapping_add((n % 10) as u8);
+            }
+            n /= 10;
+            if n == 0 || i == 0 {
+                break;
+            }
+        }
+        for &d in digits.get(i..).unwrap_or(&[]) {
+            if let Some(slot) = self.buf.get_mut(self.len) {
+                *slot = d;
+                self.len = self.len.wrapping_add(1);
+            }
+        }
+        self
+    }
+    fn flush(&mut self, out: &mut hio::HostStream) {
+        if self.len >= self.buf.len() {
+            for (slot, &b) in self.buf.iter_mut().rev().zip(b"...") {
+                *slot = b;
+            }
+        }
+        let line = self.buf.get(..self.len).unwrap_or(&[]);
+        // Nothing useful can be done if the host stops listening; the exit status still tells.
+        let _ = out.write_all(line);
+        let _ = out.write_all(b"\n");
+        self.len = 0;
+    }
+}
+
+fn kind_name(k: Kind) -> &'static str {
+    match k {
+        Kind::Spheroid => "spheroid",
+        Kind::Cone => "cone",
+        Kind::HalfPlane => "half-plane",
+        Kind::PlaneZ => "plane-z",
+    }
+}
+
+fn report(
+    line: &mut Line,
+    out: &mut hio::HostStream,
+    i: usize,
+    case: &Case,
+    prec: &str,
+    f: &Failure,
+) {
+    line.str("FAIL case ")
+        .num(i)
+        .str(" (")
+        .str(kind_name(case.kind))
+        .str(") ")
+        .str(prec)
+        .str(": ");
+    match f {
+        Failure::Ray(e) => line.str("the kernel rejected the ray: ").str(match e {
+            RayError::NonFiniteOrigin => "non-finite origin",
+            RayError::NonFiniteDirection => "non-finite direction",
+            RayError::ZeroDirection => "zero direction",
+            _ => "invalid interval",
+        }),
+        Failure::Surface(e) => line.str("the kernel rejected the surface: ").str(match e {
+            SurfaceError::NonFinite => "non-finite parameter",
+            SurfaceError::BadAxes => "bad axes",
+            _ => "angle out of range",
+        }),
+        Failure::Count { got, want } => line
+            .str("expected ")
+            .num(*want)
+            .str(" crossings, got ")
+            .num(*got),
+        Failure::Side { k } => line.str("crossing ").num(*k).str(" enters the wrong side"),
+        Failure::T { k, percent_of_tol } => line
+            .str("crossing ")
+            .num(*k)
+            .str(": |t - t_oracle| is ")
+            .num(*percent_of_tol as usize)
+            .str("% of the tolerance"),
+    };
+    line.flush(out);
+}
+
+#[entry]
+fn main() -> ! {
+    let Ok(mut out) = hio::hstdout() else {
+        debug::exit(debug::EXIT_FAILURE);
+        halt()
+    };
+    let mut line = Line::new();
+    let mut passed = 0usize;
+    for (i, case) in CASES.iter().enumerate() {
+        let [tol64, tol32] = case.tol;
+        let r64 = check::<f64>(case, tol64);
+        let r32 = check::<f32>(case, tol32);
+        if let Err(f) = &r64 {
+            report(&mut line, &mut out, i, case, "f64", f);
+        }
+        if let Err(f) = &r32 {
+            report(&mut line, &mut out, i, case, "f32", f);
+        }
+        if r64.is_ok() && r32.is_ok() {
+            passed = passed.wrapping_add(1);
+        }
+    }
+    let all = passed == CASES.len() && !CASES.is_empty();
+    line.str("curvicast qemu-smoke: ");
+    if !all {
+        line.str("FAILED: ");
+    }
+    line.num(passed)
+        .str("/")
+        .num(CASES.len())
+        .str(" cases passed (f64 and f32)");
+    line.flush(&mut out);
+    debug::exit(if all {
+        debug::EXIT_SUCCESS
+    } else {
+        debug::EXIT_FAILURE
+    });
+    halt()
+}
+
+/// Waits forever (only reached if the host ignored the semihosting exit).
+fn halt() -> ! {
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+/// Reached only through a panic path. It calls a function that no object defines, so the final link fails
+/// ("undefined symbol: curvicast_panic_path_is_reachable") whenever any panic path survives optimisation.
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    #[allow(unsafe_code)]
+    unsafe extern "Rust" {
+        safe fn curvicast_panic_path_is_reachable() -> !;
+    }
+    curvicast_panic_path_is_reachable()
+}
