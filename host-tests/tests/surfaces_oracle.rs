@@ -27,8 +27,8 @@
 //! | kind | f64 | f32 | F32Fast |
 //! | --- | --- | --- | --- |
 //! | spheroid | 3.2 / 3.0 | 3.4 / 3.1 | 3.4 / 3.4 |
-//! | cone | 3.2 / 1.2 | 3.3 / 1.9 | 9.1e4 / 3.4e4 (micromath sin/cos of θ) |
-//! | half-plane | 3.1 / 1.3 | 2.8 / 1.5 | 3.5e4 / 9.2e3 (micromath sin/cos of φ) |
+//! | cone | 3.2 / 1.2 | 3.3 / 1.9 | 3.3 / 1.9 |
+//! | half-plane | 3.1 / 1.3 | 2.8 / 1.5 | 2.8 / 1.5 |
 //! | plane z | 1.3 / 1.1 | 1.7 / 1.4 | 1.7 / 1.4 |
 
 use curvicast_host::report::surfaces::{

@@ -7,8 +7,8 @@
 //! | scalar | arithmetic | `sqrt` | `sin`, `cos`, `atan2` |
 //! | --- | --- | --- | --- |
 //! | `f64` | IEEE binary64 | `libm::sqrt` (correctly rounded; a hardware instruction where one exists) | `libm` |
-//! | `f32` | IEEE binary32 | `libm::sqrtf` (correctly rounded; `vsqrt.f32` on a Cortex-M4F) | `libm` |
-//! | [`F32Fast`] | IEEE binary32 | `micromath` inverse-sqrt estimate + 3 multiply-only Newton steps | `micromath` approximations |
+//! | `f32` | IEEE binary32 | `libm::sqrtf` (correctly rounded; software on a Cortex-M4F, see below) | `libm` |
+//! | [`F32Fast`] | IEEE binary32 | `micromath` inverse-sqrt estimate + 3 multiply-only Newton steps | `libm` (see below) |
 //!
 //! Arithmetic (`+ - * /`) is always the hardware's correctly rounded IEEE operation; only the library functions
 //! differ. The error that the fast backend adds is measured by the host oracle, not assumed.
@@ -17,6 +17,11 @@
 //! while stable Rust offers no `no_std` path to the Cortex-M4F's `vsqrt.f32` without `unsafe` (libm's `sqrtf` is
 //! software there). The estimate plus three Newton steps costs about ten multiplications and no division, and is
 //! within a few ulps.
+//!
+//! Why the fast backend keeps libm's `sin`, `cos` and `atan2`: the kernel calls them only while precomputing
+//! (grid breakpoints, surfaces, geodetic conversions of a hit), never per crossing, so an approximation there
+//! would buy no speed and would move every cone and half-plane built from an angle by micromath's ~1e-3 error
+//! (the host oracle measured exactly that before this choice). The per-crossing library function is `sqrt`.
 //!
 //! ```
 //! use curvicast::real::Real;
@@ -252,9 +257,9 @@ impl_real_prim!(
     libm::ilogbf
 );
 
-/// Single precision with the fast math backend: IEEE `f32` arithmetic, `micromath` approximations for `sin`,
-/// `cos` and `atan2`, and a division-free `sqrt` built on micromath's estimate (available with the `fast-math`
-/// feature; see the module docs).
+/// Single precision with the fast math backend: IEEE `f32` arithmetic and a division-free `sqrt` built on
+/// micromath's estimate; `sin`, `cos` and `atan2` (precomputation only) stay libm's (available with the
+/// `fast-math` feature; see the module docs).
 ///
 /// It is a distinct type so that exact and fast modes can run in one program and be compared.
 ///
@@ -312,11 +317,6 @@ mod fast {
         }
     }
 
-    /// Beyond this |argument| micromath's `sin`/`cos` are not used: they reduce the angle as `x / 2π` through an
-    /// `i32` cast, which loses more than their own approximation error (~2e-3) above 2^12 and saturates above
-    /// ~1.3e10 (returning values far outside [-1, 1], or NaN). libm's exactly reduced `sinf`/`cosf` take over there.
-    const FAST_TRIG_MAX_ARG: f32 = 4096.0;
-
     impl Real for F32Fast {
         const ZERO: Self = F32Fast(0.0);
         const ONE: Self = F32Fast(1.0);
@@ -365,21 +365,15 @@ mod fast {
         }
         #[inline]
         fn sin(self) -> Self {
-            if self.0.abs() > FAST_TRIG_MAX_ARG {
-                return F32Fast(libm::sinf(self.0));
-            }
-            F32Fast(F32(self.0).sin().0)
+            F32Fast(libm::sinf(self.0))
         }
         #[inline]
         fn cos(self) -> Self {
-            if self.0.abs() > FAST_TRIG_MAX_ARG {
-                return F32Fast(libm::cosf(self.0));
-            }
-            F32Fast(F32(self.0).cos().0)
+            F32Fast(libm::cosf(self.0))
         }
         #[inline]
         fn atan2(self, x: Self) -> Self {
-            F32Fast(F32(self.0).atan2(F32(x.0)).0)
+            F32Fast(libm::atan2f(self.0, x.0))
         }
         #[inline]
         fn mul_add(self, a: Self, b: Self) -> Self {
@@ -452,7 +446,7 @@ mod tests {
     #[test]
     fn f32_fast_sin_cos_of_huge_angles_stay_on_the_unit_circle() {
         // Found by the `surfaces` fuzz target: HalfPlane::<F32Fast>::from_azimuth(7.9e28) was rejected as
-        // non-finite, because micromath's argument reduction saturates an i32 cast.
+        // non-finite while micromath's sin/cos (whose argument reduction saturates an i32 cast) were in use.
         use super::F32Fast;
         for x in [4096.5_f32, -5000.0, 1e10, -1.4e10, 7.946_028e28, 3.0e38] {
             let (s, c) = (F32Fast(x).sin().0, F32Fast(x).cos().0);
