@@ -1,8 +1,9 @@
 //! The curvicast kernel on an emulated Cortex-M4F (QEMU `mps2-an386`).
 //!
 //! Runs every case of [`cases::CASES`] (expected answers computed on the host by the arbitrary-precision oracle)
-//! through the kernel's [`Surface::crossings`] in `f64` and in `f32`, prints one line per failure and a final pass
-//! line over semihosting, and exits (semihosting exit) with status 0 only if every case passes in both precisions.
+//! through the kernel's [`Surface::crossings`] in `f64` and in `f32`, plus a march through a spherical grid
+//! (serial engine) and an edge-beveled sphere with hand-derived expectations, prints one line per failure and a
+//! final pass line over semihosting, and exits (semihosting exit) with status 0 only if everything passes.
 //!
 //! **The panic-path proof.** The `#[panic_handler]` below calls a function that is declared but defined nowhere.
 //! With `panic = "abort"`, LTO and one codegen unit, the handler is only linked if some code that can reach a
@@ -30,9 +31,12 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hio};
 use curvicast::Real;
 use curvicast::ray::{Ray, RayError};
+use curvicast::spherical::SphericalGrid;
 use curvicast::surface::{
     AxialCone, Crossings, HalfPlane, PlaneZ, Side, Spheroid, Surface, SurfaceError,
 };
+use curvicast::tessellate::bevel::{Face, bevel_sphere, face_count, vertex_count};
+use curvicast::vec3::V3;
 
 /// Why one case failed in one precision.
 enum Failure {
@@ -96,6 +100,68 @@ fn check<T: Real>(case: &Case, tol: f64) -> Result<(), Failure> {
         }
     }
     Ok(())
+}
+
+/// Marches the ray `(−2, ¼, ¼) + t (1, 0, 0)` through the grid r = [0, ½, 1], θ = [0, π/2, π], φ = [0, π, 2π]
+/// with the serial engine. The line stays at y = z = ¼ (θ < π/2, 0 < φ < π), so it crosses the outer shell, the
+/// inner ball and the outer shell again: cells [1,0,0], [0,0,0], [1,0,0], entering at t = 2 − √(7/8), passing
+/// r = ½ at t = 2 ∓ √(1/8) and leaving at t = 2 + √(7/8) (derived by hand). `tol` is relative to 1.
+fn march_case<T: Real>(tol: f64) -> bool {
+    let h = |x: f64| T::from_f64(x);
+    let r = [h(0.0), h(0.5), h(1.0)];
+    let th = [h(0.0), T::FRAC_PI_2, T::PI];
+    let ph = [h(0.0), T::PI, T::PI + T::PI];
+    let mut ws = [T::ZERO; SphericalGrid::<f64>::workspace_len(3, 3, 3)];
+    let Ok(grid) = SphericalGrid::new(&r, &th, &ph, &mut ws) else {
+        return false;
+    };
+    let Ok(ray) = Ray::new([h(-2.0), h(0.25), h(0.25)], [h(1.0), h(0.0), h(0.0)]) else {
+        return false;
+    };
+    let (a, b) = (libm::sqrt(7.0 / 8.0), libm::sqrt(1.0 / 8.0));
+    let want = [
+        ([1, 0, 0], 2.0 - a, 2.0 - b),
+        ([0, 0, 0], 2.0 - b, 2.0 + b),
+        ([1, 0, 0], 2.0 + b, 2.0 + a),
+    ];
+    let mut n = 0usize;
+    let mut march = grid.march(&ray);
+    for c in &mut march {
+        let Some((cell, t0, t1)) = want.get(n) else {
+            return false;
+        };
+        let close = |x: T, y: f64| (x.to_f64() - y).abs() <= tol;
+        if c.cell != *cell || !close(c.t_enter, *t0) || !close(c.t_exit, *t1) {
+            return false;
+        }
+        n = n.wrapping_add(1);
+    }
+    n == want.len() && march.error().is_none()
+}
+
+/// Edge-bevels the unit sphere at level 2 into fixed buffers and checks the counts against the `const fn`s, that
+/// every face plane touches the sphere at its center point, and that no vertex lies inside the sphere.
+fn bevel_case<T: Real>(tol: f64) -> bool {
+    const LEVEL: u32 = 2;
+    const NV: usize = vertex_count(LEVEL);
+    const NF: usize = face_count(LEVEL);
+    let mut vertices = [V3::<T>::ZERO; NV];
+    let face = Face {
+        center: V3::ZERO,
+        normal: V3::ZERO,
+        vertices: [0; 6],
+        len: 0,
+    };
+    let mut faces = [face; NF];
+    let Ok(counts) = bevel_sphere(LEVEL, T::ONE, &mut vertices, &mut faces) else {
+        return false;
+    };
+    let centers_touch = faces.iter().all(|f| {
+        let r = f.center.length().to_f64();
+        (r - 1.0).abs() <= tol && (f.normal.dot(f.center).to_f64() - 1.0).abs() <= tol
+    });
+    let outside = vertices.iter().all(|v| v.length().to_f64() >= 1.0 - tol);
+    counts.vertices == NV && counts.faces == NF && centers_touch && outside
 }
 
 /// A fixed line buffer written to the host's stdout over semihosting. Overlong lines are cut (with `...`); the
@@ -232,7 +298,22 @@ fn main() -> ! {
             passed = passed.wrapping_add(1);
         }
     }
-    let all = passed == CASES.len() && !CASES.is_empty();
+    let extra = [
+        ("march f64", march_case::<f64>(1e-12)),
+        ("march f32", march_case::<f32>(1e-5)),
+        ("bevel f64", bevel_case::<f64>(1e-12)),
+        ("bevel f32", bevel_case::<f32>(1e-5)),
+    ];
+    let mut extra_passed = 0usize;
+    for (name, ok) in extra {
+        if ok {
+            extra_passed = extra_passed.wrapping_add(1);
+        } else {
+            line.str("FAIL ").str(name);
+            line.flush(&mut out);
+        }
+    }
+    let all = passed == CASES.len() && !CASES.is_empty() && extra_passed == extra.len();
     line.str("curvicast qemu-smoke: ");
     if !all {
         line.str("FAILED: ");
@@ -240,7 +321,10 @@ fn main() -> ! {
     line.num(passed)
         .str("/")
         .num(CASES.len())
-        .str(" cases passed (f64 and f32)");
+        .str(" cases passed (f64 and f32), march and bevel ")
+        .num(extra_passed)
+        .str("/")
+        .num(extra.len());
     line.flush(&mut out);
     debug::exit(if all {
         debug::EXIT_SUCCESS
