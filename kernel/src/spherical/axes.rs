@@ -60,6 +60,17 @@ fn count_le<T: Real>(v: &[T], x: T) -> u32 {
     u32::try_from(v.partition_point(|&b| b <= x)).unwrap_or(u32::MAX)
 }
 
+/// `q` times the power of two that brings its largest component into `[1, 2)` (exact): directions are located
+/// by signs of products, which must not underflow for tiny or overflow for huge coordinates.
+#[inline]
+pub(crate) fn unit_scaled<T: Real>(q: V3<T>) -> V3<T> {
+    let m = q.max_abs();
+    if m == T::ZERO || !m.is_finite() {
+        return q;
+    }
+    q.scalbn(m.ilogb().saturating_neg())
+}
+
 /// Radius breakpoints (`r` of a sphere grid, `ρ` of a cylinder grid, `r` of a polar grid) with their squares.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct RadialAxis<'a, T> {
@@ -105,6 +116,8 @@ pub(crate) struct ZenithAxis<'a, T> {
     pub cos: &'a [T],
     pub sin: &'a [T],
     pub len: u32,
+    /// The grid's outer radius: the length scale below which a line counts as passing through the center.
+    pub scale: T,
 }
 
 impl<'a, T: Real> ZenithAxis<'a, T> {
@@ -134,6 +147,7 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
             cos,
             sin,
             len,
+            scale: T::ZERO,
         })
     }
 
@@ -150,16 +164,27 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
     /// The band of the direction of `q` (from the center), `q ≠ 0`: the number of breakpoints with
     /// `θ_j <= θ(q)`, i.e. `sgnSqrCos θ_j · |q|² >= q_z |q_z|` (no division, no square root).
     ///
-    /// `leave_axis`: the point lies on the −z axis but the ray leaves it (a direction with a horizontal part),
-    /// so the band is the one just below θ = π (the right limit along the ray), not that of θ = π itself.
+    /// `leave_axis`: the ray leaves the −z axis (its direction has a horizontal part), so a point on that axis
+    /// (or within rounding of it) gets the band just below θ = π (the right limit along the ray), not that of
+    /// θ = π itself.
     #[inline]
     pub(crate) fn band_of(&self, q: V3<T>, leave_axis: bool) -> u32 {
+        let q = unit_scaled(q);
         let r2 = q.length_squared();
-        if leave_axis && q.x == T::ZERO && q.y == T::ZERO && q.z < T::ZERO {
+        let s = q.z * q.z.abs();
+        // on the −z axis, or so close to it that θ rounds to π
+        if leave_axis && q.z < T::ZERO && s == -r2 {
             return u32::try_from(self.theta.partition_point(|&t| t < T::PI)).unwrap_or(u32::MAX);
         }
-        let s = q.z * q.z.abs();
-        u32::try_from(self.sgn_sqr_cos.partition_point(|&c| c * r2 >= s)).unwrap_or(u32::MAX)
+        u32::try_from(self.sgn_sqr_cos.partition_point(|&c| {
+            // θ = π/2 by the sign of z itself: z² may underflow where z does not
+            if c == T::ZERO {
+                !(q.z > T::ZERO)
+            } else {
+                c * r2 >= s
+            }
+        }))
+        .unwrap_or(u32::MAX)
     }
 }
 
@@ -178,6 +203,8 @@ pub(crate) struct AzimuthAxis<'a, T> {
     /// Number of boundary half-planes (`m` for a full turn, `m + 1` for a wedge).
     pub boundaries: u32,
     pub full: bool,
+    /// The grid's outer radius: the length scale below which a line counts as meeting the z axis.
+    pub scale: T,
 }
 
 impl<'a, T: Real> AzimuthAxis<'a, T> {
@@ -215,6 +242,7 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
             sectors,
             boundaries: if full { sectors } else { len },
             full,
+            scale: T::ZERO,
         })
     }
 
@@ -259,7 +287,8 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
         let (x, y) = if x == T::ZERO && y == T::ZERO {
             (T::ONE, T::ZERO)
         } else {
-            (x, y)
+            let v = unit_scaled(V3::new(x, y, T::ZERO));
+            (v.x, v.y)
         };
         let half_v = self.lower_half_excluded(x, y);
         // v is at or after boundary j (counter-clockwise from boundary 0) — a prefix of the boundaries.

@@ -77,8 +77,11 @@ impl<'a, T: Real> SphericalGrid<'a, T> {
         )?;
         let mut ws = workspace;
         let radial = RadialAxis::build(Axis::R, r, &mut ws)?;
-        let zenith = ZenithAxis::build(theta, &mut ws)?;
-        let azimuth = AzimuthAxis::build(phi, &mut ws)?;
+        let mut zenith = ZenithAxis::build(theta, &mut ws)?;
+        let mut azimuth = AzimuthAxis::build(phi, &mut ws)?;
+        let scale = r.last().copied().unwrap_or(T::ZERO);
+        zenith.scale = scale;
+        azimuth.scale = scale;
         Ok(SphericalGrid {
             axes: Axes {
                 radial,
@@ -188,7 +191,8 @@ impl<'a, T: Real> CylindricalGrid<'a, T> {
         check_workspace(workspace.len(), Self::workspace_len(rho.len(), phi.len()))?;
         let mut ws = workspace;
         let radial = RadialAxis::build(Axis::Rho, rho, &mut ws)?;
-        let azimuth = AzimuthAxis::build(phi, &mut ws)?;
+        let mut azimuth = AzimuthAxis::build(phi, &mut ws)?;
+        azimuth.scale = rho.last().copied().unwrap_or(T::ZERO);
         let height = HeightAxis::build(z)?;
         Ok(CylindricalGrid {
             axes: Axes {
@@ -267,7 +271,8 @@ impl<'a, T: Real> PolarGrid<'a, T> {
         check_workspace(workspace.len(), Self::workspace_len(r.len(), phi.len()))?;
         let mut ws = workspace;
         let radial = RadialAxis::build(Axis::R, r, &mut ws)?;
-        let azimuth = AzimuthAxis::build(phi, &mut ws)?;
+        let mut azimuth = AzimuthAxis::build(phi, &mut ws)?;
+        azimuth.scale = r.last().copied().unwrap_or(T::ZERO);
         Ok(PolarGrid {
             axes: Axes {
                 radial,

@@ -21,6 +21,10 @@
 //! π) or through the center (θ jumps to π − θ), each index change is its own crossing, with zero-length crossings
 //! between (§3.1.4). A point exactly on the z axis has φ = 0, a point on the −z axis θ = π.
 //!
+//! Known limit of floating point: a line that leaves a wedge and comes back within one rounding of `t` (it passes
+//! the z axis closer than `t` can resolve) shows a zero-length gap, so the two crossings around it touch while
+//! their φ indices differ by more than one step.
+//!
 //! # Numerics: topology first
 //!
 //! Which boundary comes next is decided by the ditone/monotone structure of each coordinate along the line

@@ -70,6 +70,9 @@ pub(crate) enum Stream<T> {
         walk: Option<Walk<T>>,
         /// The horizontal direction where the remaining sweep of φ starts (the last boundary crossed).
         from: (T, T),
+        /// Boundaries crossed so far: a sweep of less than π crosses each at most once, so never more than
+        /// there are (a bound that also ends degenerate wedges whose boundaries round to one direction).
+        crossed: u32,
     },
     Height {
         band: u32,
@@ -106,6 +109,13 @@ fn before_hinge<T: Real>(ray: &Ray<T>, t: T) -> bool {
     } else {
         t < T::ZERO
     }
+}
+
+/// About `sqrt(ε)` of the type (a power of two, computed without a square root).
+#[inline]
+fn sqrt_epsilon<T: Real>() -> T {
+    let half_digits = i32::try_from(T::MANTISSA_DIGITS.saturating_sub(1) / 2).unwrap_or(26);
+    T::ONE.scalbn(half_digits.saturating_neg())
 }
 
 /// `s mod nb` (0 when `nb = 0`).
@@ -203,7 +213,7 @@ impl<T: Real> Stream<T> {
         // p × d = 0, or its horizontal part is 0 (which for a line not in the plane z = 0 means p × d is a
         // rounding residue): the line passes through the center.
         if (w.x == T::ZERO && w.y == T::ZERO)
-            || rounding_level(w.max_abs(), p.max_abs(), d.max_abs())
+            || rounding_level(w.max_abs(), p.max_abs().max(axis.scale), d.max_abs())
         {
             // The line passes through the center: θ is that of −d before it and of +d after it.
             let t_c = ray.t_from_scaled(-ray.pd() / ray.dd());
@@ -267,7 +277,10 @@ impl<T: Real> Stream<T> {
             return (Stream::Fixed, axis.sector_of(p.x, p.y)); // parallel to the z axis
         }
         let wz = ray.p_cross_d().z;
-        let (pm, dm) = (p.x.abs().max(p.y.abs()), d.x.abs().max(d.y.abs()));
+        let (pm, dm) = (
+            p.x.abs().max(p.y.abs()).max(axis.scale),
+            d.x.abs().max(d.y.abs()),
+        );
         if rounding_level(wz, pm, dm) {
             // The line meets the z axis: φ is that of −d before, of +d after.
             let s_a = -(p.x * d.x + p.y * d.y) / (d.x * d.x + d.y * d.y);
@@ -288,6 +301,7 @@ impl<T: Real> Stream<T> {
                     t_own: t0,
                     ccw,
                     from: (-d.x, -d.y),
+                    crossed: 0,
                     walk: Some(Walk {
                         t: t_a,
                         remaining: steps,
@@ -314,6 +328,7 @@ impl<T: Real> Stream<T> {
                 ccw: wz > T::ZERO,
                 walk: None,
                 from,
+                crossed: 0,
             }
         };
         (stream, sector)
@@ -496,24 +511,39 @@ impl<T: Real> Stream<T> {
             *up = !*up;
         }
         // No further cone is crossed. Topology check: far along the ray θ tends to the zenith angle of d, so
-        // the band must end as the band of d. When the line passes within rounding of the center the cone
-        // solver cannot see the crossings near the apex; they are completed here, at the closest approach.
+        // the band must end as the band of d. Where the cone solver is blind (a line passing the apex of a cone
+        // within rounding, where the nappe of a root cannot be told), the missing crossings are completed here,
+        // at the closest approach to the center. Not when d lies within rounding of the cone between the two
+        // bands: a line parallel to a generator approaches that cone from one side without crossing it.
         let target = axis.band_of(ray.scaled_dir(), true);
         let b = *band;
         let on_limit_boundary = b.abs_diff(target) == 1 && {
             let k = b.min(target);
             let d = ray.scaled_dir();
-            axis.sgn_sqr_cos
-                .get(k as usize)
-                .is_some_and(|&c| c * d.length_squared() == d.z * d.z.abs())
+            let d2 = d.length_squared();
+            axis.sgn_sqr_cos.get(k as usize).is_some_and(|&c| {
+                (c * d2 - d.z * d.z.abs()).abs() <= T::EPSILON * T::from_f64(8.0) * d2
+            })
         };
         if target != b && !on_limit_boundary && walk.is_none() {
-            *walk = Some(Walk {
-                t: ray.t_closest().max(*t_own),
-                remaining: b.abs_diff(target),
-                up: target > b,
-            });
-            return self.next_zenith(axis, ray, t_max);
+            // One band toward the limit, then the ordinary search resumes in that direction only (so the
+            // remaining cones are still crossed where the solver sees them). Each repair moves toward the
+            // limit band, so there are at most as many repairs as bands.
+            let t = ray.t_closest().max(*t_own);
+            if !(t <= t_max) {
+                *self = Stream::Fixed;
+                return None;
+            }
+            *up = target > b;
+            *switched = true;
+            *cache = None;
+            *band = if *up {
+                b.saturating_add(1)
+            } else {
+                b.saturating_sub(1)
+            };
+            *t_own = t;
+            return Some((t, *band));
         }
         *self = Stream::Fixed;
         None
@@ -532,6 +562,7 @@ impl<T: Real> Stream<T> {
             ccw,
             walk,
             from,
+            crossed,
         } = self
         else {
             return None;
@@ -568,7 +599,7 @@ impl<T: Real> Stream<T> {
         let b_d = (bc * d.y - bs * d.x) * sg;
         let ahead =
             b_d > T::ZERO && (f_b > T::ZERO || (f_b == T::ZERO && fx * bc + fy * bs > T::ZERO));
-        if !ahead {
+        if !ahead || *crossed >= axis.boundaries {
             return self.complete_azimuth(axis, ray, t_max);
         }
         let root = axis.plane(j).and_then(|h| h.scaled_root(ray));
@@ -582,6 +613,7 @@ impl<T: Real> Stream<T> {
                 *sector = step(*sector, *ccw);
                 *t_own = t;
                 *from = (bc, bs);
+                *crossed = crossed.saturating_add(1);
                 Some((t, *sector))
             }
             None => self.complete_azimuth(axis, ray, t_max),
@@ -615,11 +647,16 @@ impl<T: Real> Stream<T> {
             let (c, s) = axis.dir_of(k);
             c * d.y - s * d.x == T::ZERO && c * d.x + s * d.y > T::ZERO
         });
-        if steps == 0 || on_boundary || walk.is_some() {
+        let p = ray.origin();
+        let near_axis = ray.p_cross_d().z.abs()
+            <= sqrt_epsilon::<T>()
+                * T::from_f64(64.0)
+                * p.x.abs().max(p.y.abs()).max(axis.scale)
+                * d.x.abs().max(d.y.abs());
+        if steps == 0 || on_boundary || !near_axis || walk.is_some() {
             *self = Stream::Fixed;
             return None;
         }
-        let p = ray.origin();
         let s_a = -(p.x * d.x + p.y * d.y) / (d.x * d.x + d.y * d.y);
         *walk = Some(Walk {
             t: ray.t_from_scaled(s_a).max(*t_own),
