@@ -47,7 +47,11 @@ fn sanitize(v: &[f64], lo: f64, hi: f64) -> Vec<f64> {
 }
 
 fn phi_band(ph: &[f64], x: f64, y: f64, full: bool) -> Option<u32> {
-    let (x, y) = if x == 0.0 && y == 0.0 { (1.0, 0.0) } else { (x, y) };
+    let (x, y) = if x == 0.0 && y == 0.0 {
+        (1.0, 0.0)
+    } else {
+        (x, y)
+    };
     let rel = (y.atan2(x) - ph[0]).rem_euclid(2.0 * PI);
     let n = ph.iter().map(|p| p - ph[0]).filter(|&b| b <= rel).count();
     if n >= 1 && n < ph.len() {
@@ -64,13 +68,7 @@ fn band(v: &[f64], x: f64) -> Option<u32> {
     (n >= 1 && n < v.len()).then(|| n as u32 - 1)
 }
 
-fn check<T: Real>(
-    cs: &[CellCrossing<T>],
-    ray: &Ray<T>,
-    phi_slot: usize,
-    full: bool,
-    nphi: u32,
-) {
+fn check<T: Real>(cs: &[CellCrossing<T>], ray: &Ray<T>, phi_slot: usize, full: bool, nphi: u32) {
     let mut prev: Option<CellCrossing<T>> = None;
     for c in cs {
         assert!(c.t_enter <= c.t_exit, "{c:?}");
@@ -103,7 +101,9 @@ fn run<T: Real>(inp: &Input) {
     let sane = inp.flags & 1 != 0;
     let conv = |v: &[f64]| -> Vec<T> { v.iter().take(40).map(|&x| T::from_f64(x)).collect() };
     let v3 = |a: [f64; 3]| a.map(T::from_f64);
-    let Ok(ray) = Ray::new(v3(inp.origin), v3(inp.dir)) else { return };
+    let Ok(ray) = Ray::new(v3(inp.origin), v3(inp.dir)) else {
+        return;
+    };
     let ray = if inp.interval {
         match ray.with_interval(T::from_f64(inp.t_min), T::from_f64(inp.t_max)) {
             Ok(r) => r,
@@ -112,71 +112,132 @@ fn run<T: Real>(inp: &Input) {
     } else {
         ray
     };
-    let center = if inp.flags & 8 != 0 { v3(inp.center) } else { [T::ZERO; 3] };
+    let center = if inp.flags & 8 != 0 {
+        v3(inp.center)
+    } else {
+        [T::ZERO; 3]
+    };
     let kind = inp.kind % 3;
     let (a, b, c) = if sane {
         match kind {
-            0 => (sanitize(&inp.a, 0.0, 2.0), sanitize(&inp.b, 0.0, PI), sanitize(&inp.c, -1.0, -1.0 + 2.0 * PI)),
-            1 => (sanitize(&inp.a, 0.0, 2.0), sanitize(&inp.b, 0.5, 4.0), sanitize(&inp.c, -2.0, 2.0)),
-            _ => (sanitize(&inp.a, 0.3, 2.0), sanitize(&inp.b, -3.0, 3.0), vec![]),
+            0 => (
+                sanitize(&inp.a, 0.0, 2.0),
+                sanitize(&inp.b, 0.0, PI),
+                sanitize(&inp.c, -1.0, -1.0 + 2.0 * PI),
+            ),
+            1 => (
+                sanitize(&inp.a, 0.0, 2.0),
+                sanitize(&inp.b, 0.5, 4.0),
+                sanitize(&inp.c, -2.0, 2.0),
+            ),
+            _ => (
+                sanitize(&inp.a, 0.3, 2.0),
+                sanitize(&inp.b, -3.0, 3.0),
+                vec![],
+            ),
         }
     } else {
         (inp.a.clone(), inp.b.clone(), inp.c.clone())
     };
     let (ta, tb, tc) = (conv(&a), conv(&b), conv(&c));
     let mut ws = vec![T::ZERO; 256];
-    let (serial, separable, phi_slot, phis): (Vec<_>, Result<Vec<_>, MarchError>, usize, &[T]) = match kind {
-        0 => {
-            let Ok(g) = SphericalGrid::new(&ta, &tb, &tc, &mut ws) else { return };
-            let Ok(g) = g.with_center(center) else { return };
-            let mut m = g.march(&ray);
-            let s: Vec<_> = m.by_ref().collect();
-            assert_eq!(m.error(), None);
-            (s, g.march_separable::<256>(&ray).map(|m| m.collect()), 2, &tc)
-        }
-        1 => {
-            let Ok(g) = CylindricalGrid::new(&ta, &tb, &tc, &mut ws) else { return };
-            let Ok(g) = g.with_center(center) else { return };
-            let mut m = g.march(&ray);
-            let s: Vec<_> = m.by_ref().collect();
-            assert_eq!(m.error(), None);
-            (s, g.march_separable::<256>(&ray).map(|m| m.collect()), 1, &tb)
-        }
-        _ => {
-            let Ok(g) = PolarGrid::new(&ta, &tb, &mut ws) else { return };
-            let Ok(g) = g.with_center([center[0], center[1]]) else { return };
-            let mut m = g.march(&ray);
-            let s: Vec<_> = m.by_ref().collect();
-            assert_eq!(m.error(), None);
-            (s, g.march_separable::<256>(&ray).map(|m| m.collect()), 1, &tb)
-        }
-    };
+    let (serial, separable, phi_slot, phis): (Vec<_>, Result<Vec<_>, MarchError>, usize, &[T]) =
+        match kind {
+            0 => {
+                let Ok(g) = SphericalGrid::new(&ta, &tb, &tc, &mut ws) else {
+                    return;
+                };
+                let Ok(g) = g.with_center(center) else { return };
+                let mut m = g.march(&ray);
+                let s: Vec<_> = m.by_ref().collect();
+                assert_eq!(m.error(), None);
+                (
+                    s,
+                    g.march_separable::<256>(&ray).map(|m| m.collect()),
+                    2,
+                    &tc,
+                )
+            }
+            1 => {
+                let Ok(g) = CylindricalGrid::new(&ta, &tb, &tc, &mut ws) else {
+                    return;
+                };
+                let Ok(g) = g.with_center(center) else { return };
+                let mut m = g.march(&ray);
+                let s: Vec<_> = m.by_ref().collect();
+                assert_eq!(m.error(), None);
+                (
+                    s,
+                    g.march_separable::<256>(&ray).map(|m| m.collect()),
+                    1,
+                    &tb,
+                )
+            }
+            _ => {
+                let Ok(g) = PolarGrid::new(&ta, &tb, &mut ws) else {
+                    return;
+                };
+                let Ok(g) = g.with_center([center[0], center[1]]) else {
+                    return;
+                };
+                let mut m = g.march(&ray);
+                let s: Vec<_> = m.by_ref().collect();
+                assert_eq!(m.error(), None);
+                (
+                    s,
+                    g.march_separable::<256>(&ray).map(|m| m.collect()),
+                    1,
+                    &tb,
+                )
+            }
+        };
     if let Ok(sep) = separable {
         assert_eq!(serial, sep);
     }
     let span = phis.last().map_or(0.0, |l| l.to_f64()) - phis.first().map_or(0.0, |f| f.to_f64());
     let full = span >= 2.0 * PI * (1.0 - 16.0 * f32::EPSILON as f64) && T::MANTISSA_DIGITS < 53
         || span >= 2.0 * PI - 1e-14;
-    check(&serial, &ray, phi_slot, full, phis.len().saturating_sub(1) as u32);
+    check(
+        &serial,
+        &ray,
+        phi_slot,
+        full,
+        phis.len().saturating_sub(1) as u32,
+    );
     // interior points of long crossings (f64 spherical grids only)
     if T::MANTISSA_DIGITS == 53 && kind == 0 && sane {
         let (o, d) = (ray.origin(), ray.dir());
-        let (o, d) = ([o.x, o.y, o.z].map(|x| x.to_f64()), [d.x, d.y, d.z].map(|x| x.to_f64()));
+        let (o, d) = (
+            [o.x, o.y, o.z].map(|x| x.to_f64()),
+            [d.x, d.y, d.z].map(|x| x.to_f64()),
+        );
         let cen = center.map(|x| x.to_f64());
         let dl = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        let scale = 2.0 + (o[0] * o[0] + o[1] * o[1] + o[2] * o[2]).sqrt() + cen.iter().map(|x| x.abs()).sum::<f64>();
+        let scale = 2.0
+            + (o[0] * o[0] + o[1] * o[1] + o[2] * o[2]).sqrt()
+            + cen.iter().map(|x| x.abs()).sum::<f64>();
         for x in &serial {
             let (t0, t1) = (x.t_enter.to_f64(), x.t_exit.to_f64());
             // long against the grid and against the rounding of p + t d itself
-            let long = (t1 - t0) * dl >= 1e-6 * scale && t1 - t0 >= 1e-6 * t0.abs().max(t1.abs()) && t1 > t0;
+            let long = (t1 - t0) * dl >= 1e-6 * scale
+                && t1 - t0 >= 1e-6 * t0.abs().max(t1.abs())
+                && t1 > t0;
             if !t1.is_finite() || !dl.is_finite() || !long {
                 continue;
             }
             for f in [0.3, 0.7] {
                 let t = t0 + f * (t1 - t0);
-                let q = [o[0] + t * d[0] - cen[0], o[1] + t * d[1] - cen[1], o[2] + t * d[2] - cen[2]];
+                let q = [
+                    o[0] + t * d[0] - cen[0],
+                    o[1] + t * d[1] - cen[1],
+                    o[2] + t * d[2] - cen[2],
+                ];
                 let r = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt();
-                let th = if r == 0.0 { 0.0 } else { (q[2] / r).clamp(-1.0, 1.0).acos() };
+                let th = if r == 0.0 {
+                    0.0
+                } else {
+                    (q[2] / r).clamp(-1.0, 1.0).acos()
+                };
                 // well conditioned only: away from the center, the z axis and every boundary
                 let rho = q[0].hypot(q[1]);
                 let phi = q[1].atan2(q[0]);
@@ -192,7 +253,8 @@ fn run<T: Real>(inp: &Input) {
                 if near {
                     continue;
                 }
-                let got = (|| Some([band(&a, r)?, band(&b, th)?, phi_band(&c, q[0], q[1], full)?]))();
+                let got =
+                    (|| Some([band(&a, r)?, band(&b, th)?, phi_band(&c, q[0], q[1], full)?]))();
                 assert_eq!(got, Some(x.cell), "{x:?} at {f}");
             }
         }
@@ -211,7 +273,11 @@ impl Input {
             pos += 8;
             f64::from_le_bytes(b)
         };
-        let (na, nb, nc) = (byte(3) as usize % 13, byte(4) as usize % 13, byte(5) as usize % 13);
+        let (na, nb, nc) = (
+            byte(3) as usize % 13,
+            byte(4) as usize % 13,
+            byte(5) as usize % 13,
+        );
         let a = (0..na).map(|_| f()).collect();
         let b = (0..nb).map(|_| f()).collect();
         let c = (0..nc).map(|_| f()).collect();
@@ -219,7 +285,19 @@ impl Input {
         let origin = [f(), f(), f()];
         let dir = [f(), f(), f()];
         let (t_min, t_max) = (f(), f());
-        Input { kind: byte(0), flags: byte(1), a, b, c, center, origin, dir, t_min, t_max, interval: byte(2) & 1 != 0 }
+        Input {
+            kind: byte(0),
+            flags: byte(1),
+            a,
+            b,
+            c,
+            center,
+            origin,
+            dir,
+            t_min,
+            t_max,
+            interval: byte(2) & 1 != 0,
+        }
     }
 }
 

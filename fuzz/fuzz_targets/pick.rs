@@ -54,7 +54,13 @@ impl Tiny {
         out
     }
     fn node(&self, rows: [u32; 2], cols: [u32; 2], level: u8) -> Node<f64> {
-        Node { rows, cols, heights: self.range(rows, cols), children: [None; 4], level }
+        Node {
+            rows,
+            cols,
+            heights: self.range(rows, cols),
+            children: [None; 4],
+            level,
+        }
     }
 }
 
@@ -78,14 +84,21 @@ impl TerrainStorage<f64> for Tiny {
         if i >= self.grid.rows || j >= self.grid.cols {
             return None;
         }
-        self.h.get((i * self.grid.cols + j) as usize).copied().flatten()
+        self.h
+            .get((i * self.grid.cols + j) as usize)
+            .copied()
+            .flatten()
     }
 }
 
 fn moller(o: [f64; 3], d: [f64; 3], v: [[f64; 3]; 3], slack: f64) -> Option<(f64, f64)> {
     let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
     let cross = |a: [f64; 3], b: [f64; 3]| {
-        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
     };
     let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let (e1, e2) = (sub(v[1], v[0]), sub(v[2], v[0]));
@@ -117,21 +130,40 @@ fuzz_target!(|inp: Input| {
         return;
     }
     let lon0 = f64::from(inp.lon0) / 90.0;
-    let grid = Grid { lat0, lon0, dlat, dlon, rows, cols };
+    let grid = Grid {
+        lat0,
+        lon0,
+        dlat,
+        dlon,
+        rows,
+        cols,
+    };
     let n = (rows * cols) as usize;
     let h: Vec<Option<f64>> = (0..n)
-        .map(|k| ((inp.nodata >> k) & 1 == 0 || k >= 128).then(|| f64::from(inp.heights[k % 81]) / 4.0))
+        .map(|k| {
+            ((inp.nodata >> k) & 1 == 0 || k >= 128).then(|| f64::from(inp.heights[k % 81]) / 4.0)
+        })
         .collect();
-    let mut t = Tiny { grid, h, nodes: Vec::new(), zones: Vec::new() };
+    let mut t = Tiny {
+        grid,
+        h,
+        nodes: Vec::new(),
+        zones: Vec::new(),
+    };
     let (cr, cc) = (rows - 1, cols - 1);
     let root = t.node([0, cr], [0, cc], 0);
     t.nodes.push(root);
     if inp.split && cr >= 2 && cc >= 2 {
         let (mr, mc) = (cr / 2, cc / 2);
         let mut kids = [None; 4];
-        for (k, (r, c)) in [([0, mr], [0, mc]), ([0, mr], [mc, cc]), ([mr, cr], [0, mc]), ([mr, cr], [mc, cc])]
-            .into_iter()
-            .enumerate()
+        for (k, (r, c)) in [
+            ([0, mr], [0, mc]),
+            ([0, mr], [mc, cc]),
+            ([mr, cr], [0, mc]),
+            ([mr, cr], [mc, cc]),
+        ]
+        .into_iter()
+        .enumerate()
         {
             let node = t.node(r, c, 1);
             if node.heights.is_some() {
@@ -147,7 +179,11 @@ fuzz_target!(|inp: Input| {
         return;
     };
     let olat = (f64::from(inp.origin_lat) / 360.0).clamp(-90.0, 90.0);
-    let o = e.geodetic_deg_to_ecef(olat, f64::from(inp.origin_lon) / 90.0, f64::from(inp.origin_h) * 4.0);
+    let o = e.geodetic_deg_to_ecef(
+        olat,
+        f64::from(inp.origin_lon) / 90.0,
+        f64::from(inp.origin_h) * 4.0,
+    );
     let ti = f64::from(inp.target[0] % 64) / 64.0 * f64::from(cr);
     let tj = f64::from(inp.target[1] % 64) / 64.0 * f64::from(cc);
     let tp = e.geodetic_deg_to_ecef(lat0 + ti * dlat, lon0 + tj * dlon, f64::from(inp.target_h));
@@ -175,10 +211,15 @@ fuzz_target!(|inp: Input| {
     let mut strict: Option<f64> = None;
     for i in 0..cr {
         for j in 0..cc {
-            for tri in [[(i, j), (i, j + 1), (i + 1, j + 1)], [(i, j), (i + 1, j + 1), (i + 1, j)]] {
-                let (Some(a), Some(b), Some(c)) =
-                    (vert(tri[0].0, tri[0].1), vert(tri[1].0, tri[1].1), vert(tri[2].0, tri[2].1))
-                else {
+            for tri in [
+                [(i, j), (i, j + 1), (i + 1, j + 1)],
+                [(i, j), (i + 1, j + 1), (i + 1, j)],
+            ] {
+                let (Some(a), Some(b), Some(c)) = (
+                    vert(tri[0].0, tri[0].1),
+                    vert(tri[1].0, tri[1].1),
+                    vert(tri[2].0, tri[2].1),
+                ) else {
                     continue;
                 };
                 if let Some((tt, _)) = moller(o, d, [a, b, c], 1e-6) {
@@ -196,7 +237,9 @@ fuzz_target!(|inp: Input| {
     }
     if let Some(h) = &hit {
         assert!(
-            loose.iter().any(|&tt| (tt - h.t).abs() <= tol.max(1e-9 * h.t.abs())),
+            loose
+                .iter()
+                .any(|&tt| (tt - h.t).abs() <= tol.max(1e-9 * h.t.abs())),
             "false hit at t = {} (brute force: {loose:?})",
             h.t
         );
