@@ -176,6 +176,7 @@ fn radial_ray(e: &Ellipsoid<f64>, lat: f64, lon: f64, h0: f64) -> Ray<f64> {
 }
 
 #[test]
+#[cfg_attr(miri, ignore)] // many picks: minutes under Miri; the light tests below cover the same code
 fn flat_terrain_at_h0_hit_by_radial_rays_at_vertices() {
     let g = grid(45.0, 7.0, 0.01, 0.01, 9, 9);
     let dem = TestDem::new(g, std::vec![0.0; 81], 2, 1, 1);
@@ -234,6 +235,7 @@ fn single_raised_vertex_peak_and_its_slopes() {
 }
 
 #[test]
+#[cfg_attr(miri, ignore)] // many picks: minutes under Miri; the light tests below cover the same code
 fn ray_through_the_pole_row() {
     // A polar cap 80°..90° with 10° × 30° cells: the last row is the pole, where all vertices coincide.
     let g = grid(80.0, -180.0, 5.0, 30.0, 3, 13);
@@ -321,6 +323,7 @@ fn nodata_vertex_removes_its_triangles() {
 }
 
 #[test]
+#[cfg_attr(miri, ignore)] // many picks: minutes under Miri; the light tests below cover the same code
 fn line_of_sight_over_and_through_a_ridge() {
     let g = grid(10.0, 10.0, 0.001, 0.001, 3, 5);
     let hs = std::vec![
@@ -527,6 +530,7 @@ fn ray_from_below_hits_the_chord_dip_of_a_polar_triangle_below_its_lowest_vertex
 }
 
 #[test]
+#[cfg_attr(miri, ignore)] // many picks: minutes under Miri; the light tests below cover the same code
 fn cached_bounds_give_identical_picks() {
     let mut r = Lcg(5);
     let g = grid(40.0, 100.0, -0.25, 0.25, 17, 17);
