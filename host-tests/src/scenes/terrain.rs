@@ -770,6 +770,10 @@ pub struct DemStorage<'a> {
     offsets: Vec<usize>,
     zone_level: usize,
     zones: Vec<curvicast::terrain::NodeId>,
+    /// `sin_cos_deg(lat_deg(i))` per vertex row and `sin_cos_deg(lon_deg(j))` per column, in `f64`: the
+    /// kernel's `row_sin_cos` / `col_sin_cos` cache (16 bytes per row and per column).
+    row_trig: Vec<(f64, f64)>,
+    col_trig: Vec<(f64, f64)>,
 }
 
 impl<'a> DemStorage<'a> {
@@ -798,7 +802,16 @@ impl<'a> DemStorage<'a> {
             offsets,
             zone_level,
             zones: Vec::new(),
+            row_trig: Vec::new(),
+            col_trig: Vec::new(),
         };
+        let g: curvicast::terrain::Grid<f64> = curvicast::terrain::TerrainStorage::grid(&s);
+        s.row_trig = (0..g.rows)
+            .map(|i| curvicast::geodesy::sin_cos_deg(g.lat_deg(i)))
+            .collect();
+        s.col_trig = (0..g.cols)
+            .map(|j| curvicast::geodesy::sin_cos_deg(g.lon_deg(j)))
+            .collect();
         let (zr, zc) = s.pyramid.dims[zone_level];
         for r in 0..zr {
             for c in 0..zc {
@@ -834,11 +847,12 @@ impl<'a> DemStorage<'a> {
     }
 
     /// The memory the tree adds to the heights, in bytes: two `f32` (max, min) per node of the levels in use, plus
-    /// the zone list and level offsets.
+    /// the zone list, level offsets and the per-row / per-column sine and cosine tables.
     pub fn overhead_bytes(&self) -> usize {
         self.node_count() * 2 * std::mem::size_of::<f32>()
             + self.zones.len() * std::mem::size_of::<curvicast::terrain::NodeId>()
             + self.offsets.len() * std::mem::size_of::<usize>()
+            + (self.row_trig.len() + self.col_trig.len()) * std::mem::size_of::<(f64, f64)>()
     }
 
     /// The memory of the heights themselves (`f32` per vertex), for comparison.
@@ -963,5 +977,25 @@ impl<T: curvicast::Real> curvicast::terrain::TerrainStorage<T> for DemStorage<'_
         self.dem
             .height(i as usize, j as usize)
             .map(|h| T::from_f64(f64::from(h)))
+    }
+
+    // The tables hold the `f64` values; other scalar types compute their own (the kernel requires exactly
+    // `sin_cos_deg` in `T`).
+    fn row_sin_cos(&self, i: u32) -> (T, T) {
+        match self.row_trig.get(i as usize) {
+            Some(&(s, c)) if T::MANTISSA_DIGITS == 53 => (T::from_f64(s), T::from_f64(c)),
+            _ => curvicast::geodesy::sin_cos_deg(
+                <Self as curvicast::terrain::TerrainStorage<T>>::grid(self).lat_deg(i),
+            ),
+        }
+    }
+
+    fn col_sin_cos(&self, j: u32) -> (T, T) {
+        match self.col_trig.get(j as usize) {
+            Some(&(s, c)) if T::MANTISSA_DIGITS == 53 => (T::from_f64(s), T::from_f64(c)),
+            _ => curvicast::geodesy::sin_cos_deg(
+                <Self as curvicast::terrain::TerrainStorage<T>>::grid(self).lon_deg(j),
+            ),
+        }
     }
 }

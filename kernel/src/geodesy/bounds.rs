@@ -36,15 +36,17 @@
 //!
 //! The quad's triangles therefore lie in the volume (up to the floating-point tolerance of the point tests,
 //! which inflate every wall by `64 ε` relative). [`HeightQuadBounds::ray_interval`] returns the hull `[t_in, t_out]`
-//! of the ray's parameters inside the volume: the breakpoints are the crossings of the six boundary surfaces
-//! (computed by the shared [`crate::surface`] solvers) and each piece between breakpoints is classified by a
-//! point test at its midpoint. A volume the ray enters twice (two crossings of a latitude cone or of the lower
-//! sphere) yields one hull covering both visits.
+//! of the ray's parameters inside the volume in two stages. The convex walls first ([`convex_interval`]): inside
+//! the upper spheroid and inside the wedge the ray's parameters form one interval each, read off their crossings
+//! (with the wedge's planes inflated like the point tests). Then, within that interval, the breakpoints are the
+//! crossings of the lower sphere and the latitude cones (all crossings come from the shared [`crate::surface`]
+//! solvers) and each piece between breakpoints is classified by a point test at its midpoint. A volume the ray
+//! enters twice (two crossings of a latitude cone or of the lower sphere) yields one hull covering both visits.
 
 use super::{Ellipsoid, GeodesyError, sin_cos_deg};
 use crate::ray::Ray;
 use crate::real::Real;
-use crate::surface::{AxialCone, HalfPlane, Spheroid, Surface};
+use crate::surface::{AxialCone, Side, Spheroid, Surface};
 use crate::vec3::V3;
 
 /// Bound on how far a planar triangle with longest edge ≤ `d` and vertex heights ≥ `h_min` dips below `h_min`
@@ -124,6 +126,35 @@ impl<T: Real> LatWall<T> {
     }
 }
 
+/// The sines and cosines of a quad's boundary parallels and meridians ([`HeightQuadBounds::from_trig`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct QuadTrig<T> {
+    /// `(sin, cos)` of the southern boundary latitude.
+    pub south: (T, T),
+    /// `(sin, cos)` of the northern boundary latitude.
+    pub north: (T, T),
+    /// `(sin, cos)` of the western boundary longitude.
+    pub west: (T, T),
+    /// `(sin, cos)` of the eastern boundary longitude.
+    pub east: (T, T),
+    /// `λ_E − λ_W` in degrees (the wedge wall is used only below 180°).
+    pub span_deg: T,
+    /// `cos(Δλ/2)` of one cell (for the distance to the axis over a cell's triangles).
+    pub cos_half_cell_dlon: T,
+}
+
+impl<T: Real> QuadTrig<T> {
+    /// The meridian wedge `[(cos λ_W, sin λ_W), (cos λ_E, sin λ_E)]` when it bounds the quad (span below 180°,
+    /// where the wedge is convex), `None` for wider quads.
+    pub fn wedge(&self) -> Result<Option<[(T, T); 2]>, GeodesyError> {
+        let ((sw, cw), (se, ce), span) = (self.west, self.east, self.span_deg);
+        if ![sw, cw, se, ce, span].iter().all(|x| x.is_finite()) || span < T::ZERO {
+            return Err(GeodesyError::NonFinite);
+        }
+        Ok((span < T::from_f64(180.0)).then_some([(cw, sw), (ce, se)]))
+    }
+}
+
 /// The conservative bounding volume of a spheroidal height-quad (module docs) and its ray test.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HeightQuadBounds<T> {
@@ -152,14 +183,49 @@ impl<T: Real> HeightQuadBounds<T> {
         cell_dlat: T,
         cell_dlon: T,
     ) -> Result<Self, GeodesyError> {
-        let all = [
-            lat_s, lat_n, lon_w, lon_e, h_min, h_max, cell_dlat, cell_dlon,
-        ];
+        let all = [lat_s, lat_n, lon_w, lon_e];
         if all.iter().any(|x| !x.is_finite()) {
             return Err(GeodesyError::NonFinite);
         }
         let ninety = T::from_f64(90.0);
         if !(lat_s >= -ninety && lat_n <= ninety && lat_s <= lat_n) {
+            return Err(GeodesyError::LatitudeOutOfRange);
+        }
+        let trig = QuadTrig {
+            south: sin_cos_deg(lat_s),
+            north: sin_cos_deg(lat_n),
+            west: sin_cos_deg(lon_w),
+            east: sin_cos_deg(lon_e),
+            span_deg: lon_e - lon_w,
+            cos_half_cell_dlon: sin_cos_deg(cell_dlon.abs() / T::TWO).1,
+        };
+        Self::from_trig(e, &trig, h_min, h_max, cell_dlat, cell_dlon)
+    }
+
+    /// [`HeightQuadBounds::new`] from the sines and cosines of the quad's boundary latitudes and longitudes, as
+    /// [`sin_cos_deg`] gives them (a picker reads them from the storage's per-row and per-column cache, so that
+    /// building a volume needs no trigonometry). A latitude whose cosine is 0 is a pole.
+    pub fn from_trig(
+        e: &Ellipsoid<T>,
+        trig: &QuadTrig<T>,
+        h_min: T,
+        h_max: T,
+        cell_dlat: T,
+        cell_dlon: T,
+    ) -> Result<Self, GeodesyError> {
+        let QuadTrig {
+            south: (s_s, c_s),
+            north: (s_n, c_n),
+            cos_half_cell_dlon: c_half,
+            ..
+        } = *trig;
+        let all = [
+            s_s, c_s, s_n, c_n, c_half, h_min, h_max, cell_dlat, cell_dlon,
+        ];
+        if all.iter().any(|x| !x.is_finite()) {
+            return Err(GeodesyError::NonFinite);
+        }
+        if !(s_s <= s_n) || c_s < T::ZERO || c_n < T::ZERO {
             return Err(GeodesyError::LatitudeOutOfRange);
         }
         if !(h_min > e.min_height()) || !(h_max >= h_min) {
@@ -179,13 +245,10 @@ impl<T: Real> HeightQuadBounds<T> {
         let lower_r = b + h_min - s;
 
         // Distance to the axis over the quad's triangles.
-        let (s_s, c_s) = sin_cos_deg(lat_s);
-        let (s_n, c_n) = sin_cos_deg(lat_n);
         let cos_star = c_s.min(c_n);
-        let (_, c_half) = sin_cos_deg(cell_dlon.abs() / T::TWO);
         let r_min = (a + h_min.min(T::ZERO)) * cos_star * c_half;
 
-        let south = if lat_s <= -ninety {
+        let south = if c_s == T::ZERO && s_s < T::ZERO {
             None
         } else {
             let sigma = if s_s < T::ZERO {
@@ -195,7 +258,7 @@ impl<T: Real> HeightQuadBounds<T> {
             };
             Self::wall(e, s_s, c_s, -sigma)?
         };
-        let north = if lat_n >= ninety {
+        let north = if c_n == T::ZERO && s_n > T::ZERO {
             None
         } else {
             let sigma = if s_n > T::ZERO {
@@ -206,16 +269,7 @@ impl<T: Real> HeightQuadBounds<T> {
             Self::wall(e, s_n, c_n, sigma)?
         };
 
-        let span = lon_e - lon_w;
-        let wedge = if span >= T::ZERO && span < T::from_f64(180.0) {
-            let (sw, cw) = sin_cos_deg(lon_w);
-            let (se, ce) = sin_cos_deg(lon_e);
-            Some([(cw, sw), (ce, se)])
-        } else if span >= T::ZERO {
-            None
-        } else {
-            return Err(GeodesyError::NonFinite);
-        };
+        let wedge = trig.wedge()?;
         Ok(HeightQuadBounds {
             wedge,
             south,
@@ -277,9 +331,7 @@ impl<T: Real> HeightQuadBounds<T> {
                 return false;
             }
         }
-        let (ua, ub) = (self.upper.a(), self.upper.b());
-        let q = (p.x / ua).sq() + (p.y / ua).sq() + (p.z / ub).sq();
-        if q > T::ONE + tau {
+        if !inside_spheroid(&self.upper, p) {
             return false;
         }
         if self.lower_r > T::ZERO {
@@ -294,11 +346,17 @@ impl<T: Real> HeightQuadBounds<T> {
     /// The hull `[t_in, t_out]` of the ray's parameters (within its finite interval) inside the volume, or `None`.
     /// An infinite ray interval is an error of the caller: clip to the global bound first (it returns `None`).
     pub fn ray_interval(&self, ray: &Ray<T>) -> Option<(T, T)> {
-        let (t0, t1) = (ray.t_min(), ray.t_max());
-        if !t0.is_finite() || !t1.is_finite() {
-            return None;
-        }
-        let mut bp = [T::ZERO; 14];
+        let (lo, hi) = convex_interval(&self.upper, self.wedge, ray)?;
+        self.walls_interval(ray, lo, hi)
+    }
+
+    /// The second stage of [`HeightQuadBounds::ray_interval`]: the hull within `[lo, hi]`, which must be the
+    /// [`convex_interval`] of this volume's upper spheroid and wedge.
+    pub fn walls_interval(&self, ray: &Ray<T>, lo: T, hi: T) -> Option<(T, T)> {
+        let sub = ray.with_interval(lo, hi).ok()?;
+        // The other walls (lower sphere, latitude cones) bound non-convex regions: breakpoints at their
+        // crossings, each piece classified by a point test at its midpoint.
+        let mut bp = [T::ZERO; 10];
         let mut n = 0usize;
         let mut push = |t: T| {
             if let Some(slot) = bp.get_mut(n) {
@@ -306,44 +364,32 @@ impl<T: Real> HeightQuadBounds<T> {
                 n = n.saturating_add(1);
             }
         };
-        push(t0);
-        push(t1);
-        for c in &self.upper.crossings(ray) {
-            push(c.t);
-        }
+        push(lo);
+        push(hi);
         if self.lower_r > T::ZERO {
             if let Ok(sph) = Spheroid::sphere(self.lower_r) {
-                for c in &sph.crossings(ray) {
+                for c in &sph.crossings(&sub) {
                     push(c.t);
                 }
             }
         }
         for w in [self.south, self.north].into_iter().flatten() {
-            for c in &w.cone.crossings(ray) {
+            for c in &w.cone.crossings(&sub) {
                 push(c.t);
-            }
-        }
-        if let Some(planes) = self.wedge {
-            for (c, s) in planes {
-                if let Ok(hp) = HalfPlane::from_cos_sin(c, s) {
-                    for x in &hp.crossings(ray) {
-                        push(x.t);
-                    }
-                }
             }
         }
         let pts = bp.get_mut(..n).unwrap_or(&mut []);
         insertion_sort(pts);
-        if n == 2 && t0 == t1 {
-            return self.contains(V3::from(ray.at(t0))).then_some((t0, t1));
+        if n == 2 && lo == hi {
+            return self.contains(V3::from(ray.at(lo))).then_some((lo, hi));
         }
         // The first piece inside from the front and the last from the back (the hull between them is
         // conservative; pieces in between need no test).
-        let inside = |lo: T, hi: T| self.contains(V3::from(ray.at(lo + (hi - lo) * T::HALF)));
+        let inside = |a: T, b: T| self.contains(V3::from(ray.at(a + (b - a) * T::HALF)));
         let mut first: Option<usize> = None;
         for (k, w) in pts.windows(2).enumerate() {
-            if let [lo, hi] = *w {
-                if inside(lo, hi) {
+            if let [a, b] = *w {
+                if inside(a, b) {
                     first = Some(k);
                     break;
                 }
@@ -355,8 +401,8 @@ impl<T: Real> HeightQuadBounds<T> {
             if k <= first {
                 break;
             }
-            if let [lo, hi] = *w {
-                if inside(lo, hi) {
+            if let [a, b] = *w {
+                if inside(a, b) {
                     last = k;
                     break;
                 }
@@ -365,6 +411,84 @@ impl<T: Real> HeightQuadBounds<T> {
         let t_in = pts.get(first).copied()?;
         let t_out = pts.get(last.saturating_add(1)).copied()?;
         Some((t_in, t_out))
+    }
+}
+
+/// The first stage of [`HeightQuadBounds::ray_interval`] (§3.5's "B^h interval"): inside the upper spheroid and
+/// inside the meridian wedge (`[(cos λ_W, sin λ_W), (cos λ_E, sin λ_E)]`, convex when narrower than 180°) the
+/// ray's parameters form one interval each, found from their crossings alone. Most volumes a ray misses are
+/// rejected here, at the cost of one spheroid and two plane crossings — before the rest of the volume (sagitta,
+/// bulge-shifted cones) is even built.
+pub fn convex_interval<T: Real>(
+    upper: &Spheroid<T>,
+    wedge: Option<[(T, T); 2]>,
+    ray: &Ray<T>,
+) -> Option<(T, T)> {
+    let (t0, t1) = (ray.t_min(), ray.t_max());
+    if !t0.is_finite() || !t1.is_finite() {
+        return None;
+    }
+    let (mut lo, mut hi) = (t0, t1);
+    let cr = upper.crossings(ray);
+    if cr.is_empty() {
+        if !inside_spheroid(upper, V3::from(ray.at(t0 + (t1 - t0) * T::HALF))) {
+            return None;
+        }
+    } else {
+        for c in &cr {
+            match c.into {
+                Side::Negative => lo = lo.max(c.t),
+                Side::Positive => hi = hi.min(c.t),
+            }
+        }
+    }
+    if let Some([(c0, s0), (c1, s1)]) = wedge {
+        let (o, d) = (ray.origin(), ray.dir());
+        let tau = T::from_f64(64.0) * T::EPSILON;
+        let mag = (o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * t0.abs().max(t1.abs());
+        // East of λ_W: c0·y − s0·x ≥ 0; west of λ_E: c1·y − s1·x ≤ 0 (both inflated as in `contains`).
+        clip_half_space(
+            &mut lo,
+            &mut hi,
+            c0 * o.y - s0 * o.x,
+            c0 * d.y - s0 * d.x,
+            tau * mag,
+        );
+        clip_half_space(
+            &mut lo,
+            &mut hi,
+            s1 * o.x - c1 * o.y,
+            s1 * d.x - c1 * d.y,
+            tau * mag,
+        );
+    }
+    (lo <= hi).then_some((lo, hi))
+}
+
+/// The upper-spheroid test of [`HeightQuadBounds::contains`] (inflated by `64 ε`).
+#[inline]
+fn inside_spheroid<T: Real>(upper: &Spheroid<T>, p: V3<T>) -> bool {
+    let tau = T::from_f64(64.0) * T::EPSILON;
+    let (ua, ub) = (upper.a(), upper.b());
+    let q = (p.x / ua).sq() + (p.y / ua).sq() + (p.z / ub).sq();
+    q <= T::ONE + tau
+}
+
+/// Clips `[lo, hi]` to `{t : s0 + t·sd ≥ −tol}` (a half-space along the ray; also the leaf cells' walls).
+#[inline]
+pub(crate) fn clip_half_space<T: Real>(lo: &mut T, hi: &mut T, s0: T, sd: T, tol: T) {
+    let s0 = s0 + tol;
+    if sd == T::ZERO {
+        if s0 < T::ZERO {
+            *hi = T::NEG_INFINITY;
+        }
+        return;
+    }
+    let t = -s0 / sd;
+    if sd > T::ZERO {
+        *lo = lo.max(t);
+    } else {
+        *hi = hi.min(t);
     }
 }
 
@@ -504,5 +628,63 @@ mod tests {
             mid.lat.to_degrees() > 80.0 && mid.h > 0.0 && mid.h < 4.0e5,
             "{mid:?}"
         );
+    }
+
+    #[test]
+    #[cfg_attr(miri, ignore)]
+    fn hull_covers_every_sampled_point_inside_the_volume() {
+        // Quads from the equator to the poles (wide and narrow wedges, negative heights), rays from above, from
+        // below and grazing: every sample the point test puts inside lies in the two-stage hull, and the hull is
+        // not looser than the samples by more than one step at either end.
+        let e = Ellipsoid::<f64>::wgs84();
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut rnd = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut checked = 0;
+        for _ in 0..300 {
+            let lat_s = -90.0 + 170.0 * rnd();
+            let lat_n = (lat_s + 0.01 + 20.0 * rnd()).min(90.0);
+            let lon_w = -180.0 + 360.0 * rnd();
+            let lon_e = lon_w + 0.01 + 200.0 * rnd();
+            let h_lo = -500.0 + 1000.0 * rnd();
+            let h_hi = h_lo + 5000.0 * rnd();
+            let Ok(q) = HeightQuadBounds::new(&e, lat_s, lat_n, lon_w, lon_e, h_lo, h_hi, 0.1, 0.1)
+            else {
+                continue;
+            };
+            let (lat, lon) = (
+                lat_s + (lat_n - lat_s) * rnd(),
+                lon_w + (lon_e - lon_w) * rnd(),
+            );
+            let target = e.geodetic_deg_to_ecef(lat, lon, h_lo + (h_hi - h_lo) * rnd());
+            let from = e.geodetic_deg_to_ecef(
+                lat + 4.0 * (rnd() - 0.5),
+                lon + 4.0 * (rnd() - 0.5),
+                -2.0e4 + 1.0e5 * rnd(),
+            );
+            let ray = Ray::segment(from, target.add_scaled(1.0, target.minus(from))).unwrap();
+            let hull = q.ray_interval(&ray);
+            let n = 400;
+            let inside: std::vec::Vec<f64> = (0..=n)
+                .map(|k| k as f64 / n as f64)
+                .filter(|&t| q.contains(V3::from(ray.at(t))))
+                .collect();
+            let (Some(&a), Some(&b)) = (inside.first(), inside.last()) else {
+                continue;
+            };
+            assert!(hull.is_some(), "no hull, but t = {a} is inside");
+            let (t_in, t_out) = hull.unwrap();
+            checked += 1;
+            assert!(
+                t_in <= a && b <= t_out,
+                "hull {t_in}..{t_out} misses {a}..{b}"
+            );
+            assert!(t_in >= a - 1.0 / n as f64 && t_out <= b + 1.0 / n as f64);
+        }
+        assert!(checked > 100, "{checked}");
     }
 }

@@ -36,7 +36,11 @@
 
 mod bounds;
 
-pub use bounds::{HeightQuadBounds, chord_sagitta_bound, latitude_bulge_bound, upper_spheroid};
+pub(crate) use bounds::clip_half_space;
+pub use bounds::{
+    HeightQuadBounds, QuadTrig, chord_sagitta_bound, convex_interval, latitude_bulge_bound,
+    upper_spheroid,
+};
 
 use crate::real::Real;
 use crate::surface::{AxialCone, HalfPlane, Spheroid, SurfaceError};
@@ -183,6 +187,21 @@ impl<T: Real> Ellipsoid<T> {
     #[inline]
     pub fn ecef_from_sin_cos(&self, sin_lat: T, cos_lat: T, sin_lon: T, cos_lon: T, h: T) -> V3<T> {
         let n = self.prime_vertical_radius(sin_lat);
+        self.ecef_from_parts(sin_lat, cos_lat, n, sin_lon, cos_lon, h)
+    }
+
+    /// [`Ellipsoid::ecef_from_sin_cos`] with the prime vertical radius `n` of the latitude given (a picker
+    /// computes it once per grid row); the same value bit for bit.
+    #[inline]
+    pub fn ecef_from_parts(
+        &self,
+        sin_lat: T,
+        cos_lat: T,
+        n: T,
+        sin_lon: T,
+        cos_lon: T,
+        h: T,
+    ) -> V3<T> {
         let rho = (n + h) * cos_lat;
         V3::new(rho * cos_lon, rho * sin_lon, (n * self.e2m + h) * sin_lat)
     }

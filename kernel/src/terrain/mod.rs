@@ -50,10 +50,14 @@
 //!
 //! # Cost
 //!
-//! Per quad: the crossings of six quadric / planar walls (about 12 candidate parameters) and as many point tests.
-//! Per leaf: a clip against two meridian planes per column (columns the ray misses are skipped), then two row
-//! planes per cell of the surviving columns (one new `sin/cos` per cell), and the triangle test for crossed cells.
-//! [`PickStats`] counts quads, triangle pairs and triangles per ray.
+//! Per child of a visited quad: first the convex stage ([`crate::geodesy::convex_interval`]: the crossings of
+//! the child's upper spheroid and its two meridian planes), which rejects most children the ray misses; only
+//! for the others is the rest of the volume built (sagitta, bulge-shifted cones) and the lower sphere and the
+//! latitude cones crossed, with point tests for the pieces between. Per leaf: a clip against two meridian planes
+//! per column (columns the ray misses are skipped), then two row planes per cell of the surviving columns, and
+//! the triangle test for crossed cells. No trigonometry is needed per ray when the storage caches the sines and
+//! cosines of its rows and columns ([`TerrainStorage::row_sin_cos`]); the prime vertical radius is computed once
+//! per row of a leaf. [`PickStats`] counts quads, triangle pairs and triangles per ray.
 //!
 //! ```
 //! use curvicast::geodesy::Ellipsoid;
@@ -98,7 +102,10 @@ pub use storage::{
     DEFAULT_ZONE_COLS, DEFAULT_ZONE_ROWS, Grid, Node, NodeId, TerrainStorage, zone_cells,
 };
 
-use crate::geodesy::{Ellipsoid, GeodesyError, HeightQuadBounds, sin_cos_deg, upper_spheroid};
+use crate::geodesy::{
+    Ellipsoid, GeodesyError, HeightQuadBounds, QuadTrig, clip_half_space, convex_interval,
+    sin_cos_deg, upper_spheroid,
+};
 use crate::ray::{Ray, RayError};
 use crate::real::Real;
 use crate::surface::{Side, Surface};
@@ -208,6 +215,8 @@ pub struct Picker<'s, T, S, const STACK: usize = 64, const ZONES: usize = 64> {
     grid: Grid<T>,
     /// Global height range over the zones.
     h_max: T,
+    /// `(sin, cos)` of half a cell's longitude span.
+    half_cell: (T, T),
     zones: [Option<Zone<T>>; ZONES],
     zone_count: usize,
 }
@@ -226,6 +235,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         if n > ZONES {
             return Err(TerrainError::TooManyZones);
         }
+        let half_cell = sin_cos_deg(grid.dlon.abs() * T::HALF);
         let mut zones = [None; ZONES];
         let mut h_max = T::NEG_INFINITY;
         let mut count = 0usize;
@@ -238,7 +248,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             };
             let b = match storage.cached_bounds(id) {
                 Some(b) => b,
-                None => node_bounds(&ellipsoid, &grid, &node, lo, hi)?,
+                None => node_bounds(&ellipsoid, &grid, storage, &node, [lo, hi], half_cell.1)?,
             };
             h_max = h_max.max(hi);
             if let Some(slot) = zones.get_mut(count) {
@@ -251,6 +261,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             ellipsoid,
             grid,
             h_max,
+            half_cell,
             zones,
             zone_count: count,
         })
@@ -427,11 +438,28 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 let Some([lo, hi]) = child.heights else {
                     continue;
                 };
-                let b = match self.storage.cached_bounds(*cid) {
-                    Some(b) => b,
-                    None => node_bounds(&self.ellipsoid, &self.grid, &child, lo, hi)?,
+                let interval = match self.storage.cached_bounds(*cid) {
+                    Some(b) => b.ray_interval(&sub),
+                    None => {
+                        // The convex stage first, so that the rest of the volume is built only for
+                        // children the ray can enter.
+                        let trig = node_trig(&self.grid, self.storage, &child, self.half_cell.1);
+                        let upper = upper_spheroid(&self.ellipsoid, hi)?;
+                        match convex_interval(&upper, trig.wedge()?, &sub) {
+                            None => None,
+                            Some((a, c)) => HeightQuadBounds::from_trig(
+                                &self.ellipsoid,
+                                &trig,
+                                lo,
+                                hi,
+                                self.grid.dlat,
+                                self.grid.dlon,
+                            )?
+                            .walls_interval(&sub, a, c),
+                        }
+                    }
                 };
-                if let Some((a, c)) = b.ray_interval(&sub) {
+                if let Some((a, c)) = interval {
                     if let Some(slot) = kids.get_mut(nk) {
                         *slot = (
                             Entry {
@@ -490,15 +518,21 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let o = ray.origin();
         let d = ray.dir();
         let tau = T::from_f64(64.0) * T::EPSILON;
-        let (_, c_half) = sin_cos_deg(g.dlon * T::HALF);
+        let (s_half, c_half) = self.half_cell;
         let north_up = g.dlat > T::ZERO;
-        // Per-leaf cache of the row values (sin ψ, cos ψ, cone apex k) for leaves up to ROW_CACHE − 1 cells tall.
-        let mut rows_cache = [(T::ZERO, T::ZERO, T::ZERO); ROW_CACHE];
+        // Per-leaf cache of the row values (sin ψ, cos ψ, cone apex k, prime vertical radius N) for leaves up
+        // to ROW_CACHE − 1 cells tall.
+        let mut rows_cache = [(T::ZERO, T::ZERO, T::ZERO, T::ZERO); ROW_CACHE];
         let n_rows = node.rows[1].saturating_sub(node.rows[0]);
         let cached = usize::try_from(n_rows).is_ok_and(|n| n < ROW_CACHE);
-        let row_vals = |i: u32| -> (T, T, T) {
-            let (sp, cp) = sin_cos_deg(g.lat_deg(i));
-            (sp, cp, e.latitude_cone_apex(sp))
+        let row_vals = |i: u32| -> (T, T, T, T) {
+            let (sp, cp) = self.storage.row_sin_cos(i);
+            (
+                sp,
+                cp,
+                e.latitude_cone_apex(sp),
+                e.prime_vertical_radius(sp),
+            )
         };
         if cached {
             for (k, slot) in rows_cache.iter_mut().enumerate() {
@@ -514,7 +548,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 *slot = row_vals(i);
             }
         }
-        let row_at = |i: u32| -> (T, T, T) {
+        let row_at = |i: u32| -> (T, T, T, T) {
             if cached {
                 let k = i.saturating_sub(node.rows[0]);
                 if let Some(v) = usize::try_from(k).ok().and_then(|k| rows_cache.get(k)) {
@@ -526,23 +560,25 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let (j_first, j_end) = self.leaf_columns(node, ray, t_in, t_out);
         for j in j_first..j_end {
             let j1 = j.saturating_add(1);
-            let (sw, cw) = sin_cos_deg(g.lon_deg(j));
-            let (se, ce) = sin_cos_deg(g.lon_deg(j1));
-            let (sm, cm) = sin_cos_deg(g.lon_deg(j) + g.dlon * T::HALF);
+            let (sw, cw) = self.storage.col_sin_cos(j);
+            let (se, ce) = self.storage.col_sin_cos(j1);
+            // The cell's middle meridian λ_j + Δλ/2 by the addition theorem (a few ulps; the row plane only
+            // needs its direction, and the vertices' rounding is covered by `tau`).
+            let (sm, cm) = (sw * c_half + cw * s_half, cw * c_half - sw * s_half);
             let best_t = best.as_ref().map_or(T::INFINITY, |h| h.t);
             let mut lo = t_in;
             let mut hi = t_out.min(best_t);
             // West wall: n_w·P ≥ 0, n_w = (−sin λ_w, cos λ_w, 0); east wall: n_e·P ≤ 0.
             let mag = (o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * (lo.abs().max(hi.abs()));
             let tol = tau * mag;
-            clip(
+            clip_half_space(
                 &mut lo,
                 &mut hi,
                 cw * o.y - sw * o.x,
                 cw * d.y - sw * d.x,
                 tol,
             );
-            clip(
+            clip_half_space(
                 &mut lo,
                 &mut hi,
                 -(ce * o.y - se * o.x),
@@ -555,7 +591,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             // Row plane i at this column: m = (−sin ψ cos λm, −sin ψ sin λm, cos ψ cos(Δλ/2)), through (0,0,k_i);
             // m·(P − k ẑ) > 0 is north of it.
             let row_plane = |i: u32| -> (T, T, T) {
-                let (sp, cp, k) = row_at(i);
+                let (sp, cp, k, _) = row_at(i);
                 let m = V3::new(-sp * cm, -sp * sm, cp * c_half);
                 let q = V3::new(o.x, o.y, o.z - k);
                 let mag = q.x.abs()
@@ -575,8 +611,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 } else {
                     (plane_b, plane_a)
                 };
-                clip(&mut clo, &mut chi, south.0, south.1, south.2);
-                clip(&mut clo, &mut chi, -north.0, -north.1, north.2);
+                clip_half_space(&mut clo, &mut chi, south.0, south.1, south.2);
+                clip_half_space(&mut clo, &mut chi, -north.0, -north.1, north.2);
                 plane_a = plane_b;
                 if !(clo <= chi) {
                     continue;
@@ -587,9 +623,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     if !h.is_finite() {
                         return None;
                     }
-                    let (sl, cl) = sin_cos_deg(g.lat_deg(ii));
+                    let (sl, cl, _, n) = row_at(ii);
                     let (s_lon, c_lon) = if jj == j { (sw, cw) } else { (se, ce) };
-                    Some(e.ecef_from_sin_cos(sl, cl, s_lon, c_lon, h))
+                    Some(e.ecef_from_parts(sl, cl, n, s_lon, c_lon, h))
                 };
                 let v00 = vtx(i, j);
                 let v01 = vtx(i, j1);
@@ -678,24 +714,6 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
 /// Rows of a leaf whose trigonometry is cached per leaf (leaves up to 64 cells tall).
 const ROW_CACHE: usize = 65;
 
-/// Clips `[lo, hi]` to `{t : s0 + t·sd ≥ −tol}`.
-#[inline]
-fn clip<T: Real>(lo: &mut T, hi: &mut T, s0: T, sd: T, tol: T) {
-    let s0 = s0 + tol;
-    if sd == T::ZERO {
-        if s0 < T::ZERO {
-            *hi = T::NEG_INFINITY;
-        }
-        return;
-    }
-    let t = -s0 / sd;
-    if sd > T::ZERO {
-        *lo = lo.max(t);
-    } else {
-        *hi = hi.min(t);
-    }
-}
-
 fn sort_by_entry<T: Real>(v: &mut [(usize, T, T)]) {
     for i in 1..v.len() {
         let mut j = i;
@@ -759,27 +777,54 @@ pub fn quad_bounds<T: Real>(
     g: &Grid<T>,
     n: &Node<T>,
 ) -> Result<Option<HeightQuadBounds<T>>, TerrainError> {
-    match n.heights {
-        Some([lo, hi]) => node_bounds(e, g, n, lo, hi).map(Some),
-        None => Ok(None),
-    }
-}
-
-/// The conservative volume of a node from its grid ranges and heights.
-fn node_bounds<T: Real>(
-    e: &Ellipsoid<T>,
-    g: &Grid<T>,
-    n: &Node<T>,
-    h_lo: T,
-    h_hi: T,
-) -> Result<HeightQuadBounds<T>, TerrainError> {
+    let Some([lo, hi]) = n.heights else {
+        return Ok(None);
+    };
     let la = g.lat_deg(n.rows[0]);
     let lb = g.lat_deg(n.rows[1]);
     let (lat_s, lat_n) = if la <= lb { (la, lb) } else { (lb, la) };
     let lon_w = g.lon_deg(n.cols[0]);
     let lon_e = g.lon_deg(n.cols[1]);
-    Ok(HeightQuadBounds::new(
-        e, lat_s, lat_n, lon_w, lon_e, h_lo, h_hi, g.dlat, g.dlon,
+    Ok(Some(HeightQuadBounds::new(
+        e, lat_s, lat_n, lon_w, lon_e, lo, hi, g.dlat, g.dlon,
+    )?))
+}
+
+/// The boundary trigonometry of a node, read from the storage ([`TerrainStorage::row_sin_cos`],
+/// [`TerrainStorage::col_sin_cos`]).
+fn node_trig<T: Real, S: TerrainStorage<T>>(
+    g: &Grid<T>,
+    storage: &S,
+    n: &Node<T>,
+    cos_half_cell_dlon: T,
+) -> QuadTrig<T> {
+    let ra = storage.row_sin_cos(n.rows[0]);
+    let rb = storage.row_sin_cos(n.rows[1]);
+    // Rows may run southwards (dlat < 0): the southern wall is the one of smaller latitude.
+    let (south, north) = if g.dlat > T::ZERO { (ra, rb) } else { (rb, ra) };
+    QuadTrig {
+        south,
+        north,
+        west: storage.col_sin_cos(n.cols[0]),
+        east: storage.col_sin_cos(n.cols[1]),
+        span_deg: g.lon_deg(n.cols[1]) - g.lon_deg(n.cols[0]),
+        cos_half_cell_dlon,
+    }
+}
+
+/// The conservative volume of a node from its grid ranges and heights ([`node_trig`]): equal to
+/// [`quad_bounds`] when the storage returns what its trigonometry methods require.
+fn node_bounds<T: Real, S: TerrainStorage<T>>(
+    e: &Ellipsoid<T>,
+    g: &Grid<T>,
+    storage: &S,
+    n: &Node<T>,
+    [h_lo, h_hi]: [T; 2],
+    cos_half_cell_dlon: T,
+) -> Result<HeightQuadBounds<T>, TerrainError> {
+    let trig = node_trig(g, storage, n, cos_half_cell_dlon);
+    Ok(HeightQuadBounds::from_trig(
+        e, &trig, h_lo, h_hi, g.dlat, g.dlon,
     )?)
 }
 

@@ -1,7 +1,7 @@
 //! The storage trait: the kernel does not own terrain (seed 000 §3, §5). A storage gives the kernel the DEM's
 //! regular latitude/longitude grid, its vertex heights, and a height-augmented quadtree over the grid's cells.
 
-use crate::geodesy::{Ellipsoid, HeightQuadBounds};
+use crate::geodesy::{Ellipsoid, HeightQuadBounds, sin_cos_deg};
 use crate::real::Real;
 
 /// The regular geodetic grid of a DEM (`pick` in the CLI contract): vertex `V(i, j)` is at latitude
@@ -131,6 +131,18 @@ pub trait TerrainStorage<T: Real> {
     /// Whether the heights of this leaf are in memory (always, unless the storage pages).
     fn is_resident(&self, _id: NodeId) -> bool {
         true
+    }
+    /// `(sin, cos)` of the latitude of vertex row `i`: [`sin_cos_deg`]`(grid.lat_deg(i))`. A storage may return
+    /// it from a per-row table (one entry per row: a few kilobytes), which spares the kernel the trigonometry of
+    /// every quad wall and vertex; it **must** return exactly that value (both the walls and the triangles'
+    /// vertices are built from it).
+    fn row_sin_cos(&self, i: u32) -> (T, T) {
+        sin_cos_deg(self.grid().lat_deg(i))
+    }
+    /// `(sin, cos)` of the longitude of vertex column `j`: [`sin_cos_deg`]`(grid.lon_deg(j))`; may be cached per
+    /// column like [`TerrainStorage::row_sin_cos`], with the same requirement.
+    fn col_sin_cos(&self, j: u32) -> (T, T) {
+        sin_cos_deg(self.grid().lon_deg(j))
     }
     /// Optional cache of the node's bounding volume. A storage may precompute, once per node,
     /// [`super::quad_bounds`]`(&ellipsoid, &grid, &node)` and return it here, which saves the kernel building it
