@@ -92,6 +92,7 @@
 //! ```
 
 mod storage;
+pub mod subset;
 pub mod triangle;
 
 pub use storage::{
