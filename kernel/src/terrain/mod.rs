@@ -96,6 +96,7 @@
 //! ```
 
 mod storage;
+pub mod subset;
 pub mod triangle;
 
 pub use storage::{
