@@ -14,7 +14,8 @@
 //!   `|F| / |∇F|` of the surface's implicit equation, evaluated to ~106 bits), S the scale of the problem;
 //!   on the cone it also lies on the cone's own nappe, on the half-plane on its own half;
 //! * **count and sides** where the answer is well conditioned: for the plane, half-plane and spheroid, a root that
-//!   lies clearly inside the interval (and, for a spheroid, a line that clearly cuts it) must be reported, with the
+//!   lies clearly inside the interval (and, for a spheroid, a line that clearly cuts it: its closest approach is
+//!   inside by more than the backward-error scale ε·S as well as by a relative margin) must be reported, with the
 //!   right side, and one clearly outside must not.
 
 #![no_main]
@@ -358,13 +359,17 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
             let dd_f = dd.f();
             let rel = disc / (dd_f * a2.f());
             let margin = 1e3 * eps * big_s0 / dd_f.sqrt();
-            if rel < -1e-6 {
+            // "Clearly" also in absolute terms: the closest approach h (scaled space) must differ from a by more
+            // than the backward-error scale, or a sphere far smaller than ε·S (seen from 1e30 away) would count.
+            let h = (dot(w, w).f() / dd_f).max(0.0).sqrt();
+            let clear = 1e3 * eps * big_s0;
+            if rel < -1e-6 && h > a + clear {
                 assert!(
                     ts.is_empty(),
                     "spheroid: a clear miss reported as a hit: {}",
                     ctx()
                 );
-            } else if rel > 1e-6 {
+            } else if rel > 1e-6 && h < a - clear {
                 let pd = dot(ps, ds).f();
                 let sq = disc.sqrt();
                 let roots = [
