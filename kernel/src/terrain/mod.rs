@@ -407,13 +407,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         stats: &mut PickStats,
         budget: &mut u64,
     ) -> Result<(), TerrainError> {
-        let mut stack = [root; STACK];
-        let mut sp = 1usize;
-        while sp > 0 {
-            sp = sp.saturating_sub(1);
-            let Some(&e) = stack.get(sp) else {
-                return Err(TerrainError::StackFull);
-            };
+        let mut stack: heapless::Vec<Entry<T>, STACK> = heapless::Vec::new();
+        stack.push(root).map_err(|_| TerrainError::StackFull)?;
+        while let Some(e) = stack.pop() {
             let best_t = best.as_ref().map_or(T::INFINITY, |h| h.t);
             if e.t_in > best_t {
                 continue;
@@ -493,9 +489,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 }
             }
             for (k, _) in kids.iter() {
-                let slot = stack.get_mut(sp).ok_or(TerrainError::StackFull)?;
-                *slot = *k;
-                sp = sp.saturating_add(1);
+                stack.push(*k).map_err(|_| TerrainError::StackFull)?;
             }
         }
         Ok(())
@@ -523,7 +517,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let north_up = g.dlat > T::ZERO;
         // Per-leaf cache of the row values (sin ψ, cos ψ, cone apex k, prime vertical radius N) for leaves up
         // to ROW_CACHE − 1 cells tall.
-        let mut rows_cache = [(T::ZERO, T::ZERO, T::ZERO, T::ZERO); ROW_CACHE];
+        let mut rows_cache: heapless::Vec<(T, T, T, T), ROW_CACHE> = heapless::Vec::new();
         let n_rows = node.rows[1].saturating_sub(node.rows[0]);
         let cached = usize::try_from(n_rows).is_ok_and(|n| n < ROW_CACHE);
         let row_vals = |i: u32| -> (T, T, T, T) {
@@ -536,17 +530,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             )
         };
         if cached {
-            for (k, slot) in rows_cache.iter_mut().enumerate() {
-                let Some(i) = u32::try_from(k)
-                    .ok()
-                    .and_then(|k| node.rows[0].checked_add(k))
-                else {
-                    break;
-                };
-                if i > node.rows[1] {
+            for i in node.rows[0]..=node.rows[1] {
+                if rows_cache.push(row_vals(i)).is_err() {
                     break;
                 }
-                *slot = row_vals(i);
             }
         }
         let row_at = |i: u32| -> (T, T, T, T) {
