@@ -23,12 +23,44 @@
 //! returned meets the bound while the one below fails it.
 //!
 //! **Ellipsoids** (§4.4, chapter 5 "first scale the unit sphere along each of its three axes"): the polyhedron is
-//! the sphere's scaled by `S = diag(A, B, C)`. The results for an ellipsoid are *sufficient* levels from
-//! guarantees that hold for every face, exact when `A = B = C`:
-//! * normals: the face normal is `S⁻¹n / |S⁻¹n|`, and `|â − b̂| ≤ |a − b| / √(|a||b|)` gives
-//!   `sin(θ'/2) ≤ (max axis / min axis) · sin(θ/2)` between the normals of adjacent faces;
-//! * deviation: a vertex `(1 + δ)·u` of the unit polyhedron maps to `S(1 + δ)u`, at most `max axis · δ` from the
-//!   surface point `S u`.
+//! the sphere's scaled by `S = diag(A, B, C)`; a face with sphere center point `c` has the normal `S⁻¹c / |S⁻¹c|`.
+//! The worst case no longer sits on one chain, so [`min_level`] decides each level `k = 0, 1, …` in turn and
+//! returns the first that meets the bound; every level below it has been shown to fail by an explicit vertex or
+//! edge that violates the bound. Per level (all lengths relative to the largest semi-axis, `ratio` = largest /
+//! smallest semi-axis):
+//!
+//! 1. **Witnesses** (closed form, O(k)): edges and vertices known explicitly at level `k`. The edge from the tip of
+//!    the longest axis to its lattice neighbor towards the shortest axis (arc `θ_k = π / 2^(k+1)` on the sphere)
+//!    has normals `atan2(ratio · sin θ_k, cos θ_k)` apart; the central triangle of the chain above gives three more
+//!    edges. The vertex of each axis tip's corner triangle is `(1, τ, τ)` (permuted) with `τ = tan(θ_k / 2)`, and
+//!    the central triangle's **Y**-point is another; their exact distances from the ellipsoid (below) are lower
+//!    bounds of the level's largest deviation. If a witness violates the bound, the level fails.
+//! 2. **Guarantees** (closed form): with `|â − b̂| ≤ |a − b| / √(|a||b|)`, adjacent normals satisfy
+//!    `sin(θ'/2) ≤ ratio · sin(s_k / 2)`; a vertex `p` of the unit polyhedron (`|p| ≤ 1 + δ_k`) maps to `S p`,
+//!    within `(|p| − 1)·|S p̂| ≤ δ_k` of the surface point `S p̂`. If the guarantee meets the bound, the level meets it.
+//! 3. **Exact decision** when neither settles the level: a depth-first walk over the refinement tree of one
+//!    octant (the polyhedron is symmetric under the three coordinate reflections), regenerating the center points
+//!    exactly as the builder does, with an explicit stack of `3k + 1` triangles and no other memory. At depth `k`
+//!    it checks the three edges (normal angles) or the vertex (distance) of each triangle, and stops at the first
+//!    violation. Subtrees are skipped when a bound clears all of them: below a triangle with corner `c₀` and
+//!    largest chord `ρ`, a level-`k` edge is an arc of at most `s_k` along which the normal turns at most
+//!    `ratio / (|S⁻¹c₀| − ratio · ρ)` times as fast; a level-`k` vertex `p` has `|p| − 1 ≤ δ_k` and `p̂` within the
+//!    chord `σ_k = √(2δ_k / (1 + δ_k))` of its triangle's corners, so it is at most
+//!    `δ_k (|S c₀| + ρ + σ_k)` from the surface. A vertex is first bracketed by the supporting plane at `S p̂`
+//!    (distance ≥ `(|p| − 1)|p| / |S⁻¹p|`) and by `S p̂` itself; only when the bracket straddles the bound is its
+//!    distance solved: the closest point's Lagrange parameter by Newton's method on the convex, decreasing secular
+//!    function from `t = 0` (monotone, at most 64 steps).
+//!
+//! Why the walk is right: the distance to a convex body is a convex function, so over each (convex, planar) face
+//! it is largest at a vertex, and the polyhedron lies outside the ellipsoid; the smallest dihedral angle is a
+//! minimum over edges. So the largest deviation is a maximum over vertices and the largest normal angle a maximum
+//! over edges, which the walk visits (or clears by a bound) one by one.
+//!
+//! Cost: steps 1–2 take O(k) scalar operations per level, O(k²) in all. The walk at level `k` visits at most
+//! `(4^(k+1) − 1) / 3` triangles, each O(1) (plus a few Newton steps for the rare straddling vertex); it runs only
+//! for levels whose bound falls between the witnesses and the guarantee, and the pruning skips the regions far
+//! from the worst case. The host tests measure the time per call. [`ellipsoid_worst_case`] walks a whole octant
+//! without pruning and returns the level's exact largest deviation and smallest dihedral angle.
 //!
 //! **Screen space**: a deviation `e` on an object of bounding radius `r` whose center is at distance `d > r` from
 //! the eye lies no nearer than `D = d − r − e`, so it subtends at most `2·asin(e / (2D))`; that is at most the
@@ -46,16 +78,17 @@
 //! ```
 
 use super::TessellateError;
-use super::bevel::MAX_LEVEL;
+use super::bevel::{MAX_LEVEL, normalized, tangent_planes_meet};
 use crate::real::Real;
+use crate::vec3::V3;
 
 /// The object whose level is chosen.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Shape<T> {
-    /// A sphere of this radius: the level is exactly the smallest that meets the bound.
+    /// A sphere of this radius.
     Sphere(T),
-    /// An ellipsoid with these semi-axes: the level is the smallest whose guarantee (see the module docs) meets
-    /// the bound — sufficient, and the smallest when the axes are equal.
+    /// An ellipsoid with these semi-axes (`x²/A² + y²/B² + z²/C² = 1`); the squared ratio of the smallest to the
+    /// largest must be a normal number.
     Ellipsoid([T; 3]),
 }
 
@@ -138,62 +171,40 @@ pub fn screen_space_error<T: Real>(radius: T, distance: T, deviation: T) -> T {
 }
 
 /// The smallest refinement level whose polyhedron meets `bound` for `shape` (chapter 5), without building any
-/// level.
+/// level: every level below the one returned fails the bound. Allocation-free; for spheres O(k) scalar
+/// operations, for ellipsoids as described in the module docs.
 ///
 /// # Errors
-/// [`TessellateError::InvalidShape`] for a non-positive or non-finite radius/axis, [`TessellateError::InvalidBound`]
-/// for a bound out of range (NaN, a dihedral angle ≥ π or < 0, a deviation ≤ 0, a pixel angle outside `(0, π]`, an
-/// eye inside the object's bounding sphere), [`TessellateError::Unreachable`] when no level up to [`MAX_LEVEL`]
-/// meets it.
+/// [`TessellateError::InvalidShape`] for a non-positive or non-finite radius/axis (or an axis ratio whose square
+/// is not a normal number), [`TessellateError::InvalidBound`] for a bound out of range (NaN, a dihedral angle ≥ π
+/// or < 0, a deviation ≤ 0, a pixel angle outside `(0, π]`, an eye inside the object's bounding sphere),
+/// [`TessellateError::Unreachable`] when no level up to [`MAX_LEVEL`] meets it.
 pub fn min_level<T: Real>(shape: Shape<T>, bound: Bound<T>) -> Result<u32, TessellateError> {
-    let (r_max, ratio) = match shape {
+    let (r_max, ellipsoid) = match shape {
         Shape::Sphere(r) => {
             if !(r > T::ZERO) || !r.is_finite() {
                 return Err(TessellateError::InvalidShape);
             }
-            (r, T::ONE)
+            (r, None)
         }
         Shape::Ellipsoid(axes) => {
-            let mut lo = T::INFINITY;
-            let mut hi = T::ZERO;
-            for a in axes {
-                if !(a > T::ZERO) || !a.is_finite() {
-                    return Err(TessellateError::InvalidShape);
-                }
-                lo = lo.min(a);
-                hi = hi.max(a);
-            }
-            let ratio = hi / lo;
-            if !ratio.is_finite() {
-                return Err(TessellateError::InvalidShape);
-            }
-            (hi, ratio)
+            let (e, hi) = Ell::new(axes)?;
+            // Equal axes: the sphere's exact chain.
+            (hi, if e.ratio == T::ONE { None } else { Some(e) })
         }
     };
-    // Turn the bound into a test on the unit sphere's worst case.
-    enum Test<T> {
-        /// ratio · sin(s/2) ≤ limit (= cos(φ/2)); for the sphere (ratio 1) the same as s ≤ π − φ.
-        HalfChord(T),
-        /// max_deviation ≤ limit (relative to the largest semi-axis).
-        Deviation(T),
-    }
     let test = match bound {
         Bound::MinDihedral(phi) => {
             if !(phi >= T::ZERO) || !(phi < T::PI) {
                 return Err(TessellateError::InvalidBound);
             }
-            if ratio == T::ONE {
-                // Exact comparison on the angle itself for spheres.
-                let limit = T::PI - phi;
-                return first_level(|w: &WorstCase<T>| w.max_normal_angle <= limit);
-            }
-            Test::HalfChord((phi * T::HALF).cos())
+            EllTest::NormalAngle(T::PI - phi)
         }
         Bound::MaxDeviation(e) => {
             if !(e > T::ZERO) {
                 return Err(TessellateError::InvalidBound);
             }
-            Test::Deviation(e / r_max)
+            EllTest::Deviation(e / r_max)
         }
         Bound::ScreenSpace {
             distance,
@@ -211,14 +222,24 @@ pub fn min_level<T: Real>(shape: Shape<T>, bound: Bound<T>) -> Result<u32, Tesse
             if !(allowed > T::ZERO) {
                 return Err(TessellateError::InvalidBound);
             }
-            Test::Deviation(allowed / r_max)
+            EllTest::Deviation(allowed / r_max)
         }
     };
-    match test {
-        Test::HalfChord(limit) => {
-            first_level(|w: &WorstCase<T>| ratio * (w.one_minus_cos * T::HALF).sqrt() <= limit)
+    match (ellipsoid, test) {
+        (None, EllTest::NormalAngle(limit)) => {
+            first_level(|w: &WorstCase<T>| w.max_normal_angle <= limit)
         }
-        Test::Deviation(limit) => first_level(|w: &WorstCase<T>| w.max_deviation <= limit),
+        (None, EllTest::Deviation(limit)) => {
+            first_level(|w: &WorstCase<T>| w.max_deviation <= limit)
+        }
+        (Some(e), test) => {
+            for level in 0..=MAX_LEVEL {
+                if ellipsoid_meets(&e, level, test)? {
+                    return Ok(level);
+                }
+            }
+            Err(TessellateError::Unreachable)
+        }
     }
 }
 
@@ -232,6 +253,410 @@ fn first_level<T: Real>(ok: impl Fn(&WorstCase<T>) -> bool) -> Result<u32, Tesse
         u = next_u(u);
     }
     Err(TessellateError::Unreachable)
+}
+
+/// The exact worst case of an ellipsoid's polyhedron at one level, from [`ellipsoid_worst_case`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EllipsoidWorstCase<T> {
+    /// The largest angle between the normals of adjacent faces, radians.
+    pub max_normal_angle: T,
+    /// The smallest dihedral angle between adjacent faces, radians (`π −` the largest normal angle).
+    pub min_dihedral: T,
+    /// The largest distance between the polyhedron and the ellipsoid (in the unit of the semi-axes).
+    pub max_deviation: T,
+}
+
+/// The largest deviation and smallest dihedral angle of the level-`level` polyhedron of the ellipsoid with
+/// semi-axes `axes` (§4.4, chapter 5), by walking every vertex and edge of one octant without building the level
+/// (module docs, step 3, without pruning): `(4^(level+1) − 1) / 3` triangles, each with one closest-point solve and
+/// three normal angles; fixed memory.
+///
+/// # Errors
+/// [`TessellateError::LevelTooDeep`] above [`MAX_LEVEL`], [`TessellateError::InvalidShape`] as for [`min_level`].
+pub fn ellipsoid_worst_case<T: Real>(
+    axes: [T; 3],
+    level: u32,
+) -> Result<EllipsoidWorstCase<T>, TessellateError> {
+    let (e, hi) = Ell::new(axes)?;
+    let mut angle = T::ZERO;
+    let mut dev = T::ZERO;
+    walk_octant(
+        level,
+        |_| false,
+        |c| {
+            let [c0, c1, c2] = *c;
+            for (x, y) in [(c0, c1), (c1, c2), (c2, c0)] {
+                angle = angle.max(e.normal_angle(x, y).ok_or(TessellateError::Internal)?);
+            }
+            let p = tangent_planes_meet(c0, c1, c2).ok_or(TessellateError::Internal)?;
+            dev = dev.max(e.distance(p));
+            Ok(true)
+        },
+    )?;
+    Ok(EllipsoidWorstCase {
+        max_normal_angle: angle,
+        min_dihedral: T::PI - angle,
+        max_deviation: dev * hi,
+    })
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Ellipsoids: witnesses, guarantees and the exhaustive octant walk.
+// ---------------------------------------------------------------------------------------------------------------
+
+/// The ellipsoid scaled so that its largest semi-axis is 1 (`a`), with `a²` and `1/a` per axis.
+#[derive(Debug, Clone, Copy)]
+struct Ell<T> {
+    a: [T; 3],
+    w: [T; 3],
+    inv: [T; 3],
+    /// Largest over smallest semi-axis (`1 / min a`).
+    ratio: T,
+}
+
+impl<T: Real> Ell<T> {
+    /// Validates the semi-axes and normalizes them; returns the ellipsoid and the largest semi-axis.
+    fn new(axes: [T; 3]) -> Result<(Self, T), TessellateError> {
+        let mut hi = T::ZERO;
+        for a in axes {
+            if !(a > T::ZERO) || !a.is_finite() {
+                return Err(TessellateError::InvalidShape);
+            }
+            hi = hi.max(a);
+        }
+        let a = axes.map(|x| x / hi);
+        let w = a.map(|x| x * x);
+        let inv = a.map(|x| T::ONE / x);
+        let lo = a[0].min(a[1]).min(a[2]);
+        let ratio = T::ONE / lo;
+        // The squared axis ratio must be a normal number for the closest-point solver.
+        if !ratio.is_finite() || w.iter().any(|&x| !(x >= T::MIN_POSITIVE)) {
+            return Err(TessellateError::InvalidShape);
+        }
+        Ok((Ell { a, w, inv, ratio }, hi))
+    }
+
+    /// `S c` (a point of the unit sphere mapped onto the ellipsoid).
+    fn scale(&self, c: V3<T>) -> V3<T> {
+        V3::new(c.x * self.a[0], c.y * self.a[1], c.z * self.a[2])
+    }
+
+    /// `S⁻¹ c` (the ellipsoid's outward normal direction at `S c`).
+    fn unscale(&self, c: V3<T>) -> V3<T> {
+        V3::new(c.x * self.inv[0], c.y * self.inv[1], c.z * self.inv[2])
+    }
+
+    /// The angle between the ellipsoid's normals at `S c0` and `S c1` (the faces with sphere center points `c0`,
+    /// `c1`), as `atan2(|n0 × n1|, n0 · n1)`.
+    fn normal_angle(&self, c0: V3<T>, c1: V3<T>) -> Option<T> {
+        let n0 = normalized(self.unscale(c0))?;
+        let n1 = normalized(self.unscale(c1))?;
+        Some(n0.cross(n1).length().atan2(n0.dot(n1)))
+    }
+
+    /// Distance from `S p` (a vertex of the unit sphere's polyhedron mapped by `S`) to the ellipsoid; 0 for a point
+    /// on or inside it.
+    ///
+    /// The closest point is `x_i = w_i y_i / (t + w_i)` with `y = S p` and the Lagrange parameter `t ≥ 0` the root
+    /// of `F(t) = Σ (w_i p_i / (t + w_i))² − 1`; `F` is decreasing and convex on `t ≥ 0`, so Newton's method from
+    /// `t = 0` (where `F(0) = |p|² − 1`) climbs monotonically to the root without overshooting. At most 64 steps;
+    /// it stops as soon as a step makes no progress. The gap is `y_i t / (t + w_i)` per axis: no cancellation.
+    fn distance(&self, p: V3<T>) -> T {
+        let p = p.to_array();
+        let f0 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2] - T::ONE;
+        if !(f0 > T::ZERO) {
+            return T::ZERO;
+        }
+        let mut t = T::ZERO;
+        let mut f = f0;
+        for _ in 0..64 {
+            let mut slope = T::ZERO;
+            for (&pi, &wi) in p.iter().zip(self.w.iter()) {
+                let d = t + wi;
+                let g = wi * pi / d;
+                slope += T::TWO * g * g / d;
+            }
+            if !(slope > T::ZERO) {
+                break;
+            }
+            let next = t + f / slope;
+            if !(next > t) || !next.is_finite() {
+                break;
+            }
+            t = next;
+            let mut s = T::ZERO;
+            for (&pi, &wi) in p.iter().zip(self.w.iter()) {
+                let g = wi * pi / (t + wi);
+                s += g * g;
+            }
+            f = s - T::ONE;
+            if !(f > T::ZERO) {
+                break;
+            }
+        }
+        let mut gap = T::ZERO;
+        for ((&pi, &wi), &ai) in p.iter().zip(self.w.iter()).zip(self.a.iter()) {
+            let g = ai * pi * t / (t + wi);
+            gap += g * g;
+        }
+        gap.sqrt()
+    }
+}
+
+/// What a level must satisfy, in the normalized ellipsoid's units.
+#[derive(Debug, Clone, Copy)]
+enum EllTest<T> {
+    /// Every angle between adjacent face normals at most this (radians; `π −` the smallest dihedral angle).
+    NormalAngle(T),
+    /// Every vertex at most this far from the ellipsoid (relative to the largest semi-axis).
+    Deviation(T),
+}
+
+/// The sphere's level-`k` numbers that bound the ellipsoid's: `(s_k, δ_k, θ_k)` with `θ_k = π / 2^(k+1)` the arc
+/// between a cube-face center and its nearest lattice neighbor.
+fn sphere_numbers<T: Real>(level: u32) -> Result<(T, T, T), TessellateError> {
+    let w = worst_case::<T>(level)?;
+    let k = i32::try_from(level).map_err(|_| TessellateError::Internal)?;
+    let theta = T::FRAC_PI_2.scalbn(k.checked_neg().ok_or(TessellateError::Internal)?);
+    Ok((w.max_normal_angle, w.max_deviation, theta))
+}
+
+/// The corners of the *central* triangle of the octant after `level` subdivisions (§4.3.3's worst-case chain).
+fn central_triangle<T: Real>(level: u32) -> Result<[V3<T>; 3], TessellateError> {
+    let mut c = octant::<T>();
+    for _ in 0..level {
+        let [c0, c1, c2] = c;
+        c = [mid(c0, c1)?, mid(c1, c2)?, mid(c2, c0)?];
+    }
+    Ok(c)
+}
+
+/// The positive octant's corners: the center points of the cube's faces `+x`, `+y`, `+z`.
+fn octant<T: Real>() -> [V3<T>; 3] {
+    let (o, l) = (T::ZERO, T::ONE);
+    [V3::new(l, o, o), V3::new(o, l, o), V3::new(o, o, l)]
+}
+
+/// The geodesic midpoint of two unit vectors, exactly as the builder computes new center points.
+fn mid<T: Real>(a: V3<T>, b: V3<T>) -> Result<V3<T>, TessellateError> {
+    normalized(a.plus(b)).ok_or(TessellateError::Internal)
+}
+
+/// `Some(false)` if an explicitly known edge or vertex of level `level` violates the test (a witness that the
+/// level fails), `Some(true)` if the axis-ratio guarantee of the module docs shows that it meets it, `None` when
+/// neither decides.
+fn decide_cheaply<T: Real>(
+    e: &Ell<T>,
+    level: u32,
+    test: EllTest<T>,
+) -> Result<Option<bool>, TessellateError> {
+    let (s, delta, theta) = sphere_numbers::<T>(level)?;
+    let central = central_triangle::<T>(level)?;
+    match test {
+        EllTest::NormalAngle(limit) => {
+            // Witness 1: the edge from the tip of the longest axis towards the shortest one, arc θ_k on the
+            // sphere; its normals are atan2(ratio · sin θ, cos θ) apart.
+            let tip = (e.ratio * theta.sin()).atan2(theta.cos());
+            // Witness 2: the sides of the central triangle.
+            let [c0, c1, c2] = central;
+            let mut worst = tip;
+            for (x, y) in [(c0, c1), (c1, c2), (c2, c0)] {
+                worst = worst.max(e.normal_angle(x, y).ok_or(TessellateError::Internal)?);
+            }
+            if worst > limit {
+                return Ok(Some(false));
+            }
+            // Guarantee: sin(angle/2) ≤ ratio · sin(s_k/2) for every pair of adjacent faces.
+            if e.ratio * (s * T::HALF).sin() <= (limit * T::HALF).sin() {
+                return Ok(Some(true));
+            }
+        }
+        EllTest::Deviation(limit) => {
+            // Witnesses: the vertex at each axis tip's corner triangle, (1, τ, τ) with τ = tan(θ/2), and the
+            // Y-point of the central triangle.
+            let tau = theta.sin() / (T::ONE + theta.cos());
+            let [c0, c1, c2] = central;
+            let y = tangent_planes_meet(c0, c1, c2).ok_or(TessellateError::Internal)?;
+            let mut worst = e.distance(y);
+            for p in [
+                V3::new(T::ONE, tau, tau),
+                V3::new(tau, T::ONE, tau),
+                V3::new(tau, tau, T::ONE),
+            ] {
+                worst = worst.max(e.distance(p));
+            }
+            if worst > limit {
+                return Ok(Some(false));
+            }
+            // Guarantee: every vertex is within δ_k (largest semi-axis = 1) of the ellipsoid.
+            if delta <= limit {
+                return Ok(Some(true));
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// One triangle of the subdivided octant: its corners are center points of faces of the polyhedron.
+#[derive(Debug, Clone, Copy)]
+struct Tri<T> {
+    c: [V3<T>; 3],
+    depth: u32,
+}
+
+/// Depth-first walk over the refinement tree of the positive octant down to `level`, with an explicit stack
+/// (each expansion pops one triangle and pushes four, so `3·level + 1` slots suffice).
+///
+/// `prune(tri)` returns true when nothing below `tri` needs to be visited; `leaf(corners)` returns false to stop
+/// the walk. Returns whether the walk ran to the end. Every step pops one of at most
+/// `(4^(level+1) − 1) / 3` triangles.
+fn walk_octant<T: Real>(
+    level: u32,
+    mut prune: impl FnMut(&Tri<T>) -> bool,
+    mut leaf: impl FnMut(&[V3<T>; 3]) -> Result<bool, TessellateError>,
+) -> Result<bool, TessellateError> {
+    const SLOTS: usize = 3 * MAX_LEVEL as usize + 2;
+    let err = TessellateError::Internal;
+    if level > MAX_LEVEL {
+        return Err(TessellateError::LevelTooDeep {
+            level,
+            max: MAX_LEVEL,
+        });
+    }
+    let zero = Tri {
+        c: [V3::ZERO; 3],
+        depth: 0,
+    };
+    let mut stack = [zero; SLOTS];
+    *stack.first_mut().ok_or(err)? = Tri {
+        c: octant(),
+        depth: 0,
+    };
+    let mut len = 1usize;
+    // Number of triangles in the tree: (4^(level+1) − 1) / 3.
+    let nodes = 4u64
+        .checked_pow(level.checked_add(1).ok_or(err)?)
+        .ok_or(err)?
+        .checked_div(3)
+        .ok_or(err)?;
+    for _ in 0..nodes {
+        let Some(top) = len.checked_sub(1) else {
+            return Ok(true);
+        };
+        len = top;
+        let tri = *stack.get(top).ok_or(err)?;
+        if tri.depth >= level {
+            if !leaf(&tri.c)? {
+                return Ok(false);
+            }
+            continue;
+        }
+        if prune(&tri) {
+            continue;
+        }
+        let [c0, c1, c2] = tri.c;
+        let (m01, m12, m20) = (mid(c0, c1)?, mid(c1, c2)?, mid(c2, c0)?);
+        let depth = tri.depth.checked_add(1).ok_or(err)?;
+        for c in [
+            [m01, m12, m20],
+            [c0, m01, m20],
+            [m01, c1, m12],
+            [m20, m12, c2],
+        ] {
+            *stack.get_mut(len).ok_or(err)? = Tri { c, depth };
+            len = len.checked_add(1).ok_or(err)?;
+        }
+    }
+    // The loop ran once per triangle of the tree; the stack must be empty now.
+    if len == 0 { Ok(true) } else { Err(err) }
+}
+
+/// Decides `test` at `level` exactly by visiting every vertex (deviation) or every edge (normal angle) of the
+/// positive octant — the polyhedron is symmetric under the three coordinate reflections — skipping the subtrees
+/// that the bounds of the module docs clear, and stopping at the first violation.
+fn decide_by_walk<T: Real>(
+    e: &Ell<T>,
+    level: u32,
+    test: EllTest<T>,
+) -> Result<bool, TessellateError> {
+    let (s, delta, _) = sphere_numbers::<T>(level)?;
+    let slack = T::ONE + T::EPSILON.sqrt();
+    // Largest chord from a triangle's first corner to any point of it.
+    let reach = |c: &[V3<T>; 3]| {
+        let [c0, c1, c2] = *c;
+        c1.minus(c0)
+            .length()
+            .max(c2.minus(c0).length())
+            .max(c2.minus(c1).length())
+    };
+    match test {
+        EllTest::NormalAngle(limit) => walk_octant(
+            level,
+            |tri| {
+                // Every level-k edge below is an arc of at most s_k inside the triangle, where the normal map
+                // stretches arcs by at most ratio / |S⁻¹c|, and |S⁻¹c| ≥ |S⁻¹c₀| − ratio · reach.
+                let [c0, _, _] = tri.c;
+                let floor = e.unscale(c0).length() - e.ratio * reach(&tri.c);
+                floor > T::ZERO && s * e.ratio / floor * slack <= limit
+            },
+            |c| {
+                let [c0, c1, c2] = *c;
+                for (x, y) in [(c0, c1), (c1, c2), (c2, c0)] {
+                    let a = e.normal_angle(x, y).ok_or(TessellateError::Internal)?;
+                    if !(a <= limit) {
+                        return Ok(false);
+                    }
+                }
+                Ok(true)
+            },
+        ),
+        EllTest::Deviation(limit) => {
+            // A level-k vertex p has |p| − 1 ≤ δ_k and its direction within σ_k (chord) of its triangle's corners.
+            let sigma = (T::TWO * delta / (T::ONE + delta)).sqrt();
+            walk_octant(
+                level,
+                |tri| {
+                    let [c0, _, _] = tri.c;
+                    let far = e.scale(c0).length() + reach(&tri.c) + sigma;
+                    delta * far * slack <= limit
+                },
+                |c| {
+                    let [c0, c1, c2] = *c;
+                    let p = tangent_planes_meet(c0, c1, c2).ok_or(TessellateError::Internal)?;
+                    let pp = p.dot(p);
+                    let excess = pp - T::ONE;
+                    if !(excess > T::ZERO) {
+                        return Ok(true);
+                    }
+                    let r = pp.sqrt();
+                    let out = excess / (r + T::ONE); // |p| − 1
+                    // Between the supporting plane at S p̂ and the point S p̂ itself.
+                    let upper = out * e.scale(p).length() / r;
+                    if upper * slack <= limit {
+                        return Ok(true);
+                    }
+                    let lower = out * r / e.unscale(p).length();
+                    if lower > limit * slack {
+                        return Ok(false);
+                    }
+                    Ok(e.distance(p) <= limit)
+                },
+            )
+        }
+    }
+}
+
+/// Does the level-`level` polyhedron of `e` meet `test`? Cheap witnesses and guarantees first, the walk only
+/// when they leave it open.
+fn ellipsoid_meets<T: Real>(
+    e: &Ell<T>,
+    level: u32,
+    test: EllTest<T>,
+) -> Result<bool, TessellateError> {
+    match decide_cheaply(e, level, test)? {
+        Some(v) => Ok(v),
+        None => decide_by_walk(e, level, test),
+    }
 }
 
 #[cfg(test)]
