@@ -312,6 +312,9 @@ struct Ell<T> {
     inv: [T; 3],
     /// Largest over smallest semi-axis (`1 / min a`).
     ratio: T,
+    /// The smallest radius of curvature, `(min a)²`: by Blaschke's rolling theorem a ball of this radius touching
+    /// the ellipsoid from inside at any point lies inside it.
+    roll: T,
 }
 
 impl<T: Real> Ell<T> {
@@ -333,7 +336,16 @@ impl<T: Real> Ell<T> {
         if !ratio.is_finite() || w.iter().any(|&x| !(x >= T::MIN_POSITIVE)) {
             return Err(TessellateError::InvalidShape);
         }
-        Ok((Ell { a, w, inv, ratio }, hi))
+        Ok((
+            Ell {
+                a,
+                w,
+                inv,
+                ratio,
+                roll: lo * lo,
+            },
+            hi,
+        ))
     }
 
     /// `S c` (a point of the unit sphere mapped onto the ellipsoid).
@@ -352,6 +364,33 @@ impl<T: Real> Ell<T> {
         let n0 = normalized(self.unscale(c0))?;
         let n1 = normalized(self.unscale(c1))?;
         Some(n0.cross(n1).length().atan2(n0.dot(n1)))
+    }
+
+    /// Is `S p` (a vertex of the unit sphere's polyhedron mapped by `S`) within `limit` of the ellipsoid?
+    ///
+    /// With `ε = |p| − 1`, `S p = (1 + ε) S p̂` lies above the supporting plane at `S p̂` by `h = ε / |S⁻¹p̂|`
+    /// (a lower bound of the distance), and at most `h + τ² / (2 (h + r))` from the rolling ball of radius `r`
+    /// touching there (`τ ≤ ε |S p̂|` the offset along the plane; an upper bound), and at most `ε |S p̂|` from
+    /// `S p̂`. The closest point is solved for only when these bounds straddle `limit`.
+    fn vertex_meets(&self, p: V3<T>, limit: T) -> bool {
+        let slack = T::ONE + T::EPSILON.sqrt();
+        let pp = p.dot(p);
+        let excess = pp - T::ONE;
+        if !(excess > T::ZERO) {
+            return T::ZERO <= limit;
+        }
+        let r = pp.sqrt();
+        let eps = excess / (r + T::ONE);
+        let h = eps * r / self.unscale(p).length();
+        if h > limit * slack {
+            return false;
+        }
+        let tau = eps * self.scale(p).length() / r;
+        let upper = tau.min(h + tau * tau / (T::TWO * (h + self.roll)));
+        if upper * slack <= limit {
+            return true;
+        }
+        self.distance(p) <= limit
     }
 
     /// Distance from `S p` (a vertex of the unit sphere's polyhedron mapped by `S`) to the ellipsoid; 0 for a point
@@ -412,23 +451,10 @@ enum EllTest<T> {
     Deviation(T),
 }
 
-/// The sphere's level-`k` numbers that bound the ellipsoid's: `(s_k, δ_k, θ_k)` with `θ_k = π / 2^(k+1)` the arc
-/// between a cube-face center and its nearest lattice neighbor.
-fn sphere_numbers<T: Real>(level: u32) -> Result<(T, T, T), TessellateError> {
+/// The sphere's level-`k` numbers that bound the ellipsoid's: `(s_k, δ_k)`.
+fn sphere_numbers<T: Real>(level: u32) -> Result<(T, T), TessellateError> {
     let w = worst_case::<T>(level)?;
-    let k = i32::try_from(level).map_err(|_| TessellateError::Internal)?;
-    let theta = T::FRAC_PI_2.scalbn(k.checked_neg().ok_or(TessellateError::Internal)?);
-    Ok((w.max_normal_angle, w.max_deviation, theta))
-}
-
-/// The corners of the *central* triangle of the octant after `level` subdivisions (§4.3.3's worst-case chain).
-fn central_triangle<T: Real>(level: u32) -> Result<[V3<T>; 3], TessellateError> {
-    let mut c = octant::<T>();
-    for _ in 0..level {
-        let [c0, c1, c2] = c;
-        c = [mid(c0, c1)?, mid(c1, c2)?, mid(c2, c0)?];
-    }
-    Ok(c)
+    Ok((w.max_normal_angle, w.max_deviation))
 }
 
 /// The positive octant's corners: the center points of the cube's faces `+x`, `+y`, `+z`.
@@ -442,6 +468,107 @@ fn mid<T: Real>(a: V3<T>, b: V3<T>) -> Result<V3<T>, TessellateError> {
     normalized(a.plus(b)).ok_or(TessellateError::Internal)
 }
 
+/// The four children of a triangle: the central one first, then the corners' (the order [`walk_octant`] and
+/// [`leaf_at`] share).
+fn children<P: Copy>(c: [P; 3], m01: P, m12: P, m20: P) -> [[P; 3]; 4] {
+    let [c0, c1, c2] = c;
+    [
+        [m01, m12, m20],
+        [c0, m01, m20],
+        [m01, c1, m12],
+        [m20, m12, c2],
+    ]
+}
+
+/// Twice the signed area of the lattice triangle `(a, b, x)`, projected on the first two coordinates.
+fn orient(a: [i64; 3], b: [i64; 3], x: [i64; 3]) -> Option<i64> {
+    let (ux, uy) = (b[0].checked_sub(a[0])?, b[1].checked_sub(a[1])?);
+    let (vx, vy) = (x[0].checked_sub(a[0])?, x[1].checked_sub(a[1])?);
+    ux.checked_mul(vy)?.checked_sub(uy.checked_mul(vx)?)
+}
+
+/// The corners (center points, computed exactly as the builder computes them) of the level-`level` triangle of the
+/// positive octant whose centroid is `target / 3`, in lattice coordinates (`|i| + |j| + |l| = 2^level`, so `target`
+/// sums to `3 · 2^level`): O(level) midpoints along the refinement tree.
+fn leaf_at<T: Real>(level: u32, target: [i64; 3]) -> Result<[V3<T>; 3], TessellateError> {
+    let err = TessellateError::Internal;
+    let n = 1i64.checked_shl(level).ok_or(err)?;
+    // Lattice corners scaled by 3 so that the target is a lattice point too.
+    let n3 = n.checked_mul(3).ok_or(err)?;
+    let mut lat = [[n3, 0, 0], [0, n3, 0], [0, 0, n3]];
+    let mut c = octant::<T>();
+    let half = |a: [i64; 3], b: [i64; 3]| -> Option<[i64; 3]> {
+        Some([
+            a[0].checked_add(b[0])?.checked_div(2)?,
+            a[1].checked_add(b[1])?.checked_div(2)?,
+            a[2].checked_add(b[2])?.checked_div(2)?,
+        ])
+    };
+    for _ in 0..level {
+        let [l0, l1, l2] = lat;
+        let kids = children(
+            lat,
+            half(l0, l1).ok_or(err)?,
+            half(l1, l2).ok_or(err)?,
+            half(l2, l0).ok_or(err)?,
+        );
+        let [c0, c1, c2] = c;
+        let pts = children(c, mid(c0, c1)?, mid(c1, c2)?, mid(c2, c0)?);
+        let mut found = None;
+        for (k, p) in kids.iter().zip(pts.iter()) {
+            let [a, b, d] = *k;
+            let whole = orient(a, b, d).ok_or(err)?;
+            let inside = [(a, b), (b, d), (d, a)].iter().all(|&(u, v)| {
+                orient(u, v, target).is_some_and(|o| o == 0 || (o > 0) == (whole > 0))
+            });
+            if inside {
+                found = Some((*k, *p));
+                break;
+            }
+        }
+        (lat, c) = found.ok_or(err)?;
+    }
+    Ok(c)
+}
+
+/// Centroids (times 3, lattice coordinates of level `level`) of the witness triangles: the corner triangle at
+/// each axis tip, the central triangle, and the three triangles of the octant around each midpoint of its sides
+/// (where the worst vertices and edges of oblate, prolate and triaxial ellipsoids sit).
+fn witness_targets(level: u32) -> Result<([[i64; 3]; 13], usize), TessellateError> {
+    let err = TessellateError::Internal;
+    let mut out = [[0i64; 3]; 13];
+    if level == 0 {
+        *out.first_mut().ok_or(err)? = [1, 1, 1];
+        return Ok((out, 1));
+    }
+    let n = 1i64.checked_shl(level).ok_or(err)?;
+    let h3 = n.checked_div(2).and_then(|h| h.checked_mul(3)).ok_or(err)?;
+    let tip = n.checked_mul(3).and_then(|x| x.checked_sub(2)).ok_or(err)?;
+    let (hp1, hm1, hm2) = (
+        h3.checked_add(1).ok_or(err)?,
+        h3.checked_sub(1).ok_or(err)?,
+        h3.checked_sub(2).ok_or(err)?,
+    );
+    let mut len = 0usize;
+    let mut put = |t: [i64; 3]| -> Result<(), TessellateError> {
+        *out.get_mut(len).ok_or(err)? = t;
+        len = len.checked_add(1).ok_or(err)?;
+        Ok(())
+    };
+    put([n, n, n])?;
+    for (p, q, r) in [(0usize, 1usize, 2usize), (1, 2, 0), (2, 0, 1)] {
+        // Axis tip p, and the three triangles around the midpoint of the side from axis p to axis q.
+        for (vp, vq, vr) in [(tip, 1, 1), (hp1, hm2, 1), (hm1, hm1, 2), (hm2, hp1, 1)] {
+            let mut t = [0i64; 3];
+            for (axis, v) in [(p, vp), (q, vq), (r, vr)] {
+                *t.get_mut(axis).ok_or(err)? = v;
+            }
+            put(t)?;
+        }
+    }
+    Ok((out, len))
+}
+
 /// `Some(false)` if an explicitly known edge or vertex of level `level` violates the test (a witness that the
 /// level fails), `Some(true)` if the axis-ratio guarantee of the module docs shows that it meets it, `None` when
 /// neither decides.
@@ -450,51 +577,45 @@ fn decide_cheaply<T: Real>(
     level: u32,
     test: EllTest<T>,
 ) -> Result<Option<bool>, TessellateError> {
-    let (s, delta, theta) = sphere_numbers::<T>(level)?;
-    let central = central_triangle::<T>(level)?;
-    match test {
-        EllTest::NormalAngle(limit) => {
-            // Witness 1: the edge from the tip of the longest axis towards the shortest one, arc θ_k on the
-            // sphere; its normals are atan2(ratio · sin θ, cos θ) apart.
-            let tip = (e.ratio * theta.sin()).atan2(theta.cos());
-            // Witness 2: the sides of the central triangle.
-            let [c0, c1, c2] = central;
-            let mut worst = tip;
-            for (x, y) in [(c0, c1), (c1, c2), (c2, c0)] {
-                worst = worst.max(e.normal_angle(x, y).ok_or(TessellateError::Internal)?);
-            }
-            if worst > limit {
-                return Ok(Some(false));
-            }
-            // Guarantee: sin(angle/2) ≤ ratio · sin(s_k/2) for every pair of adjacent faces.
-            if e.ratio * (s * T::HALF).sin() <= (limit * T::HALF).sin() {
-                return Ok(Some(true));
-            }
-        }
-        EllTest::Deviation(limit) => {
-            // Witnesses: the vertex at each axis tip's corner triangle, (1, τ, τ) with τ = tan(θ/2), and the
-            // Y-point of the central triangle.
-            let tau = theta.sin() / (T::ONE + theta.cos());
-            let [c0, c1, c2] = central;
-            let y = tangent_planes_meet(c0, c1, c2).ok_or(TessellateError::Internal)?;
-            let mut worst = e.distance(y);
-            for p in [
-                V3::new(T::ONE, tau, tau),
-                V3::new(tau, T::ONE, tau),
-                V3::new(tau, tau, T::ONE),
-            ] {
-                worst = worst.max(e.distance(p));
-            }
-            if worst > limit {
-                return Ok(Some(false));
-            }
-            // Guarantee: every vertex is within δ_k (largest semi-axis = 1) of the ellipsoid.
-            if delta <= limit {
-                return Ok(Some(true));
-            }
+    let (s, delta) = sphere_numbers::<T>(level)?;
+    let (targets, len) = witness_targets(level)?;
+    for &t in targets.get(..len).ok_or(TessellateError::Internal)? {
+        let c = leaf_at::<T>(level, t)?;
+        if !leaf_meets(e, &c, test)? {
+            return Ok(Some(false));
         }
     }
-    Ok(None)
+    let guaranteed = match test {
+        // sin(angle/2) ≤ ratio · sin(s_k/2) for every pair of adjacent faces.
+        EllTest::NormalAngle(limit) => e.ratio * (s * T::HALF).sin() <= (limit * T::HALF).sin(),
+        // Every vertex is within δ_k (largest semi-axis = 1) of the ellipsoid.
+        EllTest::Deviation(limit) => delta <= limit,
+    };
+    Ok(if guaranteed { Some(true) } else { None })
+}
+
+/// Does the level-`k` triangle with corners `c` pass the test: its three edges (normal angles) or its vertex?
+fn leaf_meets<T: Real>(
+    e: &Ell<T>,
+    c: &[V3<T>; 3],
+    test: EllTest<T>,
+) -> Result<bool, TessellateError> {
+    let [c0, c1, c2] = *c;
+    match test {
+        EllTest::NormalAngle(limit) => {
+            for (x, y) in [(c0, c1), (c1, c2), (c2, c0)] {
+                let a = e.normal_angle(x, y).ok_or(TessellateError::Internal)?;
+                if !(a <= limit) {
+                    return Ok(false);
+                }
+            }
+            Ok(true)
+        }
+        EllTest::Deviation(limit) => {
+            let p = tangent_planes_meet(c0, c1, c2).ok_or(TessellateError::Internal)?;
+            Ok(e.vertex_meets(p, limit))
+        }
+    }
 }
 
 /// One triangle of the subdivided octant: its corners are center points of faces of the polyhedron.
@@ -555,14 +676,8 @@ fn walk_octant<T: Real>(
             continue;
         }
         let [c0, c1, c2] = tri.c;
-        let (m01, m12, m20) = (mid(c0, c1)?, mid(c1, c2)?, mid(c2, c0)?);
         let depth = tri.depth.checked_add(1).ok_or(err)?;
-        for c in [
-            [m01, m12, m20],
-            [c0, m01, m20],
-            [m01, c1, m12],
-            [m20, m12, c2],
-        ] {
+        for c in children(tri.c, mid(c0, c1)?, mid(c1, c2)?, mid(c2, c0)?) {
             *stack.get_mut(len).ok_or(err)? = Tri { c, depth };
             len = len.checked_add(1).ok_or(err)?;
         }
@@ -579,71 +694,40 @@ fn decide_by_walk<T: Real>(
     level: u32,
     test: EllTest<T>,
 ) -> Result<bool, TessellateError> {
-    let (s, delta, _) = sphere_numbers::<T>(level)?;
+    let (s, delta) = sphere_numbers::<T>(level)?;
     let slack = T::ONE + T::EPSILON.sqrt();
-    // Largest chord from a triangle's first corner to any point of it.
-    let reach = |c: &[V3<T>; 3]| {
-        let [c0, c1, c2] = *c;
-        c1.minus(c0)
+    // A level-k vertex p has |p| − 1 ≤ δ_k and its direction within the chord σ_k of its triangle's corners.
+    let sigma = (T::TWO * delta / (T::ONE + delta)).sqrt();
+    let clears = |tri: &Tri<T>| {
+        let [c0, c1, c2] = tri.c;
+        // Largest chord from c0 to any point of the triangle.
+        let reach = c1
+            .minus(c0)
             .length()
             .max(c2.minus(c0).length())
-            .max(c2.minus(c1).length())
-    };
-    match test {
-        EllTest::NormalAngle(limit) => walk_octant(
-            level,
-            |tri| {
+            .max(c2.minus(c1).length());
+        match test {
+            EllTest::NormalAngle(limit) => {
                 // Every level-k edge below is an arc of at most s_k inside the triangle, where the normal map
                 // stretches arcs by at most ratio / |S⁻¹c|, and |S⁻¹c| ≥ |S⁻¹c₀| − ratio · reach.
-                let [c0, _, _] = tri.c;
-                let floor = e.unscale(c0).length() - e.ratio * reach(&tri.c);
+                let floor = e.unscale(c0).length() - e.ratio * reach;
                 floor > T::ZERO && s * e.ratio / floor * slack <= limit
-            },
-            |c| {
-                let [c0, c1, c2] = *c;
-                for (x, y) in [(c0, c1), (c1, c2), (c2, c0)] {
-                    let a = e.normal_angle(x, y).ok_or(TessellateError::Internal)?;
-                    if !(a <= limit) {
-                        return Ok(false);
-                    }
-                }
-                Ok(true)
-            },
-        ),
-        EllTest::Deviation(limit) => {
-            // A level-k vertex p has |p| − 1 ≤ δ_k and its direction within σ_k (chord) of its triangle's corners.
-            let sigma = (T::TWO * delta / (T::ONE + delta)).sqrt();
-            walk_octant(
-                level,
-                |tri| {
-                    let [c0, _, _] = tri.c;
-                    let far = e.scale(c0).length() + reach(&tri.c) + sigma;
-                    delta * far * slack <= limit
-                },
-                |c| {
-                    let [c0, c1, c2] = *c;
-                    let p = tangent_planes_meet(c0, c1, c2).ok_or(TessellateError::Internal)?;
-                    let pp = p.dot(p);
-                    let excess = pp - T::ONE;
-                    if !(excess > T::ZERO) {
-                        return Ok(true);
-                    }
-                    let r = pp.sqrt();
-                    let out = excess / (r + T::ONE); // |p| − 1
-                    // Between the supporting plane at S p̂ and the point S p̂ itself.
-                    let upper = out * e.scale(p).length() / r;
-                    if upper * slack <= limit {
-                        return Ok(true);
-                    }
-                    let lower = out * r / e.unscale(p).length();
-                    if lower > limit * slack {
-                        return Ok(false);
-                    }
-                    Ok(e.distance(p) <= limit)
-                },
-            )
+            }
+            EllTest::Deviation(limit) => {
+                // (|p| − 1)·|S p̂| with |S p̂| ≤ |S c₀| + reach + σ_k, or the supporting plane's height
+                // δ_k / |S⁻¹p̂| plus the rolling ball's δ_k² / (2r), with |S⁻¹p̂| ≥ |S⁻¹c₀| − ratio (reach + σ_k).
+                let far = delta * (e.scale(c0).length() + reach + sigma);
+                let floor = e.unscale(c0).length() - e.ratio * (reach + sigma);
+                let ball = if floor > T::ZERO {
+                    delta / floor + delta * delta / (T::TWO * e.roll)
+                } else {
+                    T::INFINITY
+                };
+                far.min(ball) * slack <= limit
+            }
         }
-    }
+    };
+    walk_octant(level, clears, |c| leaf_meets(e, c, test))
 }
 
 /// Does the level-`level` polyhedron of `e` meet `test`? Cheap witnesses and guarantees first, the walk only
