@@ -85,13 +85,13 @@
 //! assert_eq!(k, 6);
 //! assert!(worst_case::<f64>(k)?.max_deviation < worst_case::<f64>(k - 1)?.max_deviation);
 //!
-//! // The WGS84 ellipsoid within 10 km: the smallest level, and the one below misses it.
+//! // The WGS84 ellipsoid within 100 km: the smallest level, and the one below misses it.
 //! use curvicast::tessellate::lod::ellipsoid_worst_case;
 //! let wgs84 = [6378137.0, 6378137.0, 6356752.314245179];
-//! let k = min_level(Shape::Ellipsoid(wgs84), Bound::MaxDeviation(1.0e4))?;
-//! assert_eq!(k, 5);
-//! assert!(ellipsoid_worst_case(wgs84, k)?.max_deviation <= 1.0e4);
-//! assert!(ellipsoid_worst_case(wgs84, k - 1)?.max_deviation > 1.0e4);
+//! let k = min_level(Shape::Ellipsoid(wgs84), Bound::MaxDeviation(1.0e5))?;
+//! assert_eq!(k, 3);
+//! assert!(ellipsoid_worst_case(wgs84, k)?.max_deviation <= 1.0e5);
+//! assert!(ellipsoid_worst_case(wgs84, k - 1)?.max_deviation > 1.0e5);
 //! # Ok::<(), curvicast::tessellate::TessellateError>(())
 //! ```
 
