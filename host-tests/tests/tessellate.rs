@@ -512,9 +512,11 @@ fn ellipsoid_a_priori_level_time_per_call() {
     // Reported, not asserted: mean wall time of `min_level` per call for bounds whose answer is each level.
     let mut rng = ChaCha8Rng::seed_from_u64(14);
     for ((name, axes), m) in ELLIPSOIDS.iter().zip(measured_ellipsoids()) {
-        let mut line = format!("min_level time on {name} (µs per call, by level returned):");
+        let mut line = format!(
+            "min_level time on {name} (µs per call by level returned: median / mean / max):"
+        );
         for k in 0..=TOP as usize {
-            let (mut calls, mut total, mut worst) = (0u32, 0.0f64, 0.0f64);
+            let mut times = Vec::new();
             for kind in 0..2 {
                 for _ in 0..20 {
                     // A bound between level k's measured value and level k-1's: the answer is k.
@@ -535,12 +537,16 @@ fn ellipsoid_a_priori_level_time_per_call() {
                     let got = lod::min_level(Shape::Ellipsoid(*axes), std::hint::black_box(bound));
                     let dt = start.elapsed().as_secs_f64() * 1e6;
                     assert_eq!(got, Ok(k as u32), "{name} {bound:?}");
-                    calls += 1;
-                    total += dt;
-                    worst = worst.max(dt);
+                    times.push(dt);
                 }
             }
-            line += &format!(" L{k} {:.1} (max {:.0})", total / calls as f64, worst);
+            times.sort_by(f64::total_cmp);
+            let mean = times.iter().sum::<f64>() / times.len() as f64;
+            line += &format!(
+                " L{k} {:.1}/{mean:.1}/{:.0}",
+                times[times.len() / 2],
+                times[times.len() - 1]
+            );
         }
         eprintln!("{line}");
     }

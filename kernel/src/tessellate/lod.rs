@@ -66,11 +66,13 @@
 //! Cost: steps 1–2 take O(k) scalar operations per level (thirteen descents of `k` midpoints each), O(k²) for
 //! the whole search. The walk at level `k` visits at most `(4^(k+1) − 1) / 3` triangles, each O(1) (plus a few
 //! Newton steps for a rare straddling vertex); it runs only for levels whose bound falls between the witnesses and
-//! the guarantee, and its pruning skips the regions far from the worst case. Measured (release build, one core):
-//! 15–110 µs per call up to level 8 for bounds halfway between two levels; bounds within a relative 1e-6 of a
-//! level's exact worst value, where the walk must visit nearly every triangle near the worst region, take up to
-//! about 20 ms at level 8. [`ellipsoid_worst_case`] walks a whole octant without pruning and returns the level's
-//! exact largest deviation and smallest dihedral angle.
+//! the guarantee; its pruning skips the regions that a bound clears, and it visits the children with the larger
+//! bound first, so that a violation is met early. Measured (release build, on a shared machine; the host test
+//! `ellipsoid_a_priori_level_time_per_call` prints it): for bounds drawn between two consecutive levels' worst
+//! values of five ellipsoids, the median call takes 10–30 µs up to level 8 (most levels are settled by steps 1–2),
+//! the mean up to about 0.9 ms and the slowest about 8 ms at level 8 (a walk that must clear most of a worst
+//! region). [`ellipsoid_worst_case`] walks a whole octant without pruning and returns the level's exact largest
+//! deviation and smallest dihedral angle.
 //!
 //! **Screen space**: a deviation `e` on an object of bounding radius `r` whose center is at distance `d > r` from
 //! the eye lies no nearer than `D = d − r − e`, so it subtends at most `2·asin(e / (2D))`; that is at most the
@@ -300,7 +302,7 @@ pub fn ellipsoid_worst_case<T: Real>(
     let mut dev = T::ZERO;
     walk_octant(
         level,
-        |_| false,
+        |_| Some(T::ZERO),
         |c| {
             let [c0, c1, c2] = *c;
             for (x, y) in [(c0, c1), (c1, c2), (c2, c0)] {
@@ -644,14 +646,15 @@ struct Tri<T> {
 }
 
 /// Depth-first walk over the refinement tree of the positive octant down to `level`, with an explicit stack
-/// (each expansion pops one triangle and pushes four, so `3·level + 1` slots suffice).
+/// (each expansion pops one triangle and pushes at most four, so `3·level + 1` slots suffice).
 ///
-/// `prune(tri)` returns true when nothing below `tri` needs to be visited; `leaf(corners)` returns false to stop
-/// the walk. Returns whether the walk ran to the end. Every step pops one of at most
-/// `(4^(level+1) − 1) / 3` triangles.
+/// `score(corners)` is asked for every triangle before it is pushed: `None` when nothing in it needs to be
+/// visited (a bound clears it), else an upper bound of its worst value, and the children with the larger scores
+/// are visited first (so that a violation, if any, is met early). `leaf(corners)` returns false to stop the walk.
+/// Returns whether the walk ran to the end. Every step pops one of at most `(4^(level+1) − 1) / 3` triangles.
 fn walk_octant<T: Real>(
     level: u32,
-    mut prune: impl FnMut(&Tri<T>) -> bool,
+    mut score: impl FnMut(&[V3<T>; 3]) -> Option<T>,
     mut leaf: impl FnMut(&[V3<T>; 3]) -> Result<bool, TessellateError>,
 ) -> Result<bool, TessellateError> {
     const SLOTS: usize = 3 * MAX_LEVEL as usize + 2;
@@ -667,10 +670,11 @@ fn walk_octant<T: Real>(
         depth: 0,
     };
     let mut stack = [zero; SLOTS];
-    *stack.first_mut().ok_or(err)? = Tri {
-        c: octant(),
-        depth: 0,
-    };
+    let root = octant();
+    if score(&root).is_none() {
+        return Ok(true);
+    }
+    *stack.first_mut().ok_or(err)? = Tri { c: root, depth: 0 };
     let mut len = 1usize;
     // Number of triangles in the tree: (4^(level+1) − 1) / 3.
     let nodes = 4u64
@@ -690,13 +694,29 @@ fn walk_octant<T: Real>(
             }
             continue;
         }
-        if prune(&tri) {
-            continue;
-        }
         let [c0, c1, c2] = tri.c;
         let depth = tri.depth.checked_add(1).ok_or(err)?;
+        // The children that no bound clears, sorted by score (insertion sort of at most four).
+        let mut kept = [(T::ZERO, zero); 4];
+        let mut n = 0usize;
         for c in children(tri.c, mid(c0, c1)?, mid(c1, c2)?, mid(c2, c0)?) {
-            *stack.get_mut(len).ok_or(err)? = Tri { c, depth };
+            let Some(sc) = score(&c) else { continue };
+            let mut at = n;
+            while let Some(prev) = at.checked_sub(1) {
+                let p = *kept.get(prev).ok_or(err)?;
+                if p.0 > sc {
+                    *kept.get_mut(at).ok_or(err)? = p;
+                    at = prev;
+                } else {
+                    break;
+                }
+            }
+            *kept.get_mut(at).ok_or(err)? = (sc, Tri { c, depth });
+            n = n.checked_add(1).ok_or(err)?;
+        }
+        // Ascending onto the stack: the largest score is popped first.
+        for &(_, t) in kept.get(..n).ok_or(err)? {
+            *stack.get_mut(len).ok_or(err)? = t;
             len = len.checked_add(1).ok_or(err)?;
         }
     }
@@ -716,20 +736,25 @@ fn decide_by_walk<T: Real>(
     let slack = T::ONE + T::EPSILON.sqrt();
     // A level-k vertex p has |p| − 1 ≤ δ_k and its direction within the chord σ_k of its triangle's corners.
     let sigma = (T::TWO * delta / (T::ONE + delta)).sqrt();
-    let clears = |tri: &Tri<T>| {
-        let [c0, c1, c2] = tri.c;
+    let bound = |c: &[V3<T>; 3]| {
+        let [c0, c1, c2] = *c;
         // Largest chord from c0 to any point of the triangle.
         let reach = c1
             .minus(c0)
             .length()
             .max(c2.minus(c0).length())
             .max(c2.minus(c1).length());
-        match test {
+        let (worst, limit) = match test {
             EllTest::NormalAngle(limit) => {
-                // Every level-k edge below is an arc of at most s_k inside the triangle, where the normal map
+                // Every level-k edge inside is an arc of at most s_k inside the triangle, where the normal map
                 // stretches arcs by at most ratio / |S⁻¹c|, and |S⁻¹c| ≥ |S⁻¹c₀| − ratio · reach.
                 let floor = e.unscale(c0).length() - e.ratio * reach;
-                floor > T::ZERO && s * e.ratio / floor * slack <= limit
+                let w = if floor > T::ZERO {
+                    s * e.ratio / floor
+                } else {
+                    T::INFINITY
+                };
+                (w, limit)
             }
             EllTest::Deviation(limit) => {
                 // (|p| − 1)·|S p̂| with |S p̂| ≤ |S c₀| + reach + σ_k, or the supporting plane's height
@@ -741,11 +766,16 @@ fn decide_by_walk<T: Real>(
                 } else {
                     T::INFINITY
                 };
-                far.min(ball) * slack <= limit
+                (far.min(ball), limit)
             }
+        };
+        if worst * slack <= limit {
+            None
+        } else {
+            Some(worst)
         }
     };
-    walk_octant(level, clears, |c| leaf_meets(e, c, test))
+    walk_octant(level, bound, |c| leaf_meets(e, c, test))
 }
 
 /// Does the level-`level` polyhedron of `e` meet `test`? Cheap witnesses and guarantees first, the walk only
