@@ -71,7 +71,7 @@
 //! `ellipsoid_a_priori_level_time_per_call` prints it): for bounds drawn between two consecutive levels' worst
 //! values of five ellipsoids, the median call takes 10–30 µs up to level 8 (most levels are settled by steps 1–2),
 //! the mean up to about 0.9 ms and the slowest about 8 ms at level 8 (a walk that must clear most of a worst
-//! region). [`ellipsoid_worst_case`] walks a whole octant without pruning and returns the level's exact largest
+//! region); for extreme shapes the bounds prune less (a 1000:1 oblate spheroid took up to 73 ms, at level 9). [`ellipsoid_worst_case`] walks a whole octant without pruning and returns the level's exact largest
 //! deviation and smallest dihedral angle.
 //!
 //! **Screen space**: a deviation `e` on an object of bounding radius `r` whose center is at distance `d > r` from
