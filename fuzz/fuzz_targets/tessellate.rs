@@ -2,7 +2,7 @@
 //!
 //! Checks: no panic; an `Ok` writes exactly the const-fn counts, leaves everything past them untouched, and
 //! produces finite, well-formed faces; impossible requests get the right typed error (never `Internal`); the
-//! a-priori level meets its bound and the level below does not (spheres).
+//! a-priori level meets its bound and the level below does not (spheres; ellipsoids up to level 4).
 
 #![no_main]
 
@@ -113,6 +113,27 @@ fuzz_target!(|inp: Input| {
                 assert!(worst(k).max_normal_angle <= limit);
                 if k > 0 {
                     assert!(worst(k - 1).max_normal_angle > limit);
+                }
+            }
+            // For ellipsoids at small levels, against the unpruned walk's exact worst case (a relative 1e-6 of
+            // slack for bounds within rounding of a level's worst value).
+            if let (Shape::Ellipsoid(axes), true) = (shape, k <= 4) {
+                let exact = |k: u32| lod::ellipsoid_worst_case(axes, k).unwrap();
+                match bound {
+                    Bound::MaxDeviation(e) => {
+                        assert!(exact(k).max_deviation <= e * (1.0 + 1e-6));
+                        if k > 0 {
+                            assert!(exact(k - 1).max_deviation > e * (1.0 - 1e-6));
+                        }
+                    }
+                    Bound::MinDihedral(phi) => {
+                        let limit = core::f64::consts::PI - phi;
+                        assert!(exact(k).max_normal_angle <= limit * (1.0 + 1e-6));
+                        if k > 0 {
+                            assert!(exact(k - 1).max_normal_angle > limit * (1.0 - 1e-6));
+                        }
+                    }
+                    Bound::ScreenSpace { .. } => {}
                 }
             }
         }

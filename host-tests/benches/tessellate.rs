@@ -57,5 +57,38 @@ fn a_priori(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, bevel_levels, chaikin_levels, a_priori);
+/// `min_level` for ellipsoids, with bounds halfway between two levels' exact worst values (taken from
+/// `lod::ellipsoid_worst_case`): the answer is the finer level, and whether a walk is needed depends on the shape.
+fn a_priori_ellipsoid(c: &mut Criterion) {
+    let mut g = c.benchmark_group("lod::min_level ellipsoid");
+    for (name, axes) in [
+        ("WGS84", WGS84),
+        ("3:2:1", [3.0, 2.0, 1.0]),
+        ("1:1:0.3", [1.0, 1.0, 0.3]),
+    ] {
+        for level in [4u32, 6, 8] {
+            let hi = lod::ellipsoid_worst_case(axes, level).unwrap();
+            let lo = lod::ellipsoid_worst_case(axes, level - 1).unwrap();
+            let dev = Bound::MaxDeviation(0.5 * (hi.max_deviation + lo.max_deviation));
+            let dih = Bound::MinDihedral(0.5 * (hi.min_dihedral + lo.min_dihedral));
+            for (kind, bound) in [("deviation", dev), ("dihedral", dih)] {
+                assert_eq!(lod::min_level(Shape::Ellipsoid(axes), bound), Ok(level));
+                g.bench_with_input(
+                    BenchmarkId::new(format!("{name} {kind}"), level),
+                    &bound,
+                    |b, &bound| b.iter(|| lod::min_level(Shape::Ellipsoid(black_box(axes)), bound)),
+                );
+            }
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(
+    benches,
+    bevel_levels,
+    chaikin_levels,
+    a_priori,
+    a_priori_ellipsoid
+);
 criterion_main!(benches);

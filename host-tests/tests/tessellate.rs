@@ -12,7 +12,6 @@ use curvicast::tessellate::lod::{self, Bound, Shape};
 use curvicast_host::cli::tessellate::{Mesh, build, max_deviation, min_dihedral};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use std::collections::HashMap;
 use std::sync::OnceLock;
 
 const WGS84: [f64; 3] = [6378137.0, 6378137.0, 6356752.314245179];
@@ -288,48 +287,269 @@ fn a_priori_level_is_the_smallest_for_screen_space_bounds() {
     assert!(levels.iter().filter(|&&k| k >= 4).count() > 5);
 }
 
-#[test]
-fn ellipsoid_levels_are_sufficient() {
-    // For ellipsoids the level comes from guarantees (module docs of lod): it must meet the bound when measured;
-    // how often it is also the smallest is printed, not asserted.
-    let mut rng = ChaCha8Rng::seed_from_u64(4);
-    let mut cache: HashMap<(u64, u32), (f64, f64)> = HashMap::new();
-    let (mut checked, mut minimal) = (0, 0);
-    while checked < 40 {
-        let axes = [
-            rng.random_range(1.0..4.0f64),
-            rng.random_range(1.0..4.0f64),
-            rng.random_range(1.0..4.0f64),
-        ];
-        let key = axes[0].to_bits();
-        let shape = Shape::Ellipsoid(axes);
-        let bound = if checked % 2 == 0 {
-            Bound::MinDihedral(rng.random_range(100.0..176.0f64).to_radians())
-        } else {
-            Bound::MaxDeviation(10f64.powf(rng.random_range(-3.0..0.0)))
-        };
-        let k = lod::min_level(shape, bound).unwrap();
-        if k > 6 {
-            continue;
-        }
-        let mut measure = |k: u32| {
-            *cache.entry((key, k)).or_insert_with(|| {
-                let mesh = build(shape, k).unwrap();
-                (min_dihedral(&mesh), max_deviation(&mesh, shape))
+/// The ellipsoids on which the a-priori level is checked: the Earth (WGS84, nearly a sphere), strongly oblate,
+/// prolate, triaxial, and triaxial with the axes in another order.
+const ELLIPSOIDS: [(&str, [f64; 3]); 5] = [
+    ("WGS84", WGS84),
+    ("oblate 1:1:0.3", [1.0, 1.0, 0.3]),
+    ("prolate 1:1:3", [1.0, 1.0, 3.0]),
+    ("triaxial 3:2:1", [3.0, 2.0, 1.0]),
+    ("triaxial 1:3:2", [1.0, 3.0, 2.0]),
+];
+
+/// Deepest level measured for the ellipsoid checks.
+const TOP: u32 = 8;
+
+/// Measured (smallest dihedral angle, largest deviation) of each of [`ELLIPSOIDS`] at levels `0..=TOP`: built by
+/// the kernel, measured by the host's own code (Newell normals over every edge, a bisection for every vertex).
+fn measured_ellipsoids() -> &'static [Vec<(f64, f64)>] {
+    static M: OnceLock<Vec<Vec<(f64, f64)>>> = OnceLock::new();
+    M.get_or_init(|| {
+        use rayon::prelude::*;
+        ELLIPSOIDS
+            .par_iter()
+            .map(|&(_, axes)| {
+                (0..=TOP)
+                    .map(|k| {
+                        let shape = Shape::Ellipsoid(axes);
+                        let m: Mesh = build(shape, k).unwrap();
+                        (min_dihedral(&m), max_deviation(&m, shape))
+                    })
+                    .collect()
             })
-        };
-        let ok = |(d, e): (f64, f64)| match bound {
-            Bound::MinDihedral(phi) => d >= phi,
-            Bound::MaxDeviation(x) => e <= x,
-            _ => unreachable!(),
-        };
-        assert!(ok(measure(k)), "{bound:?} on {axes:?}: level {k} fails");
-        if k == 0 || !ok(measure(k - 1)) {
-            minimal += 1;
+            .collect()
+    })
+}
+
+/// For each of `n` bounds per ellipsoid (drawn by `draw` from the measured levels, on the ellipsoid scaled by a
+/// random factor), checks that `lod::min_level` returns a level that meets the bound when measured while every
+/// level below fails it. `meets(scale, axes, bound, (dihedral, deviation)) -> margin`: positive when the measured
+/// level meets the bound, with the relative margin; bounds within 1e-9 (relative) of a measured value are
+/// skipped (rounding could decide them). Returns the levels, per ellipsoid.
+fn check_ellipsoid_minimal(
+    kind: &str,
+    n: usize,
+    seed: u64,
+    draw: impl Fn(&mut ChaCha8Rng, [f64; 3], &[(f64, f64)]) -> Bound<f64>,
+    meets: impl Fn([f64; 3], Bound<f64>, (f64, f64)) -> (bool, f64),
+) -> usize {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut total = 0;
+    for ((name, base), m) in ELLIPSOIDS.iter().zip(measured_ellipsoids()) {
+        let mut levels = vec![0usize; TOP as usize + 1];
+        let mut tight = 0;
+        let mut count = 0;
+        let mut tries = 0;
+        while count < n {
+            tries += 1;
+            assert!(tries < 100 * n, "too few usable bounds");
+            let scale = 10f64.powf(rng.random_range(-3.0..3.0));
+            let axes = base.map(|a| a * scale);
+            let scaled: Vec<(f64, f64)> = m.iter().map(|&(d, e)| (d, e * scale)).collect();
+            // Every fourth bound sits 1e-6 (relative) beside a measured value: the hardest decisions.
+            let bound = if count % 4 == 3 {
+                tight += 1;
+                tight_bound(&mut rng, kind, axes, &scaled)
+            } else {
+                draw(&mut rng, axes, &scaled)
+            };
+            let k = lod::min_level(Shape::Ellipsoid(axes), bound).unwrap();
+            if k > TOP {
+                continue;
+            }
+            let verdicts: Vec<(bool, f64)> =
+                scaled.iter().map(|&x| meets(axes, bound, x)).collect();
+            if verdicts.iter().any(|&(_, margin)| margin.abs() < 1e-9) {
+                continue;
+            }
+            assert!(
+                verdicts[k as usize].0,
+                "{kind} {bound:?} on {name} {axes:?}: level {k} does not meet it (measured {:?})",
+                scaled[k as usize]
+            );
+            for j in 0..k as usize {
+                assert!(
+                    !verdicts[j].0,
+                    "{kind} {bound:?} on {name} {axes:?}: level {j} < {k} already meets it (measured {:?})",
+                    scaled[j]
+                );
+            }
+            levels[k as usize] += 1;
+            count += 1;
         }
-        checked += 1;
+        eprintln!(
+            "{kind} on {name}: {count} bounds ({tight} within 1e-6 of a measured value), all minimal; bounds per level {levels:?}"
+        );
+        assert!(
+            levels.iter().filter(|&&c| c > 0).count() >= 6,
+            "{kind} on {name}: levels too few"
+        );
+        total += count;
     }
-    eprintln!("ellipsoid: {minimal} of {checked} sufficient levels were also the smallest");
+    total
+}
+
+/// A bound 1e-6 (relative) above or below one level's measured value.
+fn tight_bound(rng: &mut ChaCha8Rng, kind: &str, axes: [f64; 3], m: &[(f64, f64)]) -> Bound<f64> {
+    let k = rng.random_range(0..=TOP as usize);
+    let side = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+    let f = 1.0 + side * 1e-6;
+    let (dihedral, deviation) = m[k];
+    let r = axes.iter().cloned().fold(0.0, f64::max);
+    match kind {
+        "dihedral" => {
+            Bound::MinDihedral(std::f64::consts::PI - (std::f64::consts::PI - dihedral) * f)
+        }
+        "deviation" => Bound::MaxDeviation(deviation * f),
+        _ => {
+            // Far enough that even the cube's corners subtend less than π.
+            let distance = (r + 4.0 * m[0].1) * (1.0 + 10f64.powf(rng.random_range(-1.0..2.0)));
+            Bound::ScreenSpace {
+                distance,
+                pixel_angle: lod::screen_space_error(r, distance, deviation) * f,
+            }
+        }
+    }
+}
+
+fn log_between(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> f64 {
+    10f64.powf(rng.random_range(lo.log10()..hi.log10()))
+}
+
+#[test]
+fn ellipsoid_a_priori_level_is_the_smallest_for_dihedral_bounds() {
+    let total = check_ellipsoid_minimal(
+        "dihedral",
+        60,
+        11,
+        |rng, _, m| {
+            // The largest normal angle, log-uniform from just below level TOP's to level 0's (90°).
+            let x = log_between(rng, 0.9 * (std::f64::consts::PI - m[TOP as usize].0), 1.6);
+            Bound::MinDihedral(std::f64::consts::PI - x)
+        },
+        |_, b, (dihedral, _)| {
+            let Bound::MinDihedral(phi) = b else {
+                unreachable!()
+            };
+            (
+                dihedral >= phi,
+                (dihedral - phi) / (std::f64::consts::PI - phi),
+            )
+        },
+    );
+    assert!(total >= 50);
+}
+
+#[test]
+fn ellipsoid_a_priori_level_is_the_smallest_for_deviation_bounds() {
+    let total = check_ellipsoid_minimal(
+        "deviation",
+        60,
+        12,
+        |rng, _, m| Bound::MaxDeviation(log_between(rng, 0.9 * m[TOP as usize].1, 1.1 * m[0].1)),
+        |_, b, (_, deviation)| {
+            let Bound::MaxDeviation(e) = b else {
+                unreachable!()
+            };
+            (deviation <= e, (e - deviation) / e)
+        },
+    );
+    assert!(total >= 50);
+}
+
+#[test]
+fn ellipsoid_a_priori_level_is_the_smallest_for_screen_space_bounds() {
+    let total = check_ellipsoid_minimal(
+        "screen-space",
+        60,
+        13,
+        |rng, axes, m| {
+            let r = axes.iter().cloned().fold(0.0, f64::max);
+            let distance = (r + 4.0 * m[0].1) * (1.0 + log_between(rng, 0.1, 100.0));
+            let lo = lod::screen_space_error(r, distance, 0.9 * m[TOP as usize].1);
+            let hi = lod::screen_space_error(r, distance, 1.1 * m[0].1);
+            Bound::ScreenSpace {
+                distance,
+                pixel_angle: log_between(rng, lo, hi),
+            }
+        },
+        |axes, b, (_, deviation)| {
+            let Bound::ScreenSpace {
+                distance,
+                pixel_angle,
+            } = b
+            else {
+                unreachable!()
+            };
+            let r = axes.iter().cloned().fold(0.0, f64::max);
+            let err = lod::screen_space_error(r, distance, deviation);
+            (err <= pixel_angle, (pixel_angle - err) / pixel_angle)
+        },
+    );
+    assert!(total >= 50);
+}
+
+#[test]
+fn ellipsoid_worst_case_walk_is_the_measured_worst_case() {
+    for ((name, axes), m) in ELLIPSOIDS.iter().zip(measured_ellipsoids()) {
+        for (k, &(dihedral, deviation)) in m.iter().enumerate() {
+            let w = lod::ellipsoid_worst_case(*axes, k as u32).unwrap();
+            let (dd, de) = (
+                (w.min_dihedral - dihedral) / (std::f64::consts::PI - dihedral),
+                (w.max_deviation - deviation) / deviation,
+            );
+            assert!(
+                dd.abs() < 1e-10 && de.abs() < 1e-10,
+                "{name} level {k}: {dd:e} {de:e}"
+            );
+        }
+        eprintln!("{name}: walked worst case = measured, levels 0..={TOP}");
+    }
+}
+
+#[test]
+fn ellipsoid_a_priori_level_time_per_call() {
+    // Reported, not asserted: mean wall time of `min_level` per call for bounds whose answer is each level.
+    let mut rng = ChaCha8Rng::seed_from_u64(14);
+    for ((name, axes), m) in ELLIPSOIDS.iter().zip(measured_ellipsoids()) {
+        let mut line = format!(
+            "min_level time on {name} (µs per call by level returned: median / mean / max):"
+        );
+        for k in 0..=TOP as usize {
+            let mut times = Vec::new();
+            for kind in 0..2 {
+                for _ in 0..20 {
+                    // A bound between level k's measured value and level k-1's: the answer is k.
+                    let t: f64 = rng.random_range(0.0..1.0);
+                    let bound = if kind == 0 {
+                        let hi = if k == 0 {
+                            1.6
+                        } else {
+                            std::f64::consts::PI - m[k - 1].0
+                        };
+                        let lo = std::f64::consts::PI - m[k].0;
+                        Bound::MinDihedral(std::f64::consts::PI - (lo + t * (hi - lo)))
+                    } else {
+                        let hi = if k == 0 { 2.0 * m[0].1 } else { m[k - 1].1 };
+                        Bound::MaxDeviation(m[k].1 + t * (hi - m[k].1))
+                    };
+                    let start = std::time::Instant::now();
+                    let got = lod::min_level(Shape::Ellipsoid(*axes), std::hint::black_box(bound));
+                    let dt = start.elapsed().as_secs_f64() * 1e6;
+                    assert_eq!(got, Ok(k as u32), "{name} {bound:?}");
+                    times.push(dt);
+                }
+            }
+            times.sort_by(f64::total_cmp);
+            let mean = times.iter().sum::<f64>() / times.len() as f64;
+            line += &format!(
+                " L{k} {:.1}/{mean:.1}/{:.0}",
+                times[times.len() / 2],
+                times[times.len() - 1]
+            );
+        }
+        eprintln!("{line}");
+    }
 }
 
 /// Parses an OBJ file: vertices and polygon faces (0-based).

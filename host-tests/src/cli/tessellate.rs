@@ -5,9 +5,8 @@
 //! * `--level K` builds level K; `--max-angle-deg X` asks for the smallest level whose adjacent faces' normals are
 //!   at most X degrees apart (the smallest dihedral angle at least `180 − X`); `--max-deviation E` for the smallest
 //!   level whose largest distance from the true surface is at most E. Both are chosen a priori by
-//!   `curvicast::tessellate::lod::min_level`: exact for spheres; for ellipsoids a guaranteed-sufficient level,
-//!   which the command then lowers while the level below, built and measured, still meets the bound — so the
-//!   level written is the smallest that meets it in both cases.
+//!   `curvicast::tessellate::lod::min_level`, which returns the smallest level that meets the bound for spheres
+//!   and ellipsoids alike, without building any level.
 //! * The summary's `min_dihedral_deg` and `max_deviation` are *measured* on the built polyhedron: dihedral angles
 //!   from the face normals of every pair of faces sharing an edge (normals by Newell's method from the written
 //!   vertices), the deviation as the largest distance of a vertex from the surface (for a convex polyhedron
@@ -353,37 +352,14 @@ pub struct Summary {
     pub max_deviation: f64,
 }
 
-/// Does a measured (min dihedral, max deviation) meet the request's bound?
-fn meets(detail: Detail, dihedral: f64, deviation: f64) -> bool {
-    match detail {
-        Detail::Level(_) => true,
-        Detail::MaxAngleDeg(x) => dihedral >= (180.0 - x).to_radians(),
-        Detail::MaxDeviation(e) => deviation <= e,
-    }
-}
-
-/// Runs the subcommand: builds, writes the OBJ, and returns the summary (the caller prints it).
-///
-/// For a sphere the a-priori level is already the smallest that meets the bound. For an ellipsoid it is a
-/// guarantee (see `lod`), so the levels below it are built and measured while they still meet the bound, and the
-/// smallest such level is written.
+/// Runs the subcommand: builds the a-priori level (the smallest that meets the bound), writes the OBJ, and returns
+/// the summary (the caller prints it).
 pub fn execute(req: &Request) -> Result<Summary, UsageError> {
-    let mut level = choose_level(req)?;
-    let build_err =
-        |e: curvicast::tessellate::TessellateError| UsageError(format!("tessellate: {e}"));
-    let mut mesh = build(req.shape, level).map_err(build_err)?;
-    let mut dihedral = min_dihedral(&mesh);
-    let mut deviation = max_deviation(&mesh, req.shape);
-    if matches!(req.shape, Shape::Ellipsoid(_)) && !matches!(req.detail, Detail::Level(_)) {
-        while level > 0 {
-            let below = build(req.shape, level - 1).map_err(build_err)?;
-            let (d, e) = (min_dihedral(&below), max_deviation(&below, req.shape));
-            if !meets(req.detail, d, e) {
-                break;
-            }
-            (level, mesh, dihedral, deviation) = (level - 1, below, d, e);
-        }
-    }
+    let level = choose_level(req)?;
+    let mesh = build(req.shape, level).map_err(|e| UsageError(format!("tessellate: {e}")))?;
+    let dihedral = min_dihedral(&mesh);
+    let deviation = max_deviation(&mesh, req.shape);
+
     let comment = format!(
         "curvicast tessellate: edge-beveled polyhedron, level {level}, semi-axes {:?}",
         axes_of(req.shape)
@@ -435,7 +411,10 @@ mod tests {
             .unwrap()
             .unwrap();
         assert_eq!(r.shape, Shape::Ellipsoid([3.0, 2.0, 1.0]));
-        assert_eq!(choose_level(&r).unwrap(), 5);
+        // The smallest level: the axis-ratio guarantee alone would give 5.
+        assert_eq!(choose_level(&r).unwrap(), 4);
+        let dev = |k| max_deviation(&build(r.shape, k).unwrap(), r.shape);
+        assert!(dev(4) <= 0.01 && dev(3) > 0.01);
         let r = parse(&args("--sphere 1 --max-angle-deg 10 --out a.obj"))
             .unwrap()
             .unwrap();

@@ -114,8 +114,10 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
             let mesh = build(shape, level)?;
             let dev = max_deviation(&mesh, shape);
             let dih = min_dihedral(&mesh).to_degrees();
-            let w = lod::worst_case::<f64>(level)?;
-            let a_priori = w.max_deviation * axes[0].max(axes[1]).max(axes[2]);
+            let a_priori = match shape {
+                Shape::Sphere(r) => lod::worst_case::<f64>(level)?.max_deviation * r,
+                Shape::Ellipsoid(a) => lod::ellipsoid_worst_case(a, level)?.max_deviation,
+            };
             let t = build_time(axes, level)?;
             let faces = mesh.faces.len();
             let n = ((faces as f64 / 2.0).sqrt().round() as usize).max(2);
@@ -131,8 +133,10 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
         md.push('\n');
     }
     md.push_str(
-        "For the ellipsoid the \"a priori\" column is the guarantee `max axis × δ_k` that `lod::min_level` uses \
-         (sufficient, not tight). Build times are single-threaded wall times of `bevel_ellipsoid` in this binary's \
+        "For the ellipsoid the \"a priori\" column is `lod::ellipsoid_worst_case`: the exact largest deviation \
+         from a walk over one octant's vertices, without building the level; `lod::min_level` decides each level \
+         from witnesses, axis-ratio guarantees and, only when they leave it open, a pruned walk (see `lod`). \
+         Build times are single-threaded wall times of `bevel_ellipsoid` in this binary's \
          profile.\n",
     );
     Ok(Section {

@@ -51,7 +51,8 @@ pub enum TessellateError {
         /// Its actual length.
         got: usize,
     },
-    /// A radius or semi-axis is not a positive finite number (or their ratios overflow).
+    /// A radius or semi-axis is not a positive finite number, or (for [`lod::min_level`]) the squared ratio of the
+    /// smallest to the largest semi-axis is not a normal number.
     InvalidShape,
     /// A control polygon is empty, has a non-finite point, or has an interior angle outside `(0, π)`.
     InvalidControlPolygon,
