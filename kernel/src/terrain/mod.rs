@@ -91,6 +91,7 @@
 //! # Ok::<(), Box<dyn core::error::Error>>(())
 //! ```
 
+mod refine;
 mod storage;
 pub mod triangle;
 
@@ -103,6 +104,7 @@ use crate::ray::{Ray, RayError};
 use crate::real::Real;
 use crate::surface::{Side, Surface};
 use crate::vec3::V3;
+use refine::Tri;
 use triangle::WatertightRay;
 
 /// Why a pick failed.
@@ -184,6 +186,16 @@ pub struct PickStats {
     pub triangle_pairs_visited: u32,
     /// Ray–triangle tests performed.
     pub triangles_tested: u32,
+}
+
+/// The nearest hit found so far during the traversal: its parameter and which triangle (the [`Hit`] is formed
+/// once, after the traversal, from the refined parameter).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Candidate<T> {
+    t: T,
+    cell: [u32; 2],
+    tri: Tri,
+    level: u8,
 }
 
 /// A zone root with its precomputed volume.
@@ -353,7 +365,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let order = order.get_mut(..n_order).unwrap_or(&mut []);
         sort_by_entry(order);
 
-        let mut best: Option<Hit<T>> = None;
+        let mut best: Option<Candidate<T>> = None;
         let mut budget = node_budget(&self.grid, self.zone_count);
         for &(k, a, c) in order.iter() {
             if let Some(h) = &best {
@@ -372,7 +384,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             };
             self.traverse(root, ray, &wray, &mut best, stats, &mut budget)?;
         }
-        Ok(best)
+        Ok(best.map(|c| self.make_hit(ray, c)))
     }
 
     /// Line of sight from `a` to `b` (ECEF): `true` when no terrain triangle meets the closed segment.
@@ -391,7 +403,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         root: Entry<T>,
         ray: &Ray<T>,
         wray: &WatertightRay<T>,
-        best: &mut Option<Hit<T>>,
+        best: &mut Option<Candidate<T>>,
         stats: &mut PickStats,
         budget: &mut u64,
     ) -> Result<(), TerrainError> {
@@ -482,7 +494,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         wray: &WatertightRay<T>,
         t_in: T,
         t_out: T,
-        best: &mut Option<Hit<T>>,
+        best: &mut Option<Candidate<T>>,
         stats: &mut PickStats,
     ) -> Result<(), TerrainError> {
         let g = &self.grid;
@@ -595,7 +607,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 let v01 = vtx(i, j1);
                 let v11 = vtx(i1, j1);
                 let v10 = vtx(i1, j);
-                for tri in [[v00, v01, v11], [v00, v11, v10]] {
+                for (tri, which) in [
+                    ([v00, v01, v11], Tri::First),
+                    ([v00, v11, v10], Tri::Second),
+                ] {
                     let [Some(a), Some(b), Some(c)] = tri else {
                         continue;
                     };
@@ -604,7 +619,12 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     if let Some((t, _)) = wray.intersect(a, b, c, ray.t_min(), limit) {
                         let better = best.as_ref().is_none_or(|h| t < h.t);
                         if better {
-                            *best = Some(self.make_hit(ray, t, [i, j], node.level));
+                            *best = Some(Candidate {
+                                t,
+                                cell: [i, j],
+                                tri: which,
+                                level: node.level,
+                            });
                         }
                     }
                 }
@@ -659,8 +679,27 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         )
     }
 
-    fn make_hit(&self, ray: &Ray<T>, t: T, cell: [u32; 2], level: u8) -> Hit<T> {
-        let p = ray.at(t);
+    /// The [`Hit`] of the traversal's nearest triangle, with its parameter and point refined in double-double
+    /// (see `refine`'s docs: the vertices recomputed far below an ulp, `t` from the triangle's plane; the
+    /// unrefined values are kept when the refinement's guard rejects it).
+    fn make_hit(&self, ray: &Ray<T>, c: Candidate<T>) -> Hit<T> {
+        let [i, j] = c.cell;
+        let (i1, j1) = (i.saturating_add(1), j.saturating_add(1));
+        // The corner that the hit triangle does not use may be nodata (NaN here, unused); a NaN in a used corner
+        // cannot happen (the triangle was tested) and would fail the refinement's guard.
+        let h = |ii: u32, jj: u32| self.storage.height(ii, jj).unwrap_or(T::NAN);
+        let heights = [h(i, j), h(i, j1), h(i1, j1), h(i1, j)];
+        let refined = refine::refine(
+            &self.ellipsoid,
+            &self.grid,
+            ray,
+            c.t,
+            c.cell,
+            c.tri,
+            heights,
+        );
+        let (t, p) = refined.unwrap_or((c.t, ray.at(c.t)));
+        let (cell, level) = (c.cell, c.level);
         let geo = self.ellipsoid.ecef_to_geodetic(V3::from(p));
         let deg = T::from_f64(180.0) / T::PI;
         Hit {
