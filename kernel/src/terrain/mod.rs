@@ -683,12 +683,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// (see `refine`'s docs: the vertices recomputed far below an ulp, `t` from the triangle's plane; the
     /// unrefined values are kept when the refinement's guard rejects it).
     fn make_hit(&self, ray: &Ray<T>, c: Candidate<T>) -> Hit<T> {
-        let [i, j] = c.cell;
-        let (i1, j1) = (i.saturating_add(1), j.saturating_add(1));
-        // The corner that the hit triangle does not use may be nodata (NaN here, unused); a NaN in a used corner
-        // cannot happen (the triangle was tested) and would fail the refinement's guard.
-        let h = |ii: u32, jj: u32| self.storage.height(ii, jj).unwrap_or(T::NAN);
-        let heights = [h(i, j), h(i, j1), h(i1, j1), h(i1, j)];
+        let height = |i: u32, j: u32| self.storage.height(i, j).filter(|h| h.is_finite());
         let refined = refine::refine(
             &self.ellipsoid,
             &self.grid,
@@ -696,7 +691,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             c.t,
             c.cell,
             c.tri,
-            heights,
+            &height,
         );
         let (t, p) = refined.unwrap_or((c.t, ray.at(c.t)));
         let (cell, level) = (c.cell, c.level);
