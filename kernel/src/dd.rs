@@ -63,8 +63,12 @@ fn fast_two_sum<T: Real>(a: T, b: T) -> Dd<T> {
 /// Veltkamp's splitting constant `2^⌈p/2⌉ + 1` for a `p`-bit significand.
 #[inline]
 fn splitter<T: Real>() -> T {
-    let half = i32::try_from(T::MANTISSA_DIGITS.div_ceil(2)).unwrap_or(27);
-    T::ONE.scalbn(half) + T::ONE
+    // The two formats in use as constants (the branch folds at compile time); any other by scaling.
+    match T::MANTISSA_DIGITS {
+        53 => T::from_f64(134_217_729.0),
+        24 => T::from_f64(4097.0),
+        p => T::ONE.scalbn(i32::try_from(p.div_ceil(2)).unwrap_or(27)) + T::ONE,
+    }
 }
 
 /// Splits `a` into `hi + lo` with each part fitting in half the significand, so that products of parts are exact.
@@ -180,66 +184,109 @@ impl<T: Real> Dd<T> {
         fast_two_sum(q1, q2).plus_t(q3)
     }
 
-    /// `√self`: the scalar square root refined by two Newton steps `r ← r + (x − r²)/(2r)` in pairs (one suffices
-    /// after a correctly rounded root; the second absorbs the few-ulp error of the fast-math root). `0` for
-    /// `0`, NaN for negative values.
+    /// `√self`: the scalar square root refined by one Newton step `r ← r + (x − r²)/(2r)` in pairs (from a
+    /// root with relative error δ the step leaves about δ²/2: pair precision after a correctly rounded root, and
+    /// about 2⁻⁴⁴ after the few-ulp fast-math `f32` root). `0` for `0`, NaN for negative values.
     #[inline]
     pub fn sqrt(self) -> Self {
         if !(self.hi > T::ZERO) {
             return Dd::from(self.hi.sqrt());
         }
-        let mut r = Dd::from(self.hi.sqrt());
-        for _ in 0..2 {
-            let e = self.minus(r.times(r));
-            r = r.plus_t(e.hi / (r.hi + r.hi));
-        }
-        r
+        let r = self.hi.sqrt();
+        let e = self.minus(two_prod(r, r));
+        Dd::from(r).plus_t(e.hi / (r + r))
     }
 }
 
 /// `π/180` rounded to a pair of `f64`s (leading part, trailing part).
 const RAD_PER_DEG: (f64, f64) = (1.745_329_251_994_329_5e-2, 2.948_652_270_870_168_7e-19);
 
-/// `π/180` as a pair of scalars (for `f32`, the `f64` pair rounded again: leading part `f32(π/180)`, trailing part
-/// the rest, accurate to about `2⁻⁷⁵`).
+/// A constant given as a pair of `f64`s, as a pair of scalars (for `f32`: leading part the `f32` rounding of the
+/// value, trailing part the rest rounded, accurate to about `2⁻⁴⁸` relative).
 #[inline]
-fn rad_per_deg<T: Real>() -> Dd<T> {
-    let hi = T::from_f64(RAD_PER_DEG.0);
-    let lo = T::from_f64((RAD_PER_DEG.0 - hi.to_f64()) + RAD_PER_DEG.1);
+fn pair_of<T: Real>((hi64, lo64): (f64, f64)) -> Dd<T> {
+    let hi = T::from_f64(hi64);
+    let lo = T::from_f64((hi64 - hi.to_f64()) + lo64);
     Dd { hi, lo }
 }
+
+/// The Horner factors `1/((2k)(2k+1))`, `k = 1, 2, …`, of the sine's Taylor series, as `f64` pairs.
+const SIN_STEPS: [(f64, f64); 18] = [
+    (0.16666666666666666, 9.25185853854297e-18),
+    (0.05, -2.7755575615628915e-18),
+    (0.023809523809523808, 1.32169407693471e-18),
+    (0.013888888888888888, 7.709882115452476e-19),
+    (0.00909090909090909, 4.415659757031872e-19),
+    (0.00641025641025641, 2.2240044563805217e-19),
+    (0.004761904761904762, -4.295505750037808e-19),
+    (0.003676470588235294, 5.102127870520021e-20),
+    (0.0029239766081871343, 1.6231330769373633e-19),
+    (0.002380952380952381, -2.147752875018904e-19),
+    (0.001976284584980237, 1.3370398332627564e-19),
+    (0.0016666666666666668, -1.0697461435190311e-19),
+    (0.0014245014245014246, -7.104458680104445e-20),
+    (0.0012315270935960591, -1.3886333243656708e-20),
+    (0.001075268817204301, 9.326470300950576e-22),
+    (0.000946969696969697, -2.6283689029951623e-20),
+    (0.0008403361344537816, -5.029240329512592e-20),
+    (0.0007507507507507507, 6.511724759672699e-21),
+];
 
 /// The most Taylor terms of [`sin_cos_deg`] (the `f64` pair needs 14 at `|x| = π/4`).
 const MAX_TERMS: u32 = 18;
 
 /// `(sin x, cos x)` for `|x| ≤ π/4` (a little more is harmless).
+///
+/// Horner's scheme `sin x = x (1 − x²/(2·3) (1 − x²/(4·5) (1 − …)))`. The inner levels whose term
+/// `x^{2k}/(2k+1)!` is below `ε` are summed in plain scalars, as the small difference `u_k = acc_k − 1` (their
+/// rounding, `ε |u_k|`, reaches the result scaled by the term: below `ε²`); the outer levels in pairs.
 fn sin_cos_small<T: Real>(x: Dd<T>) -> (Dd<T>, Dd<T>) {
     let x2 = x.times(x);
-    // Terms: sin x = x Σ_k (−x²)^k / (2k+1)!; keep k ≤ K with x^{2K}/(2K+1)! ≥ ε²/4 (the first omitted term is
-    // below that, relative to x).
+    // Levels: keep k ≤ K with x^{2K}/(2K+1)! ≥ ε²/4 (the first omitted term is below that, relative to x);
+    // levels from `k_pair` on (term below ε) in scalars.
     let eps = T::EPSILON.to_f64();
     let tol = 0.25 * eps * eps;
     let x2f = x2.hi.to_f64();
+    let step = |k: u32| {
+        let i = usize::try_from(k).unwrap_or(0).saturating_sub(1);
+        SIN_STEPS.get(i).copied().unwrap_or((0.0, 0.0))
+    };
     let mut term = 1.0_f64;
     let mut k_max = MAX_TERMS;
+    let mut k_pair = MAX_TERMS;
     for k in 1..=MAX_TERMS {
-        let kf = f64::from(k);
-        term *= x2f / ((2.0 * kf) * (2.0 * kf + 1.0));
+        term *= x2f * step(k).0;
+        if term < eps && k_pair == MAX_TERMS {
+            k_pair = k;
+        }
         if !(term >= tol) {
             k_max = k;
             break;
         }
     }
-    // Horner: s = x (1 − x²/(2·3) (1 − x²/(4·5) (1 − …))).
-    let mut acc = Dd::one();
-    for k in (1..=k_max).rev() {
-        let kf = f64::from(k);
-        let den = T::from_f64((2.0 * kf) * (2.0 * kf + 1.0));
-        acc = Dd::one().minus(x2.times(acc).over_t(den));
+    let mut u = T::ZERO;
+    for k in (k_pair..=k_max).rev() {
+        let c = T::from_f64(step(k).0);
+        u = -(x2.hi * c) * (T::ONE + u);
+    }
+    let mut acc = Dd::one().plus_t(u);
+    for k in (1..k_pair.min(k_max.saturating_add(1))).rev() {
+        let c = pair_of(step(k));
+        acc = Dd::one().minus(x2.times(c).times(acc));
     }
     let s = x.times(acc);
     let c = Dd::one().minus(s.times(s)).sqrt();
     (s, c)
+}
+
+/// `(sin(x + δ), cos(x + δ))` from `(sin x, cos x)` and `(sin δ, cos δ)` (angle addition; absolute error a few
+/// `ε²`).
+#[inline]
+pub fn rotate<T: Real>((s, c): (Dd<T>, Dd<T>), (sd, cd): (Dd<T>, Dd<T>)) -> (Dd<T>, Dd<T>) {
+    (
+        s.times(cd).plus(c.times(sd)),
+        c.times(cd).minus(s.times(sd)),
+    )
 }
 
 /// `(sin x, cos x)` of an angle `x` in degrees, as pairs, with relative errors of a few `ε²` (module docs).
@@ -253,7 +300,7 @@ pub fn sin_cos_deg<T: Real>(deg: Dd<T>) -> (Dd<T>, Dd<T>) {
     // Nearest multiple of 90°; `r = deg − 90 q` is exact for any grid angle (|deg| < 2^24·… in f32).
     let q = libm::round((deg.hi / T::from_f64(90.0)).to_f64());
     let r = deg.minus(Dd::from(T::from_f64(q * 90.0)));
-    let (s, c) = sin_cos_small(r.times(rad_per_deg()));
+    let (s, c) = sin_cos_small(r.times(pair_of(RAD_PER_DEG)));
     let quadrant = libm::fmod(q, 4.0);
     let quadrant = if quadrant < 0.0 {
         quadrant + 4.0
@@ -293,15 +340,18 @@ impl<T: Real> Parallel<T> {
     /// taken as exact).
     pub fn new(e: &Ellipsoid<T>, lat_deg: Dd<T>) -> Self {
         let (sin, cos) = sin_cos_deg(lat_deg);
+        Self::from_sin_cos(e, sin, cos)
+    }
+
+    /// The parallel whose latitude has sine `sin` and cosine `cos`.
+    pub fn from_sin_cos(e: &Ellipsoid<T>, sin: Dd<T>, cos: Dd<T>) -> Self {
         let a2 = two_prod(e.a(), e.a());
         let b2 = two_prod(e.b(), e.b());
-        let d = a2
-            .times(cos.times(cos))
-            .plus(b2.times(sin.times(sin)))
-            .sqrt();
+        let d2 = a2.times(cos.times(cos)).plus(b2.times(sin.times(sin)));
+        let inv_d = Dd::one().over(d2.sqrt());
         Parallel {
-            n_cos: a2.over(d).times(cos),
-            nb_sin: b2.over(d).times(sin),
+            n_cos: a2.times(inv_d).times(cos),
+            nb_sin: b2.times(inv_d).times(sin),
             cos,
             sin,
         }

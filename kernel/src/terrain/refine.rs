@@ -52,7 +52,7 @@
 //! `1 / sin ε` times more.
 
 use super::Grid;
-use crate::dd::{Dd, Parallel, sin_cos_deg, two_prod};
+use crate::dd::{Dd, Parallel, rotate, sin_cos_deg, two_prod};
 use crate::geodesy::Ellipsoid;
 use crate::ray::Ray;
 use crate::real::Real;
@@ -146,11 +146,20 @@ fn plane_hit<T: Real>(
     if i1 >= g.rows || j1 >= g.cols {
         return None;
     }
-    let (row0, row1) = (
-        Parallel::new(e, lat_dd(g, i)),
-        Parallel::new(e, lat_dd(g, i1)),
-    );
-    let ((sw, cw), (se, ce)) = (sin_cos_deg(lon_dd(g, j)), sin_cos_deg(lon_dd(g, j1)));
+    // Row i+1 and column j+1 by angle addition from row i and column j (the small step's sine is cheap); a
+    // pole row directly, so that it stays exactly on the axis.
+    let (lat0, lat1) = (lat_dd(g, i), lat_dd(g, i1));
+    let (lon0, lon1) = (lon_dd(g, j), lon_dd(g, j1));
+    let sc_lat0 = sin_cos_deg(lat0);
+    let sc_lat1 = if lat1.hi.abs() == T::from_f64(90.0) {
+        sin_cos_deg(lat1)
+    } else {
+        rotate(sc_lat0, sin_cos_deg(lat1.minus(lat0)))
+    };
+    let (sw, cw) = sin_cos_deg(lon0);
+    let (se, ce) = rotate((sw, cw), sin_cos_deg(lon1.minus(lon0)));
+    let row0 = Parallel::from_sin_cos(e, sc_lat0.0, sc_lat0.1);
+    let row1 = Parallel::from_sin_cos(e, sc_lat1.0, sc_lat1.1);
     let v0 = row0.ecef(sw, cw, height(i, j)?);
     let v11 = row1.ecef(se, ce, height(i1, j1)?);
     let (v1, v2) = match tri {
