@@ -235,12 +235,93 @@ const SIN_STEPS: [(f64, f64); 18] = [
 /// The most Taylor terms of [`sin_cos_deg`] (the `f64` pair needs 14 at `|x| = π/4`).
 const MAX_TERMS: u32 = 18;
 
-/// `(sin x, cos x)` for `|x| ≤ π/4` (a little more is harmless).
+/// `(sin x, cos x)` by the Taylor series (any `x`; used for `|x| ≤ π/4`, mostly `|x| ≤ 1/32`).
 ///
 /// Horner's scheme `sin x = x (1 − x²/(2·3) (1 − x²/(4·5) (1 − …)))`. The inner levels whose term
 /// `x^{2k}/(2k+1)!` is below `ε` are summed in plain scalars, as the small difference `u_k = acc_k − 1` (their
 /// rounding, `ε |u_k|`, reaches the result scaled by the term: below `ε²`); the outer levels in pairs.
+/// `(sin k/16, cos k/16)`, `k = 0, …, 13`, as `f64` pairs: the table of [`sin_cos_small`]'s reduction.
+const SIXTEENTHS: [[(f64, f64); 2]; 14] = [
+    [(0.0, 0.0), (1.0, 0.0)],
+    [
+        (0.0624593178423802, -2.040259504585711e-18),
+        (0.9980475107000991, 3.3232291674141346e-17),
+    ],
+    [
+        (0.12467473338522769, -2.925947496057858e-18),
+        (0.992197667229329, 4.754870575189364e-17),
+    ],
+    [
+        (0.18640329676226988, 2.3493796901281573e-18),
+        (0.9824733131012553, -3.919920375420088e-17),
+    ],
+    [
+        (0.24740395925452294, -7.53102495590706e-18),
+        (0.9689124217106447, 5.071436662403936e-17),
+    ],
+    [
+        (0.30743851458038085, 1.1004366442765296e-19),
+        (0.9515679480481722, -3.8614834675674123e-17),
+    ],
+    [
+        (0.36627252908604757, -9.938814562106524e-18),
+        (0.9305076219123143, 4.488760003328074e-18),
+    ],
+    [
+        (0.42367625720393803, -2.331800700068871e-17),
+        (0.9058136834259364, 4.2864666490805214e-17),
+    ],
+    [
+        (0.479425538604203, -5.103969860556013e-18),
+        (0.8775825618903728, -4.2623149864279997e-17),
+    ],
+    [
+        (0.5333026735360201, 5.129318115032044e-17),
+        (0.8459244992310679, 1.549506647350329e-17),
+    ],
+    [
+        (0.5850972729404622, -5.4883972461161805e-17),
+        (0.8109631195052179, -3.091333486122179e-17),
+    ],
+    [
+        (0.6346070800152693, -3.4568582392624965e-17),
+        (0.7728349461524715, 4.231014921891023e-17),
+    ],
+    [
+        (0.6816387600233341, 4.410467313197903e-17),
+        (0.7316888688738209, -1.0475824306512768e-17),
+    ],
+    [
+        (0.7260086552607126, -1.573621815339587e-17),
+        (0.6876855622205048, 3.5430696752823923e-17),
+    ],
+];
+
+/// `(sin x, cos x)` for `|x| ≤ π/4` (a little more is harmless): `x = k/16 + y` with `|y| ≤ 1/32`, the
+/// tabulated `(sin, cos)(k/16)` rotated by [`sin_cos_taylor`]`(y)` (three pair levels instead of seven).
 fn sin_cos_small<T: Real>(x: Dd<T>) -> (Dd<T>, Dd<T>) {
+    let kf = libm::round(x.hi.to_f64() * 16.0);
+    // |kf| ≤ 13 for |x| ≤ π/4 (anything else falls back to the plain series, which converges for any x).
+    #[allow(clippy::cast_possible_truncation)]
+    let k = kf as i64;
+    let entry = usize::try_from(k.unsigned_abs())
+        .ok()
+        .and_then(|i| SIXTEENTHS.get(i));
+    match entry {
+        Some(&[st, ct]) if k != 0 => {
+            let y = x.minus(Dd::from(T::from_f64(kf / 16.0)));
+            let st = if k < 0 {
+                pair_of::<T>(st).negated()
+            } else {
+                pair_of(st)
+            };
+            rotate((st, pair_of(ct)), sin_cos_taylor(y))
+        }
+        _ => sin_cos_taylor(x),
+    }
+}
+
+fn sin_cos_taylor<T: Real>(x: Dd<T>) -> (Dd<T>, Dd<T>) {
     let x2 = x.times(x);
     // Levels: keep k ≤ K with x^{2K}/(2K+1)! ≥ ε²/4 (the first omitted term is below that, relative to x);
     // levels from `k_pair` on (term below ε) in scalars.
@@ -301,21 +382,16 @@ pub fn sin_cos_deg<T: Real>(deg: Dd<T>) -> (Dd<T>, Dd<T>) {
     let q = libm::round((deg.hi / T::from_f64(90.0)).to_f64());
     let r = deg.minus(Dd::from(T::from_f64(q * 90.0)));
     let (s, c) = sin_cos_small(r.times(pair_of(RAD_PER_DEG)));
-    let quadrant = libm::fmod(q, 4.0);
-    let quadrant = if quadrant < 0.0 {
-        quadrant + 4.0
-    } else {
-        quadrant
-    };
+    // q is an integer-valued f64 (saturating for absurd angles); its two low bits in two's complement are
+    // q mod 4 in [0, 4).
+    #[allow(clippy::cast_possible_truncation)]
+    let quadrant = (q as i64) & 3;
     // 0: (s, c); 1: (c, −s); 2: (−s, −c); 3: (−c, s).
-    if quadrant < 0.5 {
-        (s, c)
-    } else if quadrant < 1.5 {
-        (c, s.negated())
-    } else if quadrant < 2.5 {
-        (s.negated(), c.negated())
-    } else {
-        (c.negated(), s)
+    match quadrant {
+        0 => (s, c),
+        1 => (c, s.negated()),
+        2 => (s.negated(), c.negated()),
+        _ => (c.negated(), s),
     }
 }
 
@@ -476,11 +552,11 @@ mod tests {
         assert!(close(s, half_sqrt3.negated()) && close(c, Dd::from(-0.5)));
         let (s, c) = sin_cos_deg(Dd::from(420.0_f64));
         assert!(close(s, half_sqrt3) && close(c, Dd::from(0.5)));
-        // A pair argument: 1e-20° more than 30° moves the sine by cos30°·π/180·1e-20.
+        // A pair argument: 1e-20° more than 30° moves the sine by cos30°·π/180·1e-20 (to pair precision of 0.5).
         let (s, _) = sin_cos_deg(Dd::new(30.0_f64, 1e-20));
         let ds = s.minus(Dd::from(0.5)).value();
         let want = 0.75_f64.sqrt() * RAD_PER_DEG.0 * 1e-20;
-        assert!((ds - want).abs() < 1e-33, "{ds} vs {want}");
+        assert!((ds - want).abs() < 1e-32, "{ds} vs {want}");
         // f32 pairs.
         let (s, c) = sin_cos_deg(Dd::from(30.0_f32));
         assert!(s.minus(Dd::from(0.5)).value().abs() < 1e-13);

@@ -27,6 +27,14 @@
 //!    are coplanar). All four corner vertices lie in that convex volume, so both triangles do — exactly, with no
 //!    containment problem at this level — and neighbouring cells share their walls. Only the triangle pairs
 //!    whose volume the ray crosses are tested, with the watertight ray–triangle test ([`triangle`]).
+//! 5. **Refinement of the nearest hit** (beyond the paper; once per ray, after the traversal): the traversal's
+//!    vertices carry a few ulps of rounding, which a grazing ray amplifies by `1 / sin(elevation)` along itself
+//!    (1.4 µm at 0.15° and 150 km in `f64`). The hit triangle's vertices are recomputed in double-double
+//!    ([`crate::dd`]) and `t` is taken from its plane, with a containment walk at edge and vertex ties and a
+//!    guard that keeps the traversal's `t` if the refinement is not sound (`refine.rs` documents all three).
+//!    [`Hit::cell`] and [`Hit::level`] are the traversal's; [`Hit::t`], [`Hit::ecef`] and the geodetic
+//!    coordinates are the refined ones. In `f64` the hit point is then within about 1e-9 m of the exact
+//!    surface's (the host oracle's worst over 187 000 rays: 3.5e-9 m).
 //!
 //! # No misses: what is proven
 //!
@@ -163,7 +171,8 @@ impl From<GeodesyError> for TerrainError {
 pub struct Hit<T> {
     /// Ray parameter (in the units of the ray's direction).
     pub t: T,
-    /// The hit point, ECEF.
+    /// The hit point, ECEF: `origin + t·dir` formed in double-double from the refined parameter and rounded once
+    /// per coordinate (so it may differ from `ray.at(t)` by the rounding of `t·dir`; module docs, step 5).
     pub ecef: [T; 3],
     /// Geodetic latitude of the hit point, degrees.
     pub lat: T,
@@ -222,6 +231,8 @@ pub struct Picker<'s, T, S, const STACK: usize = 64, const ZONES: usize = 64> {
     h_max: T,
     zones: [Option<Zone<T>>; ZONES],
     zone_count: usize,
+    /// The grid steps' sines and cosines in double-double, for the hit refinement.
+    steps: refine::Steps<T>,
 }
 
 impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
@@ -261,6 +272,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         Ok(Picker {
             storage,
             ellipsoid,
+            steps: refine::Steps::new(&grid),
             grid,
             h_max,
             zones,
@@ -687,6 +699,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let refined = refine::refine(
             &self.ellipsoid,
             &self.grid,
+            &self.steps,
             ray,
             c.t,
             c.cell,

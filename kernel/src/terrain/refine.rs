@@ -120,6 +120,23 @@ fn max_abs<T: Real>([x, y, z]: [T; 3]) -> T {
     x.abs().max(y.abs()).max(z.abs())
 }
 
+/// The sines and cosines of the grid's steps `dlat` and `dlon`, as pairs (computed once per picker): row `i+1`
+/// and column `j+1` of a cell follow from row `i` and column `j` by angle addition.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Steps<T> {
+    lat: (Dd<T>, Dd<T>),
+    lon: (Dd<T>, Dd<T>),
+}
+
+impl<T: Real> Steps<T> {
+    pub(super) fn new(g: &Grid<T>) -> Self {
+        Steps {
+            lat: sin_cos_deg(Dd::from(g.dlat)),
+            lon: sin_cos_deg(Dd::from(g.dlon)),
+        }
+    }
+}
+
 /// The intersection of the ray with the plane of one triangle, in pairs.
 #[derive(Debug, Clone, Copy)]
 struct PlaneHit<T> {
@@ -137,6 +154,7 @@ struct PlaneHit<T> {
 fn plane_hit<T: Real>(
     e: &Ellipsoid<T>,
     g: &Grid<T>,
+    steps: &Steps<T>,
     ray: &Ray<T>,
     [i, j]: [u32; 2],
     tri: Tri,
@@ -146,18 +164,24 @@ fn plane_hit<T: Real>(
     if i1 >= g.rows || j1 >= g.cols {
         return None;
     }
-    // Row i+1 and column j+1 by angle addition from row i and column j (the small step's sine is cheap); a
-    // pole row directly, so that it stays exactly on the axis.
+    // Row i+1 and column j+1 by angle addition from row i and column j when they are exactly one step apart
+    // (not where a pole row was clamped or the closing column of a global grid is `lon0 + 360°`), and a pole row
+    // directly, so that it stays exactly on the axis.
     let (lat0, lat1) = (lat_dd(g, i), lat_dd(g, i1));
     let (lon0, lon1) = (lon_dd(g, j), lon_dd(g, j1));
     let sc_lat0 = sin_cos_deg(lat0);
-    let sc_lat1 = if lat1.hi.abs() == T::from_f64(90.0) {
-        sin_cos_deg(lat1)
+    let one_step = lat1.minus(lat0) == Dd::from(g.dlat) && lat1.hi.abs() != T::from_f64(90.0);
+    let sc_lat1 = if one_step {
+        rotate(sc_lat0, steps.lat)
     } else {
-        rotate(sc_lat0, sin_cos_deg(lat1.minus(lat0)))
+        sin_cos_deg(lat1)
     };
     let (sw, cw) = sin_cos_deg(lon0);
-    let (se, ce) = rotate((sw, cw), sin_cos_deg(lon1.minus(lon0)));
+    let (se, ce) = if lon1.minus(lon0) == Dd::from(g.dlon) {
+        rotate((sw, cw), steps.lon)
+    } else {
+        sin_cos_deg(lon1)
+    };
     let row0 = Parallel::from_sin_cos(e, sc_lat0.0, sc_lat0.1);
     let row1 = Parallel::from_sin_cos(e, sc_lat1.0, sc_lat1.1);
     let v0 = row0.ecef(sw, cw, height(i, j)?);
@@ -230,16 +254,18 @@ const MAX_WALK: usize = 7;
 
 /// The refined hit `(t, point)` of `ray` for the traversal's triangle `tri` of cell `[i, j]` at parameter `t0`
 /// (module docs), or `None` when the guard rejects it. `height` gives the storage's vertex heights.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn refine<T: Real>(
     e: &Ellipsoid<T>,
     g: &Grid<T>,
+    steps: &Steps<T>,
     ray: &Ray<T>,
     t0: T,
     cell: [u32; 2],
     tri: Tri,
     height: &impl Fn(u32, u32) -> Option<T>,
 ) -> Option<(T, [T; 3])> {
-    let first = plane_hit(e, g, ray, cell, tri, height)?;
+    let first = plane_hit(e, g, steps, ray, cell, tri, height)?;
     // Containment walk (module docs): at a tie the traversal may have chosen a triangle that the exact ray only
     // grazes past; step across the edge that the refined point lies beyond, to the triangle that contains it.
     let tol = T::from_f64(16.0) * T::EPSILON * max_abs(first.p);
@@ -262,7 +288,7 @@ pub(super) fn refine<T: Real>(
         let Some((nc, nt)) = across(g, c, tr, k) else {
             break;
         };
-        let Some(nh) = plane_hit(e, g, ray, nc, nt, height) else {
+        let Some(nh) = plane_hit(e, g, steps, ray, nc, nt, height) else {
             break;
         };
         cur = (nh, nc, nt);
