@@ -453,17 +453,17 @@ mod tests {
         let s = two_sum(1.0_f64, 1e-20);
         assert_eq!((s.hi, s.lo), (1.0, 1e-20));
         // (1 + 2^-30)² = 1 + 2^-29 + 2^-60: the last term is the product's rounding error.
-        let a = 1.0 + f64::powi(2.0, -30);
+        let a = 1.0 + libm::scalbn(1.0, -30);
         let p = two_prod(a, a);
         assert_eq!(
             (p.hi, p.lo),
-            (1.0 + f64::powi(2.0, -29), f64::powi(2.0, -60))
+            (1.0 + libm::scalbn(1.0, -29), libm::scalbn(1.0, -60))
         );
-        let a = 1.0_f32 + f32::powi(2.0, -13);
+        let a = 1.0_f32 + libm::scalbnf(1.0, -13);
         let p = two_prod(a, a);
         assert_eq!(
             (p.hi, p.lo),
-            (1.0 + f32::powi(2.0, -12), f32::powi(2.0, -26))
+            (1.0 + libm::scalbnf(1.0, -12), libm::scalbnf(1.0, -26))
         );
         assert_eq!(splitter::<f64>(), 134_217_729.0);
         assert_eq!(splitter::<f32>(), 4097.0);

@@ -324,6 +324,15 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         ray: &Ray<T>,
         stats: &mut PickStats,
     ) -> Result<Option<Hit<T>>, TerrainError> {
+        Ok(self.nearest(ray, stats)?.map(|c| self.make_hit(ray, c)))
+    }
+
+    /// The traversal (steps 1–4 of the module docs): the nearest triangle, before the refinement.
+    fn nearest(
+        &self,
+        ray: &Ray<T>,
+        stats: &mut PickStats,
+    ) -> Result<Option<Candidate<T>>, TerrainError> {
         if self.zone_count == 0 {
             return Ok(None);
         }
@@ -396,7 +405,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             };
             self.traverse(root, ray, &wray, &mut best, stats, &mut budget)?;
         }
-        Ok(best.map(|c| self.make_hit(ray, c)))
+        Ok(best)
     }
 
     /// Line of sight from `a` to `b` (ECEF): `true` when no terrain triangle meets the closed segment.
@@ -406,7 +415,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         b: impl Into<V3<T>>,
     ) -> Result<bool, TerrainError> {
         let seg = Ray::segment(a, b)?;
-        Ok(self.pick(&seg)?.is_none())
+        // Only whether a triangle meets the segment matters: no hit point, so no refinement.
+        let mut stats = PickStats::default();
+        Ok(self.nearest(&seg, &mut stats)?.is_none())
     }
 
     /// Depth-first, nearest-child-first traversal of one zone with an explicit stack.
