@@ -340,6 +340,43 @@ fn grazing_rays_skimming_peaks() {
     assert_clean("grazing peaks", &compare(&dem, 8, &rays));
 }
 
+/// Rays descending at 0.1° elevation onto flat terrain (500 m, 3° × 3° at 0.02°), hitting 150 km from their
+/// origin: a vertex error δ moves such a hit by δ / sin 0.1° ≈ 570 δ along the ray, so `f64` vertices alone
+/// (δ ≈ 1e-9 m) give about 1 µm; the kernel's double-double refinement of the hit must agree with the oracle
+/// within 0.2 µm.
+#[test]
+fn grazing_ray_at_0_1_degrees_over_flat_terrain_150_km_away_within_0_2_micrometres() {
+    let (rows, cols) = (151, 151);
+    let dem = Dem::wgs84(
+        (44.0, 6.0, 0.02, 0.02),
+        (rows, cols),
+        vec![500.0; rows * cols],
+    )
+    .expect("flat DEM");
+    let (elev, range) = (0.1_f64.to_radians(), 150_000.0);
+    let mut rays = Vec::new();
+    for (lat, lon) in [(45.5, 7.5), (45.513, 7.4871), (45.4917, 7.5233)] {
+        let target = ecef(&dem, lat, lon, 500.0);
+        let (sp, cp) = lat.to_radians().sin_cos();
+        let (sl, cl) = lon.to_radians().sin_cos();
+        let up = [cp * cl, cp * sl, sp];
+        let east = [-sl, cl, 0.0];
+        let north = [-sp * cl, -sp * sl, cp];
+        for k in 0..12 {
+            let az = (30.0 * k as f64 + 7.0).to_radians();
+            let d: [f64; 3] = std::array::from_fn(|c| {
+                elev.cos() * (az.cos() * north[c] + az.sin() * east[c]) - elev.sin() * up[c]
+            });
+            let origin: [f64; 3] = std::array::from_fn(|c| target[c] - range * d[c]);
+            rays.push(RaySpec::new(origin, d));
+        }
+    }
+    let t = compare(&dem, 16, &rays);
+    assert_clean("grazing 0.1° at 150 km", &t);
+    assert_eq!((t.hits, t.ambiguous), (rays.len(), 0));
+    assert!(t.worst <= 2e-7, "worst {:.3e} m", t.worst);
+}
+
 #[test]
 fn rays_crossing_the_antimeridian() {
     let dem = synthetic(

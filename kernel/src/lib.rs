@@ -55,6 +55,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod dd;
 pub mod geodesy;
 pub mod ray;
 pub mod real;

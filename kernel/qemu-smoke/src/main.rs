@@ -2,7 +2,8 @@
 //!
 //! Runs every case of [`cases::CASES`] (expected answers computed on the host by the arbitrary-precision oracle)
 //! through the kernel's [`Surface::crossings`] in `f64` and in `f32`, plus a march through a spherical grid
-//! (serial engine) and an edge-beveled sphere with hand-derived expectations, prints one line per failure and a
+//! (serial engine), an edge-beveled sphere and a terrain pick (with the hit refinement) with hand-derived
+//! expectations (the pass line counts these under "march and bevel"), prints one line per failure and a
 //! final pass line over semihosting, and exits (semihosting exit) with status 0 only if everything passes.
 //!
 //! **The panic-path proof.** The `#[panic_handler]` below calls a function that is declared but defined nowhere.
@@ -30,11 +31,13 @@ use cases::{CASES, Case, Kind};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hio};
 use curvicast::Real;
+use curvicast::geodesy::Ellipsoid;
 use curvicast::ray::{Ray, RayError};
 use curvicast::spherical::SphericalGrid;
 use curvicast::surface::{
     AxialCone, Crossings, HalfPlane, PlaneZ, Side, Spheroid, Surface, SurfaceError,
 };
+use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainStorage};
 use curvicast::tessellate::bevel::{Face, bevel_sphere, face_count, vertex_count};
 use curvicast::vec3::V3;
 
@@ -162,6 +165,87 @@ fn bevel_case<T: Real>(tol: f64) -> bool {
     });
     let outside = vertices.iter().all(|v| v.length().to_f64() >= 1.0 - tol);
     counts.vertices == NV && counts.faces == NF && centers_touch && outside
+}
+
+/// A 3 × 3-vertex DEM near (10°N, 20°E), flat at 0 m with the center vertex raised to 500 m: one zone that is
+/// also a leaf.
+struct Peak;
+
+impl<T: Real> TerrainStorage<T> for Peak {
+    fn ellipsoid(&self) -> Ellipsoid<T> {
+        Ellipsoid::wgs84()
+    }
+    fn grid(&self) -> Grid<T> {
+        let h = |x: f64| T::from_f64(x);
+        Grid {
+            lat0: h(10.0),
+            lon0: h(20.0),
+            dlat: h(0.01),
+            dlon: h(0.01),
+            rows: 3,
+            cols: 3,
+        }
+    }
+    fn zone_count(&self) -> usize {
+        1
+    }
+    fn zone(&self, k: usize) -> Option<NodeId> {
+        (k == 0).then_some(NodeId(0))
+    }
+    fn node(&self, id: NodeId) -> Option<Node<T>> {
+        (id == NodeId(0)).then_some(Node {
+            rows: [0, 2],
+            cols: [0, 2],
+            heights: Some([T::ZERO, T::from_f64(500.0)]),
+            children: [None; 4],
+            level: 0,
+        })
+    }
+    fn height(&self, i: u32, j: u32) -> Option<T> {
+        (i < 3 && j < 3).then_some(if i == 1 && j == 1 {
+            T::from_f64(500.0)
+        } else {
+            T::ZERO
+        })
+    }
+}
+
+/// Terrain picking (traversal, watertight test and the double-double refinement of the hit): straight down onto
+/// the peak vertex from 10 km above the ellipsoid hits at t = 9500 (m) and h = 500 (within `tol_m` meters); a
+/// ray from 1 km above the southern row, aimed at a point 250 m *below* the peak, meets the peak's slope on the
+/// way (t in (0, 1), 0 < h < 500).
+fn pick_case<T: Real>(tol_m: f64) -> bool {
+    let e = Ellipsoid::<T>::wgs84();
+    let h = |x: f64| T::from_f64(x);
+    let Ok(picker) = Picker::<'_, T, Peak, 16, 4>::new(&Peak) else {
+        return false;
+    };
+    let top = e.geodetic_deg_to_ecef(h(10.01), h(20.01), h(10_000.0));
+    let down = e
+        .normal(h(10.01_f64.to_radians()), h(20.01_f64.to_radians()))
+        .negated();
+    let Ok(ray) = Ray::new(top, down) else {
+        return false;
+    };
+    let straight = match picker.pick(&ray) {
+        Ok(Some(hit)) => {
+            (hit.t.to_f64() - 9500.0).abs() <= tol_m && (hit.h.to_f64() - 500.0).abs() <= tol_m
+        }
+        _ => false,
+    };
+    let from = e.geodetic_deg_to_ecef(h(10.0), h(20.004), h(1000.0));
+    let below_peak = e.geodetic_deg_to_ecef(h(10.01), h(20.01), h(250.0));
+    let Ok(slanted) = Ray::new(from, below_peak.minus(from)) else {
+        return false;
+    };
+    let slope = match picker.pick(&slanted) {
+        Ok(Some(hit)) => {
+            let (t, h) = (hit.t.to_f64(), hit.h.to_f64());
+            t > 0.0 && t < 1.0 && h > 0.0 && h < 500.0
+        }
+        _ => false,
+    };
+    straight && slope
 }
 
 /// A fixed line buffer written to the host's stdout over semihosting. Overlong lines are cut (with `...`); the
@@ -303,6 +387,8 @@ fn main() -> ! {
         ("march f32", march_case::<f32>(1e-5)),
         ("bevel f64", bevel_case::<f64>(1e-12)),
         ("bevel f32", bevel_case::<f32>(1e-5)),
+        ("pick f64", pick_case::<f64>(1e-6)),
+        ("pick f32", pick_case::<f32>(2.0)),
     ];
     let mut extra_passed = 0usize;
     for (name, ok) in extra {

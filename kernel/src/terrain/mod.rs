@@ -27,6 +27,14 @@
 //!    are coplanar). All four corner vertices lie in that convex volume, so both triangles do — exactly, with no
 //!    containment problem at this level — and neighbouring cells share their walls. Only the triangle pairs
 //!    whose volume the ray crosses are tested, with the watertight ray–triangle test ([`triangle`]).
+//! 5. **Refinement of the nearest hit** (beyond the paper; once per ray, after the traversal): the traversal's
+//!    vertices carry a few ulps of rounding, which a grazing ray amplifies by `1 / sin(elevation)` along itself
+//!    (1.4 µm at 0.15° and 150 km in `f64`). The hit triangle's vertices are recomputed in double-double
+//!    ([`crate::dd`]) and `t` is taken from its plane, with a containment walk at edge and vertex ties and a
+//!    guard that keeps the traversal's `t` if the refinement is not sound (`refine.rs` documents all three).
+//!    [`Hit::cell`] and [`Hit::level`] are the traversal's; [`Hit::t`], [`Hit::ecef`] and the geodetic
+//!    coordinates are the refined ones. In `f64` the hit point is then within about 1e-9 m of the exact
+//!    surface's (the host oracle's worst over 187 000 rays: 3.5e-9 m).
 //!
 //! # No misses: what is proven
 //!
@@ -95,6 +103,7 @@
 //! # Ok::<(), Box<dyn core::error::Error>>(())
 //! ```
 
+mod refine;
 mod storage;
 pub mod subset;
 pub mod triangle;
@@ -111,6 +120,7 @@ use crate::ray::{Ray, RayError};
 use crate::real::Real;
 use crate::surface::{Side, Surface};
 use crate::vec3::V3;
+use refine::Tri;
 use triangle::WatertightRay;
 
 /// Why a pick failed.
@@ -169,7 +179,8 @@ impl From<GeodesyError> for TerrainError {
 pub struct Hit<T> {
     /// Ray parameter (in the units of the ray's direction).
     pub t: T,
-    /// The hit point, ECEF.
+    /// The hit point, ECEF: `origin + t·dir` formed in double-double from the refined parameter and rounded once
+    /// per coordinate (so it may differ from `ray.at(t)` by the rounding of `t·dir`; module docs, step 5).
     pub ecef: [T; 3],
     /// Geodetic latitude of the hit point, degrees.
     pub lat: T,
@@ -192,6 +203,16 @@ pub struct PickStats {
     pub triangle_pairs_visited: u32,
     /// Ray–triangle tests performed.
     pub triangles_tested: u32,
+}
+
+/// The nearest hit found so far during the traversal: its parameter and which triangle (the [`Hit`] is formed
+/// once, after the traversal, from the refined parameter).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Candidate<T> {
+    t: T,
+    cell: [u32; 2],
+    tri: Tri,
+    level: u8,
 }
 
 /// A zone root with its precomputed volume.
@@ -220,6 +241,8 @@ pub struct Picker<'s, T, S, const STACK: usize = 64, const ZONES: usize = 64> {
     half_cell: (T, T),
     zones: [Option<Zone<T>>; ZONES],
     zone_count: usize,
+    /// The grid steps' sines and cosines in double-double, for the hit refinement.
+    steps: refine::Steps<T>,
 }
 
 impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
@@ -260,6 +283,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         Ok(Picker {
             storage,
             ellipsoid,
+            steps: refine::Steps::new(&grid),
             grid,
             h_max,
             half_cell,
@@ -312,6 +336,15 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         ray: &Ray<T>,
         stats: &mut PickStats,
     ) -> Result<Option<Hit<T>>, TerrainError> {
+        Ok(self.nearest(ray, stats)?.map(|c| self.make_hit(ray, c)))
+    }
+
+    /// The traversal (steps 1–4 of the module docs): the nearest triangle, before the refinement.
+    fn nearest(
+        &self,
+        ray: &Ray<T>,
+        stats: &mut PickStats,
+    ) -> Result<Option<Candidate<T>>, TerrainError> {
         if self.zone_count == 0 {
             return Ok(None);
         }
@@ -365,7 +398,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let order = order.get_mut(..n_order).unwrap_or(&mut []);
         sort_by_entry(order);
 
-        let mut best: Option<Hit<T>> = None;
+        let mut best: Option<Candidate<T>> = None;
         let mut budget = node_budget(&self.grid, self.zone_count);
         for &(k, a, c) in order.iter() {
             if let Some(h) = &best {
@@ -394,7 +427,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         b: impl Into<V3<T>>,
     ) -> Result<bool, TerrainError> {
         let seg = Ray::segment(a, b)?;
-        Ok(self.pick(&seg)?.is_none())
+        // Only whether a triangle meets the segment matters: no hit point, so no refinement.
+        let mut stats = PickStats::default();
+        Ok(self.nearest(&seg, &mut stats)?.is_none())
     }
 
     /// Depth-first, nearest-child-first traversal of one zone with an explicit stack.
@@ -403,7 +438,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         root: Entry<T>,
         ray: &Ray<T>,
         wray: &WatertightRay<T>,
-        best: &mut Option<Hit<T>>,
+        best: &mut Option<Candidate<T>>,
         stats: &mut PickStats,
         budget: &mut u64,
     ) -> Result<(), TerrainError> {
@@ -505,7 +540,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         wray: &WatertightRay<T>,
         t_in: T,
         t_out: T,
-        best: &mut Option<Hit<T>>,
+        best: &mut Option<Candidate<T>>,
         stats: &mut PickStats,
     ) -> Result<(), TerrainError> {
         let g = &self.grid;
@@ -619,7 +654,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 let v01 = vtx(i, j1);
                 let v11 = vtx(i1, j1);
                 let v10 = vtx(i1, j);
-                for tri in [[v00, v01, v11], [v00, v11, v10]] {
+                for (tri, which) in [
+                    ([v00, v01, v11], Tri::First),
+                    ([v00, v11, v10], Tri::Second),
+                ] {
                     let [Some(a), Some(b), Some(c)] = tri else {
                         continue;
                     };
@@ -628,7 +666,12 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     if let Some((t, _)) = wray.intersect(a, b, c, ray.t_min(), limit) {
                         let better = best.as_ref().is_none_or(|h| t < h.t);
                         if better {
-                            *best = Some(self.make_hit(ray, t, [i, j], node.level));
+                            *best = Some(Candidate {
+                                t,
+                                cell: [i, j],
+                                tri: which,
+                                level: node.level,
+                            });
                         }
                     }
                 }
@@ -683,8 +726,23 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         )
     }
 
-    fn make_hit(&self, ray: &Ray<T>, t: T, cell: [u32; 2], level: u8) -> Hit<T> {
-        let p = ray.at(t);
+    /// The [`Hit`] of the traversal's nearest triangle, with its parameter and point refined in double-double
+    /// (see `refine`'s docs: the vertices recomputed far below an ulp, `t` from the triangle's plane; the
+    /// unrefined values are kept when the refinement's guard rejects it).
+    fn make_hit(&self, ray: &Ray<T>, c: Candidate<T>) -> Hit<T> {
+        let height = |i: u32, j: u32| self.storage.height(i, j).filter(|h| h.is_finite());
+        let refined = refine::refine(
+            &self.ellipsoid,
+            &self.grid,
+            &self.steps,
+            ray,
+            c.t,
+            c.cell,
+            c.tri,
+            &height,
+        );
+        let (t, p) = refined.unwrap_or((c.t, ray.at(c.t)));
+        let (cell, level) = (c.cell, c.level);
         let geo = self.ellipsoid.ecef_to_geodetic(V3::from(p));
         let deg = T::from_f64(180.0) / T::PI;
         Hit {

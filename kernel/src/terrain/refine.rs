@@ -1,0 +1,385 @@
+//! The final refinement of the nearest hit (once per ray, after the traversal).
+//!
+//! # Why
+//!
+//! The traversal tests triangles whose vertices are computed in the scalar type: `lat0 + i·dlat` rounded, degrees
+//! to radians rounded, `sin`/`cos` (an ulp), `N = a/√(1 − e² sin²φ)` and the ECEF products. Each vertex is off
+//! by a few ulps of its coordinates (about 1e-9 m at Earth scale in `f64`). The triangle test itself is far more
+//! accurate relative to *those* vertices, but a vertex error δ moves the hit along a ray of elevation ε over the
+//! triangle by about δ / sin ε: 377 δ at 0.15°, 5700 δ at 0.01°, so a grazing ray 150 km long misses the exact
+//! surface's hit point by more than 1 µm.
+//!
+//! # What
+//!
+//! For the hit triangle only (the traversal's choice of triangle is kept), its three vertices are recomputed in
+//! double-double ([`crate::dd`]): the latitude `lat0 + i·dlat` and longitude `lon0 + j·dlon` as exact pairs,
+//! `sin`/`cos` and the ECEF conversion to a few `ε²` relative. The hit parameter then comes from the triangle's
+//! plane: `t = n·(v0 − o) / (n·d)`, with `v0 − o` and both dot products in pairs.
+//!
+//! The normal `n = (v1 − v0) × (v2 − v0)` is computed in plain scalars from the rounded edge vectors, and its
+//! error does not matter: the plane used still passes *exactly* (to pair precision) through `v0`, and a
+//! normal tilted by an angle of a few ε moves it, at the hit point, by a few ε times the distance from `v0` —
+//! the size of the triangle (a grid cell), not the size of the Earth, which is what the vertices' own rounding
+//! costs. Likewise a scalar `n·d` would lose `ε / sin ε` relatively at grazing incidence, which is why it is
+//! formed in pairs too.
+//!
+//! The hit point `o + t·d` is formed in pairs from the pair `t` and rounded once per coordinate, so
+//! [`super::Hit::ecef`] is the correctly rounded point of the refined plane (and may differ from
+//! `ray.at(hit.t)` by the rounding of `t·d`).
+//!
+//! # Ties: the containment walk
+//!
+//! When the ray passes within rounding distance of an edge or vertex, the traversal's choice between the
+//! triangles that share it is decided by the `f64` vertices, and the exact ray may cross the neighbour instead.
+//! The plane of the chosen triangle then meets the ray *outside* that triangle, and at grazing incidence the
+//! point slides along the plane by the miss distance over `sin ε` (4.8e-8 m for a 0.1° ray through a vertex of
+//! flat terrain, where the neighbouring planes differ by the Earth's curvature). So the refined point's in-plane
+//! distances inside the three edges are checked (barycentric coordinates times the triangle's heights, with a
+//! tolerance of `16 ε ‖p‖∞`), and while it lies beyond an edge the refinement steps to the triangle across that
+//! edge (at most `MAX_WALK` steps, staying in the grid; a nodata neighbour or an unsettled walk keeps the first
+//! triangle's plane). The reported [`super::Hit::cell`] stays the traversal's: at such a tie either cell is a
+//! correct answer.
+//!
+//! # The guard
+//!
+//! The refinement removes errors of a few ulps of the coordinates. The refined hit is accepted only when it is
+//! finite, lies in `[t_min, t_max]`, and moves the point, measured along the triangle's normal, by at most
+//! `256 ε (‖o‖∞ + ‖p‖∞)` (`p` the unrefined hit point), that is by about a hundred times what the vertex and
+//! triangle-test rounding can account for. Otherwise (a degenerate triangle whose plane is undefined, a ray
+//! lying in the plane, an overflow, or a refinement that disagrees with the traversal for any other reason) the
+//! unrefined hit is kept: the refinement can sharpen a hit, never remove or move one by more than rounding. The
+//! normal-direction measure is the right one because along the plane a grazing ray legitimately moves by
+//! `1 / sin ε` times more.
+
+use super::Grid;
+use crate::dd::{Dd, Parallel, rotate, sin_cos_deg, two_prod};
+use crate::geodesy::Ellipsoid;
+use crate::ray::Ray;
+use crate::real::Real;
+
+/// The latitude of vertex row `i` as a pair: `lat0 + i·dlat` exactly (up to pair rounding), clamped to ±90° like
+/// [`Grid::lat_deg`].
+fn lat_dd<T: Real>(g: &Grid<T>, i: u32) -> Dd<T> {
+    let lat = Dd::from(g.lat0).plus(two_prod(T::from_f64(f64::from(i)), g.dlat));
+    let ninety = T::from_f64(90.0);
+    if lat.hi > ninety || (lat.hi == ninety && lat.lo > T::ZERO) {
+        Dd::from(ninety)
+    } else if lat.hi < -ninety || (lat.hi == -ninety && lat.lo < T::ZERO) {
+        Dd::from(-ninety)
+    } else {
+        lat
+    }
+}
+
+/// The longitude of vertex column `j` as a pair: `lon0 + j·dlon`; the last column of a grid that spans 360°
+/// (within 1e-9°) is exactly `lon0 + 360°`, so that the seam's two sides share their vertices exactly (a global
+/// grid whose last column repeats the first).
+fn lon_dd<T: Real>(g: &Grid<T>, j: u32) -> Dd<T> {
+    let last = g.cols.saturating_sub(1);
+    let full = T::from_f64(360.0);
+    if j == last {
+        let span = two_prod(T::from_f64(f64::from(last)), g.dlon).plus_t(-full);
+        if span.value().abs() <= T::from_f64(1e-9) {
+            return Dd::from(g.lon0).plus_t(full);
+        }
+    }
+    Dd::from(g.lon0).plus(two_prod(T::from_f64(f64::from(j)), g.dlon))
+}
+
+/// Which triangle of a cell: [`Tri::First`] is `(V(i,j), V(i,j+1), V(i+1,j+1))`, [`Tri::Second`] is
+/// `(V(i,j), V(i+1,j+1), V(i+1,j))` (the order of [`Grid`]'s contract and of the traversal's tests).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Tri {
+    First,
+    Second,
+}
+
+/// `a − b` rounded to scalars.
+#[inline]
+fn diff<T: Real>(a: &[Dd<T>; 3], b: &[Dd<T>; 3]) -> [T; 3] {
+    let ([a0, a1, a2], [b0, b1, b2]) = (a, b);
+    [
+        a0.minus(*b0).value(),
+        a1.minus(*b1).value(),
+        a2.minus(*b2).value(),
+    ]
+}
+
+#[inline]
+fn cross<T: Real>([a0, a1, a2]: [T; 3], [b0, b1, b2]: [T; 3]) -> [T; 3] {
+    [a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0]
+}
+
+#[inline]
+fn dot<T: Real>([a0, a1, a2]: [T; 3], [b0, b1, b2]: [T; 3]) -> T {
+    a0 * b0 + a1 * b1 + a2 * b2
+}
+
+#[inline]
+fn max_abs<T: Real>([x, y, z]: [T; 3]) -> T {
+    x.abs().max(y.abs()).max(z.abs())
+}
+
+/// The sines and cosines of the grid's steps `dlat` and `dlon`, as pairs (computed once per picker): row `i+1`
+/// and column `j+1` of a cell follow from row `i` and column `j` by angle addition.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Steps<T> {
+    lat: (Dd<T>, Dd<T>),
+    lon: (Dd<T>, Dd<T>),
+}
+
+impl<T: Real> Steps<T> {
+    pub(super) fn new(g: &Grid<T>) -> Self {
+        Steps {
+            lat: sin_cos_deg(Dd::from(g.dlat)),
+            lon: sin_cos_deg(Dd::from(g.dlon)),
+        }
+    }
+}
+
+/// The intersection of the ray with the plane of one triangle, in pairs.
+#[derive(Debug, Clone, Copy)]
+struct PlaneHit<T> {
+    t: T,
+    /// The point `o + t d`, formed in pairs and rounded.
+    p: [T; 3],
+    /// `|n·d| / |n|`: the sine of the ray's elevation over the plane times `|d|`.
+    slope: T,
+    /// Signed in-plane distances of `p` inside the edges opposite `v0`, `v1`, `v2` (negative: outside).
+    inside: [T; 3],
+}
+
+/// The refined intersection with triangle `tri` of cell `[i, j]` (module docs); `None` if a corner is nodata or
+/// outside the grid, or the result is not finite.
+fn plane_hit<T: Real>(
+    e: &Ellipsoid<T>,
+    g: &Grid<T>,
+    steps: &Steps<T>,
+    ray: &Ray<T>,
+    [i, j]: [u32; 2],
+    tri: Tri,
+    height: &impl Fn(u32, u32) -> Option<T>,
+) -> Option<PlaneHit<T>> {
+    let (i1, j1) = (i.checked_add(1)?, j.checked_add(1)?);
+    if i1 >= g.rows || j1 >= g.cols {
+        return None;
+    }
+    // Row i+1 and column j+1 by angle addition from row i and column j when they are exactly one step apart
+    // (not where a pole row was clamped or the closing column of a global grid is `lon0 + 360°`), and a pole row
+    // directly, so that it stays exactly on the axis.
+    let (lat0, lat1) = (lat_dd(g, i), lat_dd(g, i1));
+    let (lon0, lon1) = (lon_dd(g, j), lon_dd(g, j1));
+    let sc_lat0 = sin_cos_deg(lat0);
+    let one_step = lat1.minus(lat0) == Dd::from(g.dlat) && lat1.hi.abs() != T::from_f64(90.0);
+    let sc_lat1 = if one_step {
+        rotate(sc_lat0, steps.lat)
+    } else {
+        sin_cos_deg(lat1)
+    };
+    let (sw, cw) = sin_cos_deg(lon0);
+    let (se, ce) = if lon1.minus(lon0) == Dd::from(g.dlon) {
+        rotate((sw, cw), steps.lon)
+    } else {
+        sin_cos_deg(lon1)
+    };
+    let row0 = Parallel::from_sin_cos(e, sc_lat0.0, sc_lat0.1);
+    let row1 = Parallel::from_sin_cos(e, sc_lat1.0, sc_lat1.1);
+    let v0 = row0.ecef(sw, cw, height(i, j)?);
+    let v11 = row1.ecef(se, ce, height(i1, j1)?);
+    let (v1, v2) = match tri {
+        Tri::First => (row0.ecef(se, ce, height(i, j1)?), v11),
+        Tri::Second => (v11, row1.ecef(sw, cw, height(i1, j)?)),
+    };
+    // Edges rounded to scalars; the normal in scalars (module docs: its error tilts the plane about v0 only).
+    let a = diff(&v1, &v0);
+    let b = diff(&v2, &v0);
+    let n = cross(a, b);
+    let o = ray.origin().to_array();
+    let d = ray.dir().to_array();
+    let mut num = Dd::from(T::ZERO);
+    let mut den = Dd::from(T::ZERO);
+    for (((vk, ok), nk), dk) in v0.iter().zip(o).zip(n).zip(d) {
+        num = num.plus(vk.plus_t(-ok).times_t(nk));
+        den = den.plus(two_prod(nk, dk));
+    }
+    let t_dd = num.over(den);
+    let [o0, o1, o2] = o;
+    let [d0, d1, d2] = d;
+    let at = |ok: T, dk: T| t_dd.times_t(dk).plus_t(ok).value();
+    let p = [at(o0, d0), at(o1, d1), at(o2, d2)];
+    // Barycentric coordinates of p: λ1 = (w × b)·n / |n|², λ2 = (a × w)·n / |n|², λ0 = 1 − λ1 − λ2, times the
+    // heights |n|/|edge| of the triangle over the opposite edges: in-plane distances inside each edge.
+    let [p0, p1, p2] = p;
+    let w = diff(&[Dd::from(p0), Dd::from(p1), Dd::from(p2)], &v0);
+    let nn = dot(n, n);
+    let n_len = nn.sqrt();
+    let (c1, c2) = (dot(cross(w, b), n), dot(cross(a, w), n));
+    let c0 = nn - c1 - c2;
+    let len = |v: [T; 3]| dot(v, v).sqrt();
+    let [b0, b1, b2] = b;
+    let [a0, a1, a2] = a;
+    let inside = [
+        c0 / (n_len * len([b0 - a0, b1 - a1, b2 - a2])),
+        c1 / (n_len * len(b)),
+        c2 / (n_len * len(a)),
+    ];
+    let t = t_dd.value();
+    let finite = t.is_finite() && p.iter().chain(inside.iter()).all(|x| x.is_finite());
+    finite.then_some(PlaneHit {
+        t,
+        p,
+        slope: den.value().abs() / n_len,
+        inside,
+    })
+}
+
+/// The triangle across edge `k` (the edge opposite vertex `k`) of triangle `tri` of cell `[i, j]`, if inside
+/// the grid's index range.
+fn across<T: Real>(g: &Grid<T>, [i, j]: [u32; 2], tri: Tri, k: usize) -> Option<([u32; 2], Tri)> {
+    let n = match (tri, k) {
+        // First (V(i,j), V(i,j+1), V(i+1,j+1)): column j+1, the diagonal, row i.
+        (Tri::First, 0) => ([i, j.checked_add(1)?], Tri::Second),
+        (Tri::First, 1) => ([i, j], Tri::Second),
+        (Tri::First, _) => ([i.checked_sub(1)?, j], Tri::Second),
+        // Second (V(i,j), V(i+1,j+1), V(i+1,j)): row i+1, column j, the diagonal.
+        (Tri::Second, 0) => ([i.checked_add(1)?, j], Tri::First),
+        (Tri::Second, 1) => ([i, j.checked_sub(1)?], Tri::First),
+        (Tri::Second, _) => ([i, j], Tri::First),
+    };
+    (n.0[0] < g.cell_rows() && n.0[1] < g.cell_cols()).then_some(n)
+}
+
+/// The most triangles the containment walk visits (the six around a vertex, and one more).
+const MAX_WALK: usize = 7;
+
+/// The refined hit `(t, point)` of `ray` for the traversal's triangle `tri` of cell `[i, j]` at parameter `t0`
+/// (module docs), or `None` when the guard rejects it. `height` gives the storage's vertex heights.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn refine<T: Real>(
+    e: &Ellipsoid<T>,
+    g: &Grid<T>,
+    steps: &Steps<T>,
+    ray: &Ray<T>,
+    t0: T,
+    cell: [u32; 2],
+    tri: Tri,
+    height: &impl Fn(u32, u32) -> Option<T>,
+) -> Option<(T, [T; 3])> {
+    let first = plane_hit(e, g, steps, ray, cell, tri, height)?;
+    // Containment walk (module docs): at a tie the traversal may have chosen a triangle that the exact ray only
+    // grazes past; step across the edge that the refined point lies beyond, to the triangle that contains it.
+    let tol = T::from_f64(16.0) * T::EPSILON * max_abs(first.p);
+    let mut cur = (first, cell, tri);
+    let mut chosen = first;
+    for _ in 0..MAX_WALK {
+        let (h, c, tr) = cur;
+        let [d0, d1, d2] = h.inside;
+        let (k, worst) = if d0 <= d1 && d0 <= d2 {
+            (0, d0)
+        } else if d1 <= d2 {
+            (1, d1)
+        } else {
+            (2, d2)
+        };
+        if worst >= -tol {
+            chosen = h;
+            break;
+        }
+        let Some((nc, nt)) = across(g, c, tr, k) else {
+            break;
+        };
+        let Some(nh) = plane_hit(e, g, steps, ray, nc, nt, height) else {
+            break;
+        };
+        cur = (nh, nc, nt);
+    }
+    // The guard (module docs).
+    let (t, p) = (chosen.t, chosen.p);
+    if !(ray.t_min() <= t && t <= ray.t_max()) {
+        return None;
+    }
+    let moved = (t - t0).abs() * chosen.slope;
+    let allowed =
+        T::from_f64(256.0) * T::EPSILON * (max_abs(ray.origin().to_array()) + max_abs(ray.at(t0)));
+    (moved <= allowed).then_some((t, p))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The grid vertices `(row, col)` of triangle `tri` of cell `[i, j]`, in the order `v0, v1, v2`.
+    fn corners([i, j]: [u32; 2], tri: Tri) -> [(u32, u32); 3] {
+        match tri {
+            Tri::First => [(i, j), (i, j + 1), (i + 1, j + 1)],
+            Tri::Second => [(i, j), (i + 1, j + 1), (i + 1, j)],
+        }
+    }
+
+    #[test]
+    fn the_triangle_across_each_edge_shares_exactly_that_edge() {
+        let g = Grid {
+            lat0: 10.0,
+            lon0: 20.0,
+            dlat: -0.5,
+            dlon: 0.5,
+            rows: 4,
+            cols: 5,
+        };
+        let mut crossings = 0;
+        for i in 0..3 {
+            for j in 0..4 {
+                for tri in [Tri::First, Tri::Second] {
+                    let v = corners([i, j], tri);
+                    for k in 0..3 {
+                        let edge: std::vec::Vec<_> =
+                            (0..3).filter(|&m| m != k).map(|m| v[m]).collect();
+                        let Some((c, t)) = across(&g, [i, j], tri, k) else {
+                            // Only the grid's outer edges have no triangle across.
+                            let outer = edge.iter().all(|&(r, _)| r == 0)
+                                || edge.iter().all(|&(r, _)| r == 3)
+                                || edge.iter().all(|&(_, s)| s == 0)
+                                || edge.iter().all(|&(_, s)| s == 4);
+                            assert!(outer, "{i},{j} {tri:?} edge {k}");
+                            continue;
+                        };
+                        let w = corners(c, t);
+                        assert!((c, t) != ([i, j], tri));
+                        assert!(edge.iter().all(|e| w.contains(e)), "{i},{j} {tri:?} {k}");
+                        crossings += 1;
+                    }
+                }
+            }
+        }
+        // 3 × 4 cells: 12 diagonals twice, 2·4 interior row edges and 3·3 interior column edges twice each.
+        assert_eq!(crossings, 2 * (12 + 2 * 4 + 3 * 3));
+    }
+
+    #[test]
+    fn grid_angles_as_exact_pairs_and_the_closing_column() {
+        // 1/3° spacing: 1080 columns span 360° only up to the rounding of 1/3; the last column is lon0 + 360°.
+        let g = Grid {
+            lat0: 89.5,
+            lon0: 20.0 + 1.0 / 6.0,
+            dlat: -1.0 / 3.0,
+            dlon: 1.0 / 3.0,
+            rows: 540,
+            cols: 1081,
+        };
+        let last = lon_dd(&g, 1080);
+        assert_eq!(last, Dd::from(g.lon0).plus_t(360.0));
+        // Other columns: lon0 + j·dlon exactly (the product's rounding error is kept in the low part).
+        let l7 = lon_dd(&g, 7);
+        let exact = two_prod(7.0, 1.0 / 3.0);
+        assert_eq!(l7.minus(Dd::from(g.lon0)).minus(exact).value(), 0.0);
+        assert!(l7.lo != 0.0);
+        // Rows clamp at the poles like `Grid::lat_deg`.
+        let g = Grid {
+            lat0: 80.0,
+            dlat: 10.000_000_000_000_002,
+            ..g
+        };
+        assert_eq!(lat_dd(&g, 1), Dd::from(90.0));
+        assert_eq!(lat_dd(&g, 0), Dd::from(80.0));
+    }
+}
