@@ -3,7 +3,7 @@
 //! Runs every case of [`cases::CASES`] (expected answers computed on the host by the arbitrary-precision oracle)
 //! through the kernel's [`Surface::crossings`] in `f64` and in `f32`, plus a march through a spherical grid
 //! (serial engine), an edge-beveled sphere and a terrain pick (with the hit refinement) with hand-derived
-//! expectations (the pass line counts these under "march and bevel"), prints one line per failure and a
+//! expectations (the pass line counts these under "march, bevel and pick"), prints one line per failure and a
 //! final pass line over semihosting, and exits (semihosting exit) with status 0 only if everything passes.
 //!
 //! **The panic-path proof.** The `#[panic_handler]` below calls a function that is declared but defined nowhere.
@@ -407,7 +407,7 @@ fn main() -> ! {
     line.num(passed)
         .str("/")
         .num(CASES.len())
-        .str(" cases passed (f64 and f32), march and bevel ")
+        .str(" cases passed (f64 and f32), march, bevel and pick ")
         .num(extra_passed)
         .str("/")
         .num(extra.len());
