@@ -6,7 +6,7 @@
 //! equal `t` by coordinate (radius first, then the grid's second and third coordinate) — so they agree exactly.
 
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
-use super::stream::{Event, Stream};
+use super::stream::{At, Event, Stream};
 use super::{Axis, CellCrossing, MarchError};
 use crate::ray::Ray;
 use crate::real::Real;
@@ -191,7 +191,7 @@ fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, 
     if rband >= axes.radial.len {
         match rs.next_radial(&axes.radial, rays.radial(), rays.t_max) {
             Some((t, b)) => {
-                t0 = t;
+                t0 = t.t(); // a radius event: already divided
                 rband = b;
             }
             None => return Ok(None),
@@ -237,17 +237,34 @@ pub(crate) struct Emitter<T> {
     rule: CellRule,
     bands: [u32; 3],
     seg_start: T,
+    t_max: T,
     pending: Option<CellCrossing<T>>,
 }
 
 impl<T: Real> Emitter<T> {
-    fn new(rule: CellRule, bands: [u32; 3], t0: T) -> Self {
+    fn new(rule: CellRule, bands: [u32; 3], t0: T, t_max: T) -> Self {
         Emitter {
             rule,
             bands,
             seg_start: t0,
+            t_max,
             pending: None,
         }
+    }
+
+    /// The event of `slot` entering `band`. Its parameter is divided (the one division of an azimuth or height
+    /// crossing) only when a crossing of the domain ends or starts there; an event between two band sets that
+    /// are both outside the domain (outside a wedge or a zenith band, or past a z facet) needs no `t`.
+    fn on(&mut self, at: At<T>, slot: usize, band: u32) -> Option<CellCrossing<T>> {
+        let mut after = self.bands;
+        if let Some(b) = after.get_mut(slot) {
+            *b = band;
+        }
+        if self.rule.cell(self.bands).is_none() && self.rule.cell(after).is_none() {
+            self.bands = after;
+            return None;
+        }
+        self.on_event(at.t(), slot, band)
     }
 
     fn push(&mut self, c: CellCrossing<T>) -> Option<CellCrossing<T>> {
@@ -261,6 +278,10 @@ impl<T: Real> Emitter<T> {
     }
 
     fn on_event(&mut self, t: T, slot: usize, band: u32) -> Option<CellCrossing<T>> {
+        // Events are ordered by their undivided parameters; two that agree within rounding may come out of
+        // their divisions in the other order, or a hair past t_max: clamp (a zero-length crossing at worst).
+        let t = t.max(self.seg_start).min(self.t_max).max(self.seg_start);
+        // (seg_start is the last t computed: an event outside the domain leaves it where it was)
         let before = self.rule.cell(self.bands);
         if let Some(b) = self.bands.get_mut(slot) {
             *b = band;
@@ -338,7 +359,7 @@ impl<'g, T: Real> SerialMarch<'g, T> {
                     }
                 }
                 m.streams = streams;
-                m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0));
+                m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0, ray.t_max()));
                 m.rays = Some(s.rays);
                 m.finished = false;
             }
@@ -366,10 +387,10 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
             if self.finished {
                 return em.pending.take();
             }
-            let mut best: Option<(T, u32, usize)> = None;
+            let mut best: Option<(At<T>, u32, usize)> = None;
             for (slot, h) in self.heads.iter().enumerate() {
                 if let Some((t, b)) = *h {
-                    if best.is_none_or(|(bt, _, _)| t < bt) {
+                    if best.is_none_or(|(bt, _, _)| t.lt(&bt)) {
                         best = Some((t, b, slot));
                     }
                 }
@@ -391,7 +412,7 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
             if let Some(h) = self.heads.get_mut(slot) {
                 *h = next;
             }
-            let out = em.on_event(t, slot, band);
+            let out = em.on(t, slot, band);
             if slot == 0 && next.is_none() && em.radial_band() >= self.axes.radial.len {
                 self.finished = true; // left the outer radius for good
             }
@@ -433,13 +454,13 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
             return Ok(m);
         };
         let mut streams = s.streams;
-        let mut t_end = ray.t_max();
+        let mut t_end = At::exact(ray.t_max());
         for slot in 0..3 {
             let list = m.lists.get_mut(slot).ok_or(MarchError::IterationBound)?;
             let mut last_band = s.bands.get(slot).copied().unwrap_or(0);
             let mut last_t = None;
             while let Some((t, b)) = next_event(axes, &s.rays, &mut streams, slot) {
-                if slot > 0 && t > t_end {
+                if slot > 0 && t_end.lt(&t) {
                     break;
                 }
                 list.push((t, b)).map_err(|_| MarchError::BufferFull {
@@ -455,7 +476,7 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
                 }
             }
         }
-        m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0));
+        m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0, ray.t_max()));
         m.finished = false;
         Ok(m)
     }
@@ -479,10 +500,10 @@ impl<T: Real, const N: usize> Iterator for SeparableMarch<T, N> {
             if self.finished {
                 return em.pending.take();
             }
-            let mut best: Option<(T, u32, usize)> = None;
+            let mut best: Option<(At<T>, u32, usize)> = None;
             for (slot, (list, &p)) in self.lists.iter().zip(self.pos.iter()).enumerate() {
                 if let Some(&(t, b)) = list.get(p) {
-                    if best.is_none_or(|(bt, _, _)| t < bt) {
+                    if best.is_none_or(|(bt, _, _)| t.lt(&bt)) {
                         best = Some((t, b, slot));
                     }
                 }
@@ -497,7 +518,7 @@ impl<T: Real, const N: usize> Iterator for SeparableMarch<T, N> {
             if let Some(p) = self.pos.get_mut(slot) {
                 *p = p.saturating_add(1);
             }
-            if let Some(c) = em.on_event(t, slot, band) {
+            if let Some(c) = em.on(t, slot, band) {
                 return Some(c);
             }
         }
