@@ -394,3 +394,72 @@ fn random_rays_over_random_grids_subset() {
 fn random_rays_over_random_grids_full_200k() {
     random_suite(200_000, 7);
 }
+
+/// Regression (random suite, seed 7, grid #2998): a ray from 27.6 units away (L = 27.6) whose direction is
+/// 0.015 rad off the generators of the zenith cone θ = 2.3167 (between cones at 2.2611 and 2.3379), crossing
+/// it at r = 0.77, next to its closest approach to the apex (0.77). The grid also has two shells 7e-5 apart
+/// (3.017146, 3.017216), which the ray crosses too, but the bad crossing was the cone's: the quadratic's
+/// leading coefficient nearly cancels there, and before the cone solver's Newton step at the root
+/// (`surface/cone.rs`) the crossing point lay 21 eps·L off the cone (limit 16); the shells' roots were within
+/// 1 eps·L. Now both engines are within 1 eps·L everywhere on this ray.
+#[test]
+fn far_ray_nearly_parallel_to_a_cone_generator_crossing_it_near_the_apex() {
+    let grid = sph(
+        &[
+            0.0,
+            0.7582860789984203,
+            1.548104923317521,
+            3.0171463778032748,
+            3.017216263010648,
+            4.023472695391163,
+            6.152487036776193,
+            7.41240620134458,
+        ],
+        &[
+            1.0737747484770148,
+            2.2610509815483955,
+            2.3166969491025764,
+            2.3378866719772446,
+            2.4570471870014927,
+            2.5444516379243725,
+            3.057002356955503,
+            PI,
+        ],
+        &[
+            4.674116701926735,
+            8.18758137499676,
+            9.685228550266725,
+            10.957302009106321,
+        ],
+    );
+    let ray = RaySpec::new(
+        [19.84351522468882, -4.797491810022317, 18.512759639816547],
+        [-13.295309132242258, 3.4932679682625025, -13.0776891100085],
+    );
+    // the crossing of the cone θ_2 = 2.3167 (zenith band 1 → 2) is where the error was
+    let o = MarchOracle::new_for(&grid, Precision::F64.eps()).unwrap();
+    let reference = o.march(&ray);
+    for e in [Engine::Serial, Engine::Separable] {
+        let k = mc::run_engine(&grid, &ray, e, Precision::F64).unwrap();
+        let cone = k
+            .windows(2)
+            .find(|w| w[0].cell[1] == 1 && w[1].cell[1] == 2)
+            .map(|w| w[0].t_exit)
+            .expect("the ray crosses the cone θ_2 from band 1 to band 2");
+        assert!(
+            (cone - 1.455_708_705_336_812).abs() < 1e-13,
+            "{e:?}: {cone}"
+        );
+        let s = compare(&o, &reference, &k, Precision::F64.eps(), Some(16.0)).unwrap();
+        assert!(
+            s.max_backward_eps <= 4.0,
+            "{e:?}: {} eps·L",
+            s.max_backward_eps
+        );
+    }
+    check_cases(vec![Case {
+        name: "far ray nearly parallel to a cone generator, crossing near the apex",
+        grid,
+        rays: vec![ray],
+    }]);
+}
