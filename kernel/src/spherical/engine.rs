@@ -6,7 +6,7 @@
 //! equal `t` by coordinate (radius first, then the grid's second and third coordinate) — so they agree exactly.
 
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
-use super::stream::{At, Event, Stream};
+use super::stream::{At, Event, Packed, Stream};
 use super::{Axis, CellCrossing, MarchError};
 use crate::ray::Ray;
 use crate::real::Real;
@@ -329,7 +329,7 @@ pub struct SerialMarch<'g, T> {
     axes: &'g Axes<'g, T>,
     rays: Option<Rays<T>>,
     streams: [Stream<T>; 3],
-    heads: [Option<Event<T>>; 3],
+    heads: [Option<Packed<T>>; 3],
     em: Option<Emitter<T>>,
     t_max: T,
     steps: u32,
@@ -355,7 +355,7 @@ impl<'g, T: Real> SerialMarch<'g, T> {
                 let mut streams = s.streams;
                 for slot in 0..3 {
                     if let Some(h) = m.heads.get_mut(slot) {
-                        *h = next_event(axes, &s.rays, &mut streams, slot);
+                        *h = next_event(axes, &s.rays, &mut streams, slot).map(Packed::pack);
                     }
                 }
                 m.streams = streams;
@@ -389,7 +389,7 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
             }
             let mut best: Option<(At<T>, u32, usize)> = None;
             for (slot, h) in self.heads.iter().enumerate() {
-                if let Some((t, b)) = *h {
+                if let Some((t, b)) = h.map(Packed::unpack) {
                     if best.is_none_or(|(bt, _, _)| t.lt(&bt)) {
                         best = Some((t, b, slot));
                     }
@@ -410,7 +410,7 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
             }
             let next = next_event(self.axes, rays, &mut self.streams, slot);
             if let Some(h) = self.heads.get_mut(slot) {
-                *h = next;
+                *h = next.map(Packed::pack);
             }
             let out = em.on(t, slot, band);
             if slot == 0 && next.is_none() && em.radial_band() >= self.axes.radial.len {
@@ -430,7 +430,7 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
 /// [`MarchError::BufferFull`] at construction, never a truncated answer.
 #[derive(Debug, Clone)]
 pub struct SeparableMarch<T, const N: usize> {
-    lists: [heapless::Vec<Event<T>, N>; 3],
+    lists: [heapless::Vec<Packed<T>, N>; 3],
     pos: [usize; 3],
     em: Option<Emitter<T>>,
     t_max: T,
@@ -463,10 +463,11 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
                 if slot > 0 && t_end.lt(&t) {
                     break;
                 }
-                list.push((t, b)).map_err(|_| MarchError::BufferFull {
-                    axis: axes.axis_name(slot),
-                    capacity: N,
-                })?;
+                list.push(Packed::pack((t, b)))
+                    .map_err(|_| MarchError::BufferFull {
+                        axis: axes.axis_name(slot),
+                        capacity: N,
+                    })?;
                 last_band = b;
                 last_t = Some(t);
             }
@@ -502,7 +503,7 @@ impl<T: Real, const N: usize> Iterator for SeparableMarch<T, N> {
             }
             let mut best: Option<(At<T>, u32, usize)> = None;
             for (slot, (list, &p)) in self.lists.iter().zip(self.pos.iter()).enumerate() {
-                if let Some(&(t, b)) = list.get(p) {
+                if let Some((t, b)) = list.get(p).map(|e| e.unpack()) {
                     if best.is_none_or(|(bt, _, _)| t.lt(&bt)) {
                         best = Some((t, b, slot));
                     }
