@@ -204,18 +204,15 @@ fn run_in<T: Real + Send + Sync>(
             Ok(r) => make_ray::<T>(r),
             Err(e) => Err(e.clone()),
         };
-        let result = ray.and_then(|ray| {
-            let r = match engine {
-                Engine::Serial => grid.serial(&ray).map_err(|e| e.to_string()),
-                Engine::Separable if need <= 256 => {
-                    grid.separable::<256>(&ray).map_err(|e| e.to_string())
-                }
-                Engine::Separable if need <= 4096 => {
-                    grid.separable::<4096>(&ray).map_err(|e| e.to_string())
-                }
-                Engine::Separable => grid.separable_on_own_stack::<32768>(&ray),
-            };
-            r
+        let result = ray.and_then(|ray| match engine {
+            Engine::Serial => grid.serial(&ray).map_err(|e| e.to_string()),
+            Engine::Separable if need <= 256 => {
+                grid.separable::<256>(&ray).map_err(|e| e.to_string())
+            }
+            Engine::Separable if need <= 4096 => {
+                grid.separable::<4096>(&ray).map_err(|e| e.to_string())
+            }
+            Engine::Separable => grid.separable_on_own_stack::<32768>(&ray),
         });
         let text = match result {
             Ok(cs) => crossings_line(i, &cs, polar),
