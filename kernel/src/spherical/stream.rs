@@ -3,8 +3,10 @@
 //!
 //! A stream's state is a few scalars; its next crossing is computed only when the previous one has been consumed
 //! (the caller caches it), so each radius or zenith crossing costs one square root and each azimuth or z crossing
-//! one division. The streams are independent of each other, which is what lets the serial and the separable
-//! engines interleave the very same events and agree exactly.
+//! one division. An azimuth or z crossing is handed to the engine as an undivided fraction ([`At`]) and divided
+//! only when the engine reports it, so the crossing an engine looks at past the end of the march costs nothing.
+//! The streams are independent of each other, which is what lets the serial and the separable engines interleave
+//! the very same events and agree exactly.
 //!
 //! **Topology first.** Which boundary comes next is decided by logic that cannot step by more than one band:
 //! * radius (ditone, Lemma 8): a descending phase (before the hinge, entering ever smaller spheres while the line
