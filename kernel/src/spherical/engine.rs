@@ -256,15 +256,18 @@ impl<T: Real> Emitter<T> {
     /// crossing) only when a crossing of the domain ends or starts there; an event between two band sets that
     /// are both outside the domain (outside a wedge or a zenith band, or past a z facet) needs no `t`.
     fn on(&mut self, at: At<T>, slot: usize, band: u32) -> Option<CellCrossing<T>> {
-        let mut after = self.bands;
-        if let Some(b) = after.get_mut(slot) {
-            *b = band;
+        let before = self.rule.cell(self.bands);
+        if before.is_none() {
+            let mut after = self.bands;
+            if let Some(b) = after.get_mut(slot) {
+                *b = band;
+            }
+            if self.rule.cell(after).is_none() {
+                self.bands = after;
+                return None;
+            }
         }
-        if self.rule.cell(self.bands).is_none() && self.rule.cell(after).is_none() {
-            self.bands = after;
-            return None;
-        }
-        self.on_event(at.t(), slot, band)
+        self.record(before, at.t(), slot, band)
     }
 
     fn push(&mut self, c: CellCrossing<T>) -> Option<CellCrossing<T>> {
@@ -277,12 +280,18 @@ impl<T: Real> Emitter<T> {
         }
     }
 
-    fn on_event(&mut self, t: T, slot: usize, band: u32) -> Option<CellCrossing<T>> {
+    /// Records the event at `t`; `before` is the cell the bands give before it.
+    fn record(
+        &mut self,
+        before: Option<[u32; 3]>,
+        t: T,
+        slot: usize,
+        band: u32,
+    ) -> Option<CellCrossing<T>> {
         // Events are ordered by their undivided parameters; two that agree within rounding may come out of
         // their divisions in the other order, or a hair past t_max: clamp (a zero-length crossing at worst).
         let t = t.max(self.seg_start).min(self.t_max).max(self.seg_start);
         // (seg_start is the last t computed: an event outside the domain leaves it where it was)
-        let before = self.rule.cell(self.bands);
         if let Some(b) = self.bands.get_mut(slot) {
             *b = band;
         }

@@ -99,13 +99,24 @@ impl<T: Real> At<T> {
         }
     }
 
-    /// `(num / den)` in the scaled parameter of `ray` (`den > 0`), not divided yet.
+    /// `(num / den)` in the scaled parameter of `ray` (`den > 0`), not divided yet. The exact rescaling is
+    /// folded into the denominator (`t = num / (den·2^e)`, the same quotient bit for bit) unless that would
+    /// leave the normal range, so that comparisons need no rescaling.
     #[inline]
     fn fraction(num: T, den: T, ray: &Ray<T>) -> Self {
-        At {
-            num,
-            den,
-            e: ray.scale_exponent(),
+        let e = ray.scale_exponent();
+        if e == 0 {
+            return At { num, den, e };
+        }
+        let folded = den.scalbn(e);
+        if folded.is_finite() && folded >= T::MIN_POSITIVE {
+            At {
+                num,
+                den: folded,
+                e: 0,
+            }
+        } else {
+            At { num, den, e }
         }
     }
 
