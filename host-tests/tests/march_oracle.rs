@@ -394,3 +394,129 @@ fn random_rays_over_random_grids_subset() {
 fn random_rays_over_random_grids_full_200k() {
     random_suite(200_000, 7);
 }
+
+/// Both engines, f64: the backward error on this ray is at most `limit` eps·L (and the full criterion holds in
+/// every precision, through `check_cases`).
+fn far_ray_regression(name: &'static str, grid: GridSpec, ray: RaySpec, limit: f64) {
+    let o = MarchOracle::new_for(&grid, Precision::F64.eps()).unwrap();
+    let reference = o.march(&ray);
+    for e in [Engine::Serial, Engine::Separable] {
+        let k = mc::run_engine(&grid, &ray, e, Precision::F64).unwrap();
+        let s = compare(&o, &reference, &k, Precision::F64.eps(), Some(16.0)).unwrap();
+        println!("{name} {e:?}: max backward {:.2} eps·L", s.max_backward_eps);
+        assert!(
+            s.max_backward_eps <= limit,
+            "{e:?}: {} eps·L",
+            s.max_backward_eps
+        );
+    }
+    check_cases(vec![Case {
+        name,
+        grid,
+        rays: vec![ray],
+    }]);
+}
+
+/// Regression (the full random suite, seed 7, grid #2998, one of the two f64 rays over the limit before the
+/// cone solver's Newton step at the root): a ray from 27.6 units away (L = 27.6), 0.015 rad off the generators
+/// of the zenith cone θ = 2.3167 (between cones at 2.2611 and 2.3379), crossing it at r = 0.77, next to its
+/// closest approach to the apex (0.77). The grid also has two shells 7e-5 apart (3.017146, 3.017216), which
+/// the ray crosses too, but the bad crossing was the cone's (band 1 → 2, t = 1.45571): the quadratic's leading
+/// coefficient nearly cancels there and |∇Q| is small, and without the refinement (`surface/cone.rs`) the
+/// point lay 21.0 eps·L off the cone (limit 16); the shells' roots were within 1 eps·L.
+#[test]
+fn far_ray_nearly_parallel_to_a_cone_generator_crossing_it_near_the_apex() {
+    let grid = sph(
+        &[
+            0.0,
+            0.7582860789984203,
+            1.548104923317521,
+            3.0171463778032748,
+            3.017216263010648,
+            4.023472695391163,
+            6.152487036776193,
+            7.41240620134458,
+        ],
+        &[
+            1.0737747484770148,
+            2.2610509815483955,
+            2.3166969491025764,
+            2.3378866719772446,
+            2.4570471870014927,
+            2.5444516379243725,
+            3.057002356955503,
+            PI,
+        ],
+        &[
+            4.674116701926735,
+            8.18758137499676,
+            9.685228550266725,
+            10.957302009106321,
+        ],
+    );
+    let ray = RaySpec::new(
+        [19.84351522468882, -4.797491810022317, 18.512759639816547],
+        [-13.295309132242258, 3.4932679682625025, -13.0776891100085],
+    );
+    far_ray_regression(
+        "far ray nearly parallel to a cone generator, crossing near the apex",
+        grid,
+        ray,
+        4.0,
+    );
+}
+
+/// Regression (the full random suite, seed 7, the other f64 ray over the limit, 19.6 eps·L, before the cone
+/// solver's Newton step): a grid centred off the origin, a ray from 30.0 units away (relative to the center)
+/// whose direction is 0.0006 rad off the generators of the domain's upper boundary cone θ_0 = 0.9609 (on the
+/// other side of the apex), entering the domain through that cone at r = 0.287 from the apex, next to its
+/// closest approach (0.283).
+#[test]
+fn far_ray_entering_through_the_boundary_cone_near_its_apex_off_center_grid() {
+    let grid = GridSpec::Spherical {
+        center: Some([1.8128500700811805, 0.19420998336820103, -5.171897638415506]),
+        r: vec![
+            0.0,
+            0.07833264590120576,
+            0.25964648676192753,
+            0.670723728465695,
+            2.5809963852430324,
+            3.0610818248898375,
+            4.393863922279705,
+            6.76896076256853,
+            6.911128837304841,
+            8.190861870030671,
+        ],
+        theta: vec![
+            0.9608866752430628,
+            1.276187398830059,
+            1.8257363794329324,
+            2.054584842162123,
+            2.4474883789226944,
+            2.8133194046447745,
+            PI,
+        ],
+        phi: vec![
+            0.0,
+            0.09824238597922977,
+            1.1562591619689901,
+            3.3689564235204283,
+            3.450860825208342,
+            TAU,
+        ],
+    };
+    let ray = RaySpec::new(
+        [-17.902657284989967, -14.217340532858868, 12.195902829607085],
+        [
+            0.16373860127071904,
+            0.12138843573360003,
+            -0.14261112697780526,
+        ],
+    );
+    far_ray_regression(
+        "far ray entering through the boundary cone near its apex, off-center grid",
+        grid,
+        ray,
+        4.0,
+    );
+}

@@ -193,6 +193,11 @@ impl<T: Real> Ray<T> {
     pub fn t_from_scaled(&self, s: T) -> T {
         s.scalbn(self.e.saturating_neg())
     }
+    /// The exponent `e` of the exact rescaling: `t = t_scaled · 2^-e` (see [`Ray::t_from_scaled`]).
+    #[inline]
+    pub(crate) fn scale_exponent(&self) -> i32 {
+        self.e
+    }
     /// Converts the caller's `t` to the parameter of the scaled direction (exact).
     #[inline]
     pub fn t_to_scaled(&self, t: T) -> T {

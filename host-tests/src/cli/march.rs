@@ -78,7 +78,7 @@ enum AnyGrid<'a, T> {
     P(PolarGrid<'a, T>),
 }
 
-impl<T: Real> AnyGrid<'_, T> {
+impl<T: Real + Send + Sync> AnyGrid<'_, T> {
     fn serial(&self, ray: &Ray<T>) -> Result<Vec<CellCrossing<T>>, MarchError> {
         let mut m = match self {
             AnyGrid::S(g) => g.march(ray),
@@ -92,6 +92,28 @@ impl<T: Real> AnyGrid<'_, T> {
         }
     }
 
+    /// The largest capacity's buffers (3·N events of 24 bytes in f64: 2.4 MB for N = 32768, and the value is
+    /// moved a few times) do not fit the main thread's stack: that march runs on a thread of its own.
+    fn separable_on_own_stack<const N: usize>(
+        &self,
+        ray: &Ray<T>,
+    ) -> Result<Vec<CellCrossing<T>>, String> {
+        let bytes = std::mem::size_of::<curvicast::spherical::SeparableMarch<T, N>>();
+        std::thread::scope(|s| {
+            std::thread::Builder::new()
+                .stack_size(bytes.saturating_mul(8).saturating_add(1 << 20))
+                .spawn_scoped(s, || self.separable::<N>(ray))
+                .map_err(|e| format!("cannot start the separable march: {e}"))?
+                .join()
+                .map_err(|_| "the separable march failed".to_string())?
+                .map_err(|e| e.to_string())
+        })
+    }
+
+    /// Not inlined: the engine's buffers (3·N events, 24 bytes each in f64) live in this function's own frame,
+    /// allocated only when this capacity is used (inlined, every capacity's frame would be reserved on every
+    /// call of the caller, serial or not, and the largest overflows the main thread's stack).
+    #[inline(never)]
     fn separable<const N: usize>(&self, ray: &Ray<T>) -> Result<Vec<CellCrossing<T>>, MarchError> {
         Ok(match self {
             AnyGrid::S(g) => g.march_separable::<N>(ray)?.collect(),
@@ -101,7 +123,7 @@ impl<T: Real> AnyGrid<'_, T> {
     }
 }
 
-fn run_in<T: Real>(
+fn run_in<T: Real + Send + Sync>(
     spec: &GridSpec,
     path: &Path,
     rays: &[Result<RaySpec, String>],
@@ -182,14 +204,15 @@ fn run_in<T: Real>(
             Ok(r) => make_ray::<T>(r),
             Err(e) => Err(e.clone()),
         };
-        let result = ray.and_then(|ray| {
-            let r = match engine {
-                Engine::Serial => grid.serial(&ray),
-                Engine::Separable if need <= 256 => grid.separable::<256>(&ray),
-                Engine::Separable if need <= 4096 => grid.separable::<4096>(&ray),
-                Engine::Separable => grid.separable::<32768>(&ray),
-            };
-            r.map_err(|e| e.to_string())
+        let result = ray.and_then(|ray| match engine {
+            Engine::Serial => grid.serial(&ray).map_err(|e| e.to_string()),
+            Engine::Separable if need <= 256 => {
+                grid.separable::<256>(&ray).map_err(|e| e.to_string())
+            }
+            Engine::Separable if need <= 4096 => {
+                grid.separable::<4096>(&ray).map_err(|e| e.to_string())
+            }
+            Engine::Separable => grid.separable_on_own_stack::<32768>(&ray),
         });
         let text = match result {
             Ok(cs) => crossings_line(i, &cs, polar),

@@ -6,7 +6,7 @@
 //! equal `t` by coordinate (radius first, then the grid's second and third coordinate) — so they agree exactly.
 
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
-use super::stream::{Event, Stream};
+use super::stream::{At, Event, Packed, Stream};
 use super::{Axis, CellCrossing, MarchError};
 use crate::ray::Ray;
 use crate::real::Real;
@@ -191,7 +191,7 @@ fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, 
     if rband >= axes.radial.len {
         match rs.next_radial(&axes.radial, rays.radial(), rays.t_max) {
             Some((t, b)) => {
-                t0 = t;
+                t0 = t.t(); // a radius event: already divided
                 rband = b;
             }
             None => return Ok(None),
@@ -237,17 +237,37 @@ pub(crate) struct Emitter<T> {
     rule: CellRule,
     bands: [u32; 3],
     seg_start: T,
+    t_max: T,
     pending: Option<CellCrossing<T>>,
 }
 
 impl<T: Real> Emitter<T> {
-    fn new(rule: CellRule, bands: [u32; 3], t0: T) -> Self {
+    fn new(rule: CellRule, bands: [u32; 3], t0: T, t_max: T) -> Self {
         Emitter {
             rule,
             bands,
             seg_start: t0,
+            t_max,
             pending: None,
         }
+    }
+
+    /// The event of `slot` entering `band`. Its parameter is divided (the one division of an azimuth or height
+    /// crossing) only when a crossing of the domain ends or starts there; an event between two band sets that
+    /// are both outside the domain (outside a wedge or a zenith band, or past a z facet) needs no `t`.
+    fn on(&mut self, at: At<T>, slot: usize, band: u32) -> Option<CellCrossing<T>> {
+        let before = self.rule.cell(self.bands);
+        if before.is_none() {
+            let mut after = self.bands;
+            if let Some(b) = after.get_mut(slot) {
+                *b = band;
+            }
+            if self.rule.cell(after).is_none() {
+                self.bands = after;
+                return None;
+            }
+        }
+        self.record(before, at.t(), slot, band)
     }
 
     fn push(&mut self, c: CellCrossing<T>) -> Option<CellCrossing<T>> {
@@ -260,8 +280,18 @@ impl<T: Real> Emitter<T> {
         }
     }
 
-    fn on_event(&mut self, t: T, slot: usize, band: u32) -> Option<CellCrossing<T>> {
-        let before = self.rule.cell(self.bands);
+    /// Records the event at `t`; `before` is the cell the bands give before it.
+    fn record(
+        &mut self,
+        before: Option<[u32; 3]>,
+        t: T,
+        slot: usize,
+        band: u32,
+    ) -> Option<CellCrossing<T>> {
+        // Events are ordered by their undivided parameters; two that agree within rounding may come out of
+        // their divisions in the other order, or a hair past t_max: clamp (a zero-length crossing at worst).
+        let t = t.max(self.seg_start).min(self.t_max).max(self.seg_start);
+        // (seg_start is the last t computed: an event outside the domain leaves it where it was)
         if let Some(b) = self.bands.get_mut(slot) {
             *b = band;
         }
@@ -308,7 +338,7 @@ pub struct SerialMarch<'g, T> {
     axes: &'g Axes<'g, T>,
     rays: Option<Rays<T>>,
     streams: [Stream<T>; 3],
-    heads: [Option<Event<T>>; 3],
+    heads: [Option<Packed<T>>; 3],
     em: Option<Emitter<T>>,
     t_max: T,
     steps: u32,
@@ -334,11 +364,11 @@ impl<'g, T: Real> SerialMarch<'g, T> {
                 let mut streams = s.streams;
                 for slot in 0..3 {
                     if let Some(h) = m.heads.get_mut(slot) {
-                        *h = next_event(axes, &s.rays, &mut streams, slot);
+                        *h = next_event(axes, &s.rays, &mut streams, slot).map(Packed::pack);
                     }
                 }
                 m.streams = streams;
-                m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0));
+                m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0, ray.t_max()));
                 m.rays = Some(s.rays);
                 m.finished = false;
             }
@@ -366,10 +396,10 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
             if self.finished {
                 return em.pending.take();
             }
-            let mut best: Option<(T, u32, usize)> = None;
+            let mut best: Option<(At<T>, u32, usize)> = None;
             for (slot, h) in self.heads.iter().enumerate() {
-                if let Some((t, b)) = *h {
-                    if best.is_none_or(|(bt, _, _)| t < bt) {
+                if let Some((t, b)) = h.map(Packed::unpack) {
+                    if best.is_none_or(|(bt, _, _)| t.lt(&bt)) {
                         best = Some((t, b, slot));
                     }
                 }
@@ -389,9 +419,9 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
             }
             let next = next_event(self.axes, rays, &mut self.streams, slot);
             if let Some(h) = self.heads.get_mut(slot) {
-                *h = next;
+                *h = next.map(Packed::pack);
             }
-            let out = em.on_event(t, slot, band);
+            let out = em.on(t, slot, band);
             if slot == 0 && next.is_none() && em.radial_band() >= self.axes.radial.len {
                 self.finished = true; // left the outer radius for good
             }
@@ -409,7 +439,7 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
 /// [`MarchError::BufferFull`] at construction, never a truncated answer.
 #[derive(Debug, Clone)]
 pub struct SeparableMarch<T, const N: usize> {
-    lists: [heapless::Vec<Event<T>, N>; 3],
+    lists: [heapless::Vec<Packed<T>, N>; 3],
     pos: [usize; 3],
     em: Option<Emitter<T>>,
     t_max: T,
@@ -433,19 +463,20 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
             return Ok(m);
         };
         let mut streams = s.streams;
-        let mut t_end = ray.t_max();
+        let mut t_end = At::exact(ray.t_max());
         for slot in 0..3 {
             let list = m.lists.get_mut(slot).ok_or(MarchError::IterationBound)?;
             let mut last_band = s.bands.get(slot).copied().unwrap_or(0);
             let mut last_t = None;
             while let Some((t, b)) = next_event(axes, &s.rays, &mut streams, slot) {
-                if slot > 0 && t > t_end {
+                if slot > 0 && t_end.lt(&t) {
                     break;
                 }
-                list.push((t, b)).map_err(|_| MarchError::BufferFull {
-                    axis: axes.axis_name(slot),
-                    capacity: N,
-                })?;
+                list.push(Packed::pack((t, b)))
+                    .map_err(|_| MarchError::BufferFull {
+                        axis: axes.axis_name(slot),
+                        capacity: N,
+                    })?;
                 last_band = b;
                 last_t = Some(t);
             }
@@ -455,7 +486,7 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
                 }
             }
         }
-        m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0));
+        m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0, ray.t_max()));
         m.finished = false;
         Ok(m)
     }
@@ -479,10 +510,10 @@ impl<T: Real, const N: usize> Iterator for SeparableMarch<T, N> {
             if self.finished {
                 return em.pending.take();
             }
-            let mut best: Option<(T, u32, usize)> = None;
+            let mut best: Option<(At<T>, u32, usize)> = None;
             for (slot, (list, &p)) in self.lists.iter().zip(self.pos.iter()).enumerate() {
-                if let Some(&(t, b)) = list.get(p) {
-                    if best.is_none_or(|(bt, _, _)| t < bt) {
+                if let Some((t, b)) = list.get(p).map(|e| e.unpack()) {
+                    if best.is_none_or(|(bt, _, _)| t.lt(&bt)) {
                         best = Some((t, b, slot));
                     }
                 }
@@ -497,7 +528,7 @@ impl<T: Real, const N: usize> Iterator for SeparableMarch<T, N> {
             if let Some(p) = self.pos.get_mut(slot) {
                 *p = p.saturating_add(1);
             }
-            if let Some(c) = em.on_event(t, slot, band) {
+            if let Some(c) = em.on(t, slot, band) {
                 return Some(c);
             }
         }

@@ -257,22 +257,56 @@ impl<T: Real> Surface<T> for AxialCone<T> {
                 n = 2;
             }
         } else {
-            let (lo, hi) = if s_dec <= s_inc {
-                (
-                    (s_dec, into_when_q_rises.flip()),
-                    (s_inc, into_when_q_rises),
-                )
+            // Which nappe each root lies on. Evaluating z at a root fails near the apex, where z is a difference
+            // of nearly equal terms (a line passing the apex within rounding, or a nearly flat cone, whose
+            // crossings all have |z| ~ |cos θ|·ρ): the sign can come out wrong and a crossing be lost or doubled.
+            // When A is clearly nonzero the nappes follow from signs computed without that cancellation, and the
+            // roots are told apart by their kind (where Q decreases or increases), not by their computed values,
+            // which may coincide or swap there:
+            // * A < 0 (the line is steeper than the cone): it runs from inside one nappe to inside the other, Q
+            //   rises through its first root (s_inc) and falls through its second (s_dec), one root per nappe;
+            //   the upper one is the one with the larger z, the second when d_z > 0 (A < 0 implies d_z ≠ 0);
+            // * A > 0 (flatter): it enters (s_dec) and leaves (s_inc) one nappe, the one its midpoint −B/A is on,
+            //   and A·z(−B/A) = A q_z − B d_z = c²((d_x² + d_y²) q_z − (q_x d_x + q_y d_y) d_z) = c² (d × w)_z
+            //   with w = q × d (the s² terms cancel exactly): that nappe is the sign of (d × w)_z, the side of the
+            //   plane z = k on which the line's closest approach to the apex lies.
+            // Only when A is within rounding of 0 (the line nearly parallel to a generator, one root far away) or
+            // (d × w)_z is 0 is z evaluated at the roots.
+            let a_scale = c2 * (d.x * d.x + d.y * d.y) + s2 * d.z * d.z;
+            let a_clear = a.abs() > T::from_f64(8.0) * T::EPSILON * a_scale;
+            let dxw_z = d.x * w.y - d.y * w.x;
+            let dec = (s_dec, into_when_q_rises.flip());
+            let inc = (s_inc, into_when_q_rises);
+            if a_clear && a < T::ZERO {
+                let keep = if (d.z > T::ZERO) == upper { dec } else { inc };
+                if keep.0.is_finite() {
+                    roots = [keep, keep];
+                    n = 1;
+                }
+            } else if a_clear && dxw_z != T::ZERO {
+                if (dxw_z > T::ZERO) == upper && s_dec.is_finite() && s_inc.is_finite() {
+                    // entry before exit; two roots that rounding put in reverse order are a touch (midpoint)
+                    let (s0, s1) = if s_dec <= s_inc {
+                        (s_dec, s_inc)
+                    } else {
+                        let mid = s_dec * T::HALF + s_inc * T::HALF;
+                        (mid, mid)
+                    };
+                    roots = [(s0, dec.1), (s1, inc.1)];
+                    n = 2;
+                }
             } else {
-                (
-                    (s_inc, into_when_q_rises),
-                    (s_dec, into_when_q_rises.flip()),
-                )
-            };
-            for (s, side) in [lo, hi] {
-                if s.is_finite() && on_nappe(s) {
-                    if let Some(slot) = roots.get_mut(n) {
-                        *slot = (s, side);
-                        n = n.saturating_add(1);
+                let (lo, hi) = if s_dec <= s_inc {
+                    (dec, inc)
+                } else {
+                    (inc, dec)
+                };
+                for (s, side) in [lo, hi] {
+                    if s.is_finite() && on_nappe(s) {
+                        if let Some(slot) = roots.get_mut(n) {
+                            *slot = (s, side);
+                            n = n.saturating_add(1);
+                        }
                     }
                 }
             }
@@ -444,6 +478,45 @@ mod tests {
             (t[1] - 1.260267547988992).abs() <= 4.0 * f64::EPSILON * scale,
             "{t:?}"
         );
+    }
+
+    #[test]
+    fn steep_ray_through_a_nearly_flat_cone_keeps_the_crossing_of_its_own_nappe() {
+        // θ = π/2 − 1e-9: the nappes are within 1e-9·ρ of the plane z = 0. A vertical line at ρ = 1e-6 from 100
+        // above meets the upper nappe at z = +1e-15 and the lower at z = −1e-15; both roots round to t = 100,
+        // where the computed z is exactly 0, so the sign of z cannot say which root is whose and the upper
+        // cone's crossing used to be dropped. The line is steeper than the cone (A < 0): one root per nappe, the
+        // earlier (higher, d_z < 0) one on the upper nappe.
+        let up = AxialCone::from_zenith(0.0, FRAC_PI_2 - 1e-9).unwrap();
+        let down = AxialCone::from_zenith(0.0, FRAC_PI_2 + 1e-9).unwrap();
+        let r = Ray::new([1e-6, 0.0, 100.0], [0.0, 0.0, -1.0]).unwrap();
+        let (t, s, n) = list(&up.crossings(&r));
+        assert_eq!(n, 1, "{t:?}");
+        assert_eq!((t[0], s[0]), (100.0, Side::Positive)); // into larger θ
+        let (t, s, n) = list(&down.crossings(&r));
+        assert_eq!(n, 1, "{t:?}");
+        assert_eq!((t[0], s[0]), (100.0, Side::Positive));
+        // and going up
+        let r = Ray::new([1e-6, 0.0, -100.0], [0.0, 0.0, 1.0]).unwrap();
+        let (t, s, n) = list(&up.crossings(&r));
+        assert_eq!((n, t[0], s[0]), (1, 100.0, Side::Negative));
+        let (t, s, n) = list(&down.crossings(&r));
+        assert_eq!((n, t[0], s[0]), (1, 100.0, Side::Negative));
+    }
+
+    #[test]
+    fn flat_ray_passing_the_apex_within_rounding_meets_one_nappe_twice() {
+        // A line flatter than a 45° cone passing 1e-14 above its apex, seen from 100 away: both roots are near
+        // the apex (|z| ~ 1e-14, the rounding of z there is ~1e-14 too). The line is flatter than the cone
+        // (A > 0), so it enters and leaves the nappe its closest approach to the apex lies on: the upper one.
+        let up = AxialCone::from_zenith(0.0, FRAC_PI_4).unwrap();
+        let down = AxialCone::from_zenith(0.0, 3.0 * FRAC_PI_4).unwrap();
+        let r = Ray::new([-100.0, 0.0, 1e-14 + 0.5], [1.0, 0.0, -0.005]).unwrap();
+        // closest approach to the apex: z = (0.5 + 1e-14) − 0.005·100 (rounded) > 0 at x ≈ 0
+        let (_, s, n) = list(&up.crossings(&r));
+        assert_eq!(n, 2);
+        assert_eq!(s, [Side::Negative, Side::Positive]);
+        assert_eq!(down.crossings(&r).len(), 0);
     }
 
     #[test]

@@ -84,6 +84,16 @@ impl<T: Real> HalfPlane<T> {
     /// plane, lies in it, or meets the plane on the opposite half.
     #[inline]
     pub(crate) fn scaled_root(&self, ray: &Ray<T>) -> Option<(T, Side)> {
+        self.scaled_root_fraction(ray)
+            .map(|(num, den, side)| (num / den, side))
+    }
+
+    /// The crossing in the ray's scaled parameter as the fraction `num / den` with `den > 0`, not yet divided:
+    /// a marcher compares candidate crossings by cross-multiplication and divides only for a crossing it
+    /// reports (seed 001 §4.6: one division per azimuth crossing, none for one only looked at). `num / den` is
+    /// bit for bit the value [`HalfPlane::scaled_root`] returns (the sign is moved to the numerator exactly).
+    #[inline]
+    pub(crate) fn scaled_root_fraction(&self, ray: &Ray<T>) -> Option<(T, T, Side)> {
         let nd = self.normal_dot(ray.scaled_dir());
         if nd == T::ZERO || nd.is_nan() {
             return None;
@@ -92,10 +102,12 @@ impl<T: Real> HalfPlane<T> {
         if (wz > T::ZERO && nd < T::ZERO) || (wz < T::ZERO && nd > T::ZERO) {
             return None; // the opposite half-plane
         }
-        Some((
-            -self.normal_dot(ray.origin()) / nd,
-            Side::from_bool(nd > T::ZERO),
-        ))
+        let np = self.normal_dot(ray.origin());
+        Some(if nd > T::ZERO {
+            (-np, nd, Side::Positive)
+        } else {
+            (np, -nd, Side::Negative)
+        })
     }
 }
 

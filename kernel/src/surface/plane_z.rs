@@ -30,14 +30,24 @@ impl<T: Real> PlaneZ<T> {
     /// The crossing in the ray's scaled parameter, or `None` for a horizontal ray.
     #[inline]
     pub(crate) fn scaled_root(&self, ray: &Ray<T>) -> Option<(T, Side)> {
+        self.scaled_root_fraction(ray)
+            .map(|(num, den, side)| (num / den, side))
+    }
+
+    /// The crossing in the ray's scaled parameter as the fraction `num / den` with `den > 0`, not yet divided
+    /// (a marcher divides only for a crossing it reports); `num / den` is bit for bit
+    /// [`PlaneZ::scaled_root`]'s value. `None` for a horizontal ray (or a NaN direction component).
+    #[inline]
+    pub(crate) fn scaled_root_fraction(&self, ray: &Ray<T>) -> Option<(T, T, Side)> {
         let dz = ray.scaled_dir().z;
-        if dz == T::ZERO {
-            return None;
+        let num = self.z - ray.origin().z;
+        if dz > T::ZERO {
+            Some((num, dz, Side::Positive))
+        } else if dz < T::ZERO {
+            Some((-num, -dz, Side::Negative))
+        } else {
+            None
         }
-        Some((
-            (self.z - ray.origin().z) / dz,
-            Side::from_bool(dz > T::ZERO),
-        ))
     }
 }
 
