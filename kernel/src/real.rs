@@ -1,5 +1,5 @@
 //! The scalar layer: one trait, [`Real`], implemented for `f64`, `f32` and (with the `fast-math` feature)
-//! [`F32Fast`].
+//! `F32Fast`.
 //!
 //! Every algorithm in the kernel is generic over [`Real`]. The math backend is chosen by the scalar type, so one
 //! program can run the same traversal in several modes side by side (the report does exactly that):
@@ -8,7 +8,7 @@
 //! | --- | --- | --- | --- |
 //! | `f64` | IEEE binary64 | `libm::sqrt` (correctly rounded; a hardware instruction where one exists) | `libm` |
 //! | `f32` | IEEE binary32 | `libm::sqrtf` (correctly rounded; software on a Cortex-M4F, see below) | `libm` |
-//! | [`F32Fast`] | IEEE binary32 | `micromath` inverse-sqrt estimate + 3 multiply-only Newton steps | `libm` (see below) |
+//! | `F32Fast` | IEEE binary32 | `micromath` inverse-sqrt estimate + 3 multiply-only Newton steps | `libm` (see below) |
 //!
 //! Arithmetic (`+ - * /`) is always the hardware's correctly rounded IEEE operation; only the library functions
 //! differ. The error that the fast backend adds is measured by the host oracle, not assumed.
@@ -35,7 +35,7 @@
 use core::fmt::{Debug, Display};
 use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
 
-/// A real scalar: `f64`, `f32`, or [`F32Fast`].
+/// A real scalar: `f64`, `f32`, or `F32Fast` (feature `fast-math`).
 ///
 /// The trait carries exactly what the kernel needs. Its functions never panic; they follow IEEE semantics for
 /// NaN and infinities, like the primitive types.
