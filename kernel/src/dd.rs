@@ -235,11 +235,6 @@ const SIN_STEPS: [(f64, f64); 18] = [
 /// The most Taylor terms of [`sin_cos_deg`] (the `f64` pair needs 14 at `|x| = π/4`).
 const MAX_TERMS: u32 = 18;
 
-/// `(sin x, cos x)` by the Taylor series (any `x`; used for `|x| ≤ π/4`, mostly `|x| ≤ 1/32`).
-///
-/// Horner's scheme `sin x = x (1 − x²/(2·3) (1 − x²/(4·5) (1 − …)))`. The inner levels whose term
-/// `x^{2k}/(2k+1)!` is below `ε` are summed in plain scalars, as the small difference `u_k = acc_k − 1` (their
-/// rounding, `ε |u_k|`, reaches the result scaled by the term: below `ε²`); the outer levels in pairs.
 /// `(sin k/16, cos k/16)`, `k = 0, …, 13`, as `f64` pairs: the table of [`sin_cos_small`]'s reduction.
 const SIXTEENTHS: [[(f64, f64); 2]; 14] = [
     [(0.0, 0.0), (1.0, 0.0)],
@@ -321,6 +316,11 @@ fn sin_cos_small<T: Real>(x: Dd<T>) -> (Dd<T>, Dd<T>) {
     }
 }
 
+/// `(sin x, cos x)` by the Taylor series (any `x`; used for `|x| ≤ π/4`, mostly `|x| ≤ 1/32`).
+///
+/// Horner's scheme `sin x = x (1 − x²/(2·3) (1 − x²/(4·5) (1 − …)))`. The inner levels whose term
+/// `x^{2k}/(2k+1)!` is below `ε` are summed in plain scalars, as the small difference `u_k = acc_k − 1` (their
+/// rounding, `ε |u_k|`, reaches the result scaled by the term: below `ε²`); the outer levels in pairs.
 fn sin_cos_taylor<T: Real>(x: Dd<T>) -> (Dd<T>, Dd<T>) {
     let x2 = x.times(x);
     // Levels: keep k ≤ K with x^{2K}/(2K+1)! ≥ ε²/4 (the first omitted term is below that, relative to x);

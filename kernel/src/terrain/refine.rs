@@ -56,6 +56,7 @@ use crate::dd::{Dd, Parallel, rotate, sin_cos_deg, two_prod};
 use crate::geodesy::Ellipsoid;
 use crate::ray::Ray;
 use crate::real::Real;
+use crate::vec3::V3;
 
 /// The latitude of vertex row `i` as a pair: `lat0 + i·dlat` exactly (up to pair rounding), clamped to ±90° like
 /// [`Grid::lat_deg`].
@@ -96,28 +97,13 @@ pub(super) enum Tri {
 
 /// `a − b` rounded to scalars.
 #[inline]
-fn diff<T: Real>(a: &[Dd<T>; 3], b: &[Dd<T>; 3]) -> [T; 3] {
+fn diff<T: Real>(a: &[Dd<T>; 3], b: &[Dd<T>; 3]) -> V3<T> {
     let ([a0, a1, a2], [b0, b1, b2]) = (a, b);
-    [
+    V3::new(
         a0.minus(*b0).value(),
         a1.minus(*b1).value(),
         a2.minus(*b2).value(),
-    ]
-}
-
-#[inline]
-fn cross<T: Real>([a0, a1, a2]: [T; 3], [b0, b1, b2]: [T; 3]) -> [T; 3] {
-    [a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0]
-}
-
-#[inline]
-fn dot<T: Real>([a0, a1, a2]: [T; 3], [b0, b1, b2]: [T; 3]) -> T {
-    a0 * b0 + a1 * b1 + a2 * b2
-}
-
-#[inline]
-fn max_abs<T: Real>([x, y, z]: [T; 3]) -> T {
-    x.abs().max(y.abs()).max(z.abs())
+    )
 }
 
 /// The sines and cosines of the grid's steps `dlat` and `dlon`, as pairs (computed once per picker): row `i+1`
@@ -193,12 +179,12 @@ fn plane_hit<T: Real>(
     // Edges rounded to scalars; the normal in scalars (module docs: its error tilts the plane about v0 only).
     let a = diff(&v1, &v0);
     let b = diff(&v2, &v0);
-    let n = cross(a, b);
+    let n = a.cross(b);
     let o = ray.origin().to_array();
     let d = ray.dir().to_array();
     let mut num = Dd::from(T::ZERO);
     let mut den = Dd::from(T::ZERO);
-    for (((vk, ok), nk), dk) in v0.iter().zip(o).zip(n).zip(d) {
+    for (((vk, ok), nk), dk) in v0.iter().zip(o).zip(n.to_array()).zip(d) {
         num = num.plus(vk.plus_t(-ok).times_t(nk));
         den = den.plus(two_prod(nk, dk));
     }
@@ -211,17 +197,14 @@ fn plane_hit<T: Real>(
     // heights |n|/|edge| of the triangle over the opposite edges: in-plane distances inside each edge.
     let [p0, p1, p2] = p;
     let w = diff(&[Dd::from(p0), Dd::from(p1), Dd::from(p2)], &v0);
-    let nn = dot(n, n);
+    let nn = n.length_squared();
     let n_len = nn.sqrt();
-    let (c1, c2) = (dot(cross(w, b), n), dot(cross(a, w), n));
+    let (c1, c2) = (w.cross(b).dot(n), a.cross(w).dot(n));
     let c0 = nn - c1 - c2;
-    let len = |v: [T; 3]| dot(v, v).sqrt();
-    let [b0, b1, b2] = b;
-    let [a0, a1, a2] = a;
     let inside = [
-        c0 / (n_len * len([b0 - a0, b1 - a1, b2 - a2])),
-        c1 / (n_len * len(b)),
-        c2 / (n_len * len(a)),
+        c0 / (n_len * b.minus(a).length()),
+        c1 / (n_len * b.length()),
+        c2 / (n_len * a.length()),
     ];
     let t = t_dd.value();
     let finite = t.is_finite() && p.iter().chain(inside.iter()).all(|x| x.is_finite());
@@ -268,7 +251,7 @@ pub(super) fn refine<T: Real>(
     let first = plane_hit(e, g, steps, ray, cell, tri, height)?;
     // Containment walk (module docs): at a tie the traversal may have chosen a triangle that the exact ray only
     // grazes past; step across the edge that the refined point lies beyond, to the triangle that contains it.
-    let tol = T::from_f64(16.0) * T::EPSILON * max_abs(first.p);
+    let tol = T::from_f64(16.0) * T::EPSILON * V3::from(first.p).max_abs();
     let mut cur = (first, cell, tri);
     let mut chosen = first;
     for _ in 0..MAX_WALK {
@@ -300,7 +283,7 @@ pub(super) fn refine<T: Real>(
     }
     let moved = (t - t0).abs() * chosen.slope;
     let allowed =
-        T::from_f64(256.0) * T::EPSILON * (max_abs(ray.origin().to_array()) + max_abs(ray.at(t0)));
+        T::from_f64(256.0) * T::EPSILON * (ray.origin().max_abs() + V3::from(ray.at(t0)).max_abs());
     (moved <= allowed).then_some((t, p))
 }
 
