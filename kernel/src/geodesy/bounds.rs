@@ -319,26 +319,29 @@ impl<T: Real> HeightQuadBounds<T> {
                 return false;
             }
         }
+        inside_spheroid(&self.upper, p, T::ZERO) && self.inside_walls(p, T::ZERO)
+    }
+
+    /// The non-convex part of [`HeightQuadBounds::contains`]: the latitude cones and the lower sphere, each
+    /// inflated by `64 ε` relative plus `slack` metres (the rounding of a point computed along a ray).
+    fn inside_walls(&self, p: V3<T>, slack: T) -> bool {
+        let tau = T::from_f64(64.0) * T::EPSILON;
+        // f is a signed distance (its gradient has unit length off the apex), so `slack` adds directly.
         if let Some(w) = self.south {
             let (f, m) = w.f(p);
-            if f < -(tau * m) {
+            if f < -(tau * m + slack) {
                 return false;
             }
         }
         if let Some(w) = self.north {
             let (f, m) = w.f(p);
-            if f > tau * m {
+            if f > tau * m + slack {
                 return false;
             }
         }
-        if !inside_spheroid(&self.upper, p) {
+        let r = self.lower_r - slack;
+        if r > T::ZERO && p.length_squared() < r * r * (T::ONE - tau) {
             return false;
-        }
-        if self.lower_r > T::ZERO {
-            let r2 = p.length_squared();
-            if r2 < self.lower_r * self.lower_r * (T::ONE - tau) {
-                return false;
-            }
         }
         true
     }
@@ -380,12 +383,17 @@ impl<T: Real> HeightQuadBounds<T> {
         }
         let pts = bp.get_mut(..n).unwrap_or(&mut []);
         insertion_sort(pts);
+        // `[lo, hi]` already lies in the upper spheroid and the wedge, so a point needs only the other walls.
+        // They are inflated by the rounding of the point `p + t·d` itself, which grows with the origin's
+        // distance: a ray from 10⁹ m away misplaces a point near the pole by micrometres.
+        let slack = ray_point_slack(ray, lo, hi);
+        let inside_at = |t: T| self.inside_walls(V3::from(ray.at(t)), slack);
         if n == 2 && lo == hi {
-            return self.contains(V3::from(ray.at(lo))).then_some((lo, hi));
+            return inside_at(lo).then_some((lo, hi));
         }
         // The first piece inside from the front and the last from the back (the hull between them is
         // conservative; pieces in between need no test).
-        let inside = |a: T, b: T| self.contains(V3::from(ray.at(a + (b - a) * T::HALF)));
+        let inside = |a: T, b: T| inside_at(a + (b - a) * T::HALF);
         let mut first: Option<usize> = None;
         for (k, w) in pts.windows(2).enumerate() {
             if let [a, b] = *w {
@@ -431,7 +439,8 @@ pub fn convex_interval<T: Real>(
     let (mut lo, mut hi) = (t0, t1);
     let cr = upper.crossings(ray);
     if cr.is_empty() {
-        if !inside_spheroid(upper, V3::from(ray.at(t0 + (t1 - t0) * T::HALF))) {
+        let mid = V3::from(ray.at(t0 + (t1 - t0) * T::HALF));
+        if !inside_spheroid(upper, mid, ray_point_slack(ray, t0, t1)) {
             return None;
         }
     } else {
@@ -465,13 +474,23 @@ pub fn convex_interval<T: Real>(
     (lo <= hi).then_some((lo, hi))
 }
 
-/// The upper-spheroid test of [`HeightQuadBounds::contains`] (inflated by `64 ε`).
+/// The upper-spheroid test of [`HeightQuadBounds::contains`] (inflated by `64 ε`, plus `slack` metres).
 #[inline]
-fn inside_spheroid<T: Real>(upper: &Spheroid<T>, p: V3<T>) -> bool {
+fn inside_spheroid<T: Real>(upper: &Spheroid<T>, p: V3<T>, slack: T) -> bool {
     let tau = T::from_f64(64.0) * T::EPSILON;
     let (ua, ub) = (upper.a(), upper.b());
     let q = (p.x / ua).sq() + (p.y / ua).sq() + (p.z / ub).sq();
-    q <= T::ONE + tau
+    // q − 1 ≈ 2·(distance outside)/b near the surface.
+    q <= T::ONE + tau + T::TWO * slack / ub
+}
+
+/// A bound (metres, with a margin) on the rounding of a point `p + t·d` computed for `t` in `[lo, hi]`.
+#[inline]
+fn ray_point_slack<T: Real>(ray: &Ray<T>, lo: T, hi: T) -> T {
+    let (o, d) = (ray.origin(), ray.dir());
+    let tau = T::from_f64(64.0) * T::EPSILON;
+    tau * ((o.x.abs() + o.y.abs() + o.z.abs())
+        + (d.x.abs() + d.y.abs() + d.z.abs()) * lo.abs().max(hi.abs()))
 }
 
 /// Clips `[lo, hi]` to `{t : s0 + t·sd ≥ −tol}` (a half-space along the ray; also the leaf cells' walls).

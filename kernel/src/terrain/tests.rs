@@ -773,3 +773,42 @@ fn global_grid_with_32_zones_agrees_with_brute_force() {
     assert_eq!(checked, 240);
     assert!(hits > 150, "{hits}");
 }
+
+#[test]
+fn ray_from_5e9_m_away_hits_a_vertical_sliver_at_the_south_pole() {
+    // Row 0 is the south pole with two different heights (63.75 m and 0 m) at the same point, so the triangle
+    // (0,0)–(0,1)–(1,1) stands vertically on the pole. The ray comes from 5.3e9 m away on the far side and
+    // ends 1 m beside the pole vertex (fuzz finding).
+    let g = grid(-90.0, -225.588_888_888_888_9, 0.0005, 0.0001, 2, 9);
+    let mut hs = std::vec![0.0; 18];
+    for (k, h) in [
+        (0, 63.75),
+        (12, 576.0),
+        (13, 3183.75),
+        (14, -2425.5),
+        (15, -2720.25),
+        (16, 6095.75),
+        (17, -5076.0),
+    ] {
+        hs[k] = h;
+    }
+    let dem = TestDem::new(g, hs, 8, 1, 1);
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let ray = Ray::new(
+        [
+            -38_322_603.592_089_176,
+            4_295_866_701.003_452,
+            -3_131_154_834.841_433_5,
+        ],
+        [
+            38_322_603.592_089_176,
+            -4_295_866_702.003_452,
+            3_124_798_082.527_188_3,
+        ],
+    )
+    .unwrap();
+    let want = dem.brute(&ray);
+    assert!(want.is_some());
+    let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
+    same_hit(&ray, got, want, "sliver at the south pole");
+}
