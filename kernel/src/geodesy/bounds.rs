@@ -141,25 +141,64 @@ pub struct QuadTrig<T> {
     pub span_deg: T,
     /// `cos(Δλ/2)` of one cell (for the distance to the axis over a cell's triangles).
     pub cos_half_cell_dlon: T,
+    /// Which side walls bound the volume ([`SideWalls::ALL`] for a quad on its own).
+    pub walls: SideWalls,
 }
 
+/// Which of a quad's four side walls (two meridian planes, two latitude cones) its volume includes.
+///
+/// A child's outer sides lie on its parent's sides, and a traversal only tests a child along the part of the
+/// ray already inside the parent (§3.5: the children are told apart by the parent's *internal* partition
+/// walls). So a child's volume may leave its outer walls out: the volume only grows, which stays conservative,
+/// and the ray meets half as many walls per child.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SideWalls {
+    /// The meridian plane of the western boundary.
+    pub west: bool,
+    /// The meridian plane of the eastern boundary.
+    pub east: bool,
+    /// The latitude cone of the southern boundary.
+    pub south: bool,
+    /// The latitude cone of the northern boundary.
+    pub north: bool,
+}
+
+impl SideWalls {
+    /// All four walls.
+    pub const ALL: Self = SideWalls {
+        west: true,
+        east: true,
+        south: true,
+        north: true,
+    };
+}
+
+/// The meridian planes that bound a quad: `(cos λ, sin λ)` of its western and eastern boundary, each `None` when
+/// that wall is left out. The quad lies east of the first (`cos λ_W · y − sin λ_W · x ≥ 0`) and west of the
+/// second.
+pub type Wedge<T> = [Option<(T, T)>; 2];
+
 impl<T: Real> QuadTrig<T> {
-    /// The meridian wedge `[(cos λ_W, sin λ_W), (cos λ_E, sin λ_E)]` when it bounds the quad (span below 180°,
-    /// where the wedge is convex), `None` for wider quads.
-    pub fn wedge(&self) -> Result<Option<[(T, T); 2]>, GeodesyError> {
+    /// The meridian walls that bound the quad: those of [`QuadTrig::walls`], when the span is below 180° (where
+    /// the wedge is convex); none for wider quads.
+    pub fn wedge(&self) -> Result<Wedge<T>, GeodesyError> {
         let ((sw, cw), (se, ce), span) = (self.west, self.east, self.span_deg);
         if ![sw, cw, se, ce, span].iter().all(|x| x.is_finite()) || span < T::ZERO {
             return Err(GeodesyError::NonFinite);
         }
-        Ok((span < T::from_f64(180.0)).then_some([(cw, sw), (ce, se)]))
+        let convex = span < T::from_f64(180.0);
+        Ok([
+            (convex && self.walls.west).then_some((cw, sw)),
+            (convex && self.walls.east).then_some((ce, se)),
+        ])
     }
 }
 
 /// The conservative bounding volume of a spheroidal height-quad (module docs) and its ray test.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HeightQuadBounds<T> {
-    /// (cos, sin) of λ_W and λ_E, when the wedge is convex (span < 180°).
-    wedge: Option<[(T, T); 2]>,
+    /// The meridian walls (those included, when the wedge is convex: span < 180°).
+    wedge: Wedge<T>,
     south: Option<LatWall<T>>,
     north: Option<LatWall<T>>,
     upper: Spheroid<T>,
@@ -198,6 +237,7 @@ impl<T: Real> HeightQuadBounds<T> {
             east: sin_cos_deg(lon_e),
             span_deg: lon_e - lon_w,
             cos_half_cell_dlon: sin_cos_deg(cell_dlon.abs() / T::TWO).1,
+            walls: SideWalls::ALL,
         };
         Self::from_trig(e, &trig, h_min, h_max, cell_dlat, cell_dlon)
     }
@@ -248,7 +288,7 @@ impl<T: Real> HeightQuadBounds<T> {
         let cos_star = c_s.min(c_n);
         let r_min = (a + h_min.min(T::ZERO)) * cos_star * c_half;
 
-        let south = if c_s == T::ZERO && s_s < T::ZERO {
+        let south = if !trig.walls.south || c_s == T::ZERO && s_s < T::ZERO {
             None
         } else {
             let sigma = if s_s < T::ZERO {
@@ -258,7 +298,7 @@ impl<T: Real> HeightQuadBounds<T> {
             };
             Self::wall(e, s_s, c_s, -sigma)?
         };
-        let north = if c_n == T::ZERO && s_n > T::ZERO {
+        let north = if !trig.walls.north || c_n == T::ZERO && s_n > T::ZERO {
             None
         } else {
             let sigma = if s_n > T::ZERO {
@@ -313,11 +353,12 @@ impl<T: Real> HeightQuadBounds<T> {
     /// True when the point lies in the volume (every wall inflated by `64 ε` relative).
     pub fn contains(&self, p: V3<T>) -> bool {
         let tau = T::from_f64(64.0) * T::EPSILON;
-        if let Some([(c0, s0), (c1, s1)]) = self.wedge {
-            let tol = tau * (p.x.abs() + p.y.abs());
-            if c0 * p.y - s0 * p.x < -tol || c1 * p.y - s1 * p.x > tol {
-                return false;
-            }
+        let tol = tau * (p.x.abs() + p.y.abs());
+        let [west, east] = self.wedge;
+        if west.is_some_and(|(c, s)| c * p.y - s * p.x < -tol)
+            || east.is_some_and(|(c, s)| c * p.y - s * p.x > tol)
+        {
+            return false;
         }
         inside_spheroid(&self.upper, p, T::ZERO) && self.inside_walls(p, T::ZERO)
     }
@@ -422,14 +463,14 @@ impl<T: Real> HeightQuadBounds<T> {
     }
 }
 
-/// The first stage of [`HeightQuadBounds::ray_interval`] (§3.5's "B^h interval"): inside the upper spheroid and
-/// inside the meridian wedge (`[(cos λ_W, sin λ_W), (cos λ_E, sin λ_E)]`, convex when narrower than 180°) the
-/// ray's parameters form one interval each, found from their crossings alone. Most volumes a ray misses are
-/// rejected here, at the cost of one spheroid and two plane crossings — before the rest of the volume (sagitta,
-/// bulge-shifted cones) is even built.
+/// The first stage of [`HeightQuadBounds::ray_interval`] (§3.5's "B^h interval"): inside the meridian wedge
+/// (its planes, each inflated like the point tests) and inside the upper spheroid the ray's parameters form one
+/// interval each, found from their crossings alone. The planes come first (a division each), so that most
+/// volumes a ray misses are rejected before the spheroid is crossed, and all of them before the rest of the
+/// volume (sagitta, bulge-shifted cones) is even built.
 pub fn convex_interval<T: Real>(
     upper: &Spheroid<T>,
-    wedge: Option<[(T, T); 2]>,
+    wedge: Wedge<T>,
     ray: &Ray<T>,
 ) -> Option<(T, T)> {
     let (t0, t1) = (ray.t_min(), ray.t_max());
@@ -437,9 +478,36 @@ pub fn convex_interval<T: Real>(
         return None;
     }
     let (mut lo, mut hi) = (t0, t1);
+    let (o, d) = (ray.origin(), ray.dir());
+    let tau = T::from_f64(64.0) * T::EPSILON;
+    let mag = (o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * t0.abs().max(t1.abs());
+    let [west, east] = wedge;
+    // East of λ_W: c·y − s·x ≥ 0; west of λ_E: c·y − s·x ≤ 0 (both inflated as in `contains`).
+    if let Some((c, s)) = west {
+        clip_half_space(
+            &mut lo,
+            &mut hi,
+            c * o.y - s * o.x,
+            c * d.y - s * d.x,
+            tau * mag,
+        );
+    }
+    if let Some((c, s)) = east {
+        clip_half_space(
+            &mut lo,
+            &mut hi,
+            s * o.x - c * o.y,
+            s * d.x - c * d.y,
+            tau * mag,
+        );
+    }
+    if !(lo <= hi) {
+        return None;
+    }
     let cr = upper.crossings(ray);
     if cr.is_empty() {
-        let mid = V3::from(ray.at(t0 + (t1 - t0) * T::HALF));
+        // No crossing within [t0, t1]: the whole interval lies on one side.
+        let mid = V3::from(ray.at(lo + (hi - lo) * T::HALF));
         if !inside_spheroid(upper, mid, ray_point_slack(ray, t0, t1)) {
             return None;
         }
@@ -450,26 +518,6 @@ pub fn convex_interval<T: Real>(
                 Side::Positive => hi = hi.min(c.t),
             }
         }
-    }
-    if let Some([(c0, s0), (c1, s1)]) = wedge {
-        let (o, d) = (ray.origin(), ray.dir());
-        let tau = T::from_f64(64.0) * T::EPSILON;
-        let mag = (o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * t0.abs().max(t1.abs());
-        // East of λ_W: c0·y − s0·x ≥ 0; west of λ_E: c1·y − s1·x ≤ 0 (both inflated as in `contains`).
-        clip_half_space(
-            &mut lo,
-            &mut hi,
-            c0 * o.y - s0 * o.x,
-            c0 * d.y - s0 * d.x,
-            tau * mag,
-        );
-        clip_half_space(
-            &mut lo,
-            &mut hi,
-            s1 * o.x - c1 * o.y,
-            s1 * d.x - c1 * d.y,
-            tau * mag,
-        );
     }
     (lo <= hi).then_some((lo, hi))
 }

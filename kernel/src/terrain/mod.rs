@@ -58,10 +58,12 @@
 //!
 //! # Cost
 //!
-//! Per child of a visited quad: first the convex stage ([`crate::geodesy::convex_interval`]: the crossings of
-//! the child's upper spheroid and its two meridian planes), which rejects most children the ray misses; only
-//! for the others is the rest of the volume built (sagitta, bulge-shifted cones) and the lower sphere and the
-//! latitude cones crossed, with point tests for the pieces between. Per leaf: a clip against two meridian planes
+//! Per child of a visited quad, only along the part of the ray inside the parent and only against the child's
+//! walls on the parent's internal partition (its outer walls are the parent's; [`crate::geodesy::SideWalls`]):
+//! first the convex stage ([`crate::geodesy::convex_interval`]: the internal meridian plane, then the child's
+//! upper spheroid), which rejects most children the ray misses; only for the others is the rest of the volume
+//! built (sagitta, bulge-shifted cone) and the lower sphere and the internal latitude cone crossed, with point
+//! tests for the pieces between. Per leaf: a clip against two meridian planes
 //! per column (columns the ray misses are skipped), then two row planes per cell of the surviving columns, and
 //! the triangle test for crossed cells. No trigonometry is needed per ray when the storage caches the sines and
 //! cosines of its rows and columns ([`TerrainStorage::row_sin_cos`]); the prime vertical radius is computed once
@@ -113,8 +115,8 @@ pub use storage::{
 };
 
 use crate::geodesy::{
-    Ellipsoid, GeodesyError, HeightQuadBounds, QuadTrig, clip_half_space, convex_interval,
-    sin_cos_deg, upper_spheroid,
+    Ellipsoid, GeodesyError, HeightQuadBounds, QuadTrig, SideWalls, clip_half_space,
+    convex_interval, sin_cos_deg, upper_spheroid,
 };
 use crate::ray::{Ray, RayError};
 use crate::real::Real;
@@ -475,7 +477,13 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     None => {
                         // The convex stage first, so that the rest of the volume is built only for
                         // children the ray can enter.
-                        let trig = node_trig(&self.grid, self.storage, &child, self.half_cell.1);
+                        let trig = node_trig(
+                            &self.grid,
+                            self.storage,
+                            &child,
+                            Some(&e.node),
+                            self.half_cell.1,
+                        );
                         let upper = upper_spheroid(&self.ellipsoid, hi)?;
                         match convex_interval(&upper, trig.wedge()?, &sub) {
                             None => None,
@@ -837,17 +845,26 @@ pub fn quad_bounds<T: Real>(
 }
 
 /// The boundary trigonometry of a node, read from the storage ([`TerrainStorage::row_sin_cos`],
-/// [`TerrainStorage::col_sin_cos`]).
+/// [`TerrainStorage::col_sin_cos`]). With a `parent`, the walls on the parent's sides are left out
+/// ([`SideWalls`]).
 fn node_trig<T: Real, S: TerrainStorage<T>>(
     g: &Grid<T>,
     storage: &S,
     n: &Node<T>,
+    parent: Option<&Node<T>>,
     cos_half_cell_dlon: T,
 ) -> QuadTrig<T> {
     let ra = storage.row_sin_cos(n.rows[0]);
     let rb = storage.row_sin_cos(n.rows[1]);
+    // A side is outer when the parent has the same side.
+    let outer = |side: fn(&Node<T>) -> u32| parent.is_some_and(|p| side(p) == side(n));
+    let (first_row, last_row) = (!outer(|m| m.rows[0]), !outer(|m| m.rows[1]));
     // Rows may run southwards (dlat < 0): the southern wall is the one of smaller latitude.
-    let (south, north) = if g.dlat > T::ZERO { (ra, rb) } else { (rb, ra) };
+    let (south, north, south_inner, north_inner) = if g.dlat > T::ZERO {
+        (ra, rb, first_row, last_row)
+    } else {
+        (rb, ra, last_row, first_row)
+    };
     QuadTrig {
         south,
         north,
@@ -855,6 +872,12 @@ fn node_trig<T: Real, S: TerrainStorage<T>>(
         east: storage.col_sin_cos(n.cols[1]),
         span_deg: g.lon_deg(n.cols[1]) - g.lon_deg(n.cols[0]),
         cos_half_cell_dlon,
+        walls: SideWalls {
+            west: !outer(|m| m.cols[0]),
+            east: !outer(|m| m.cols[1]),
+            south: south_inner,
+            north: north_inner,
+        },
     }
 }
 
@@ -868,7 +891,7 @@ fn node_bounds<T: Real, S: TerrainStorage<T>>(
     [h_lo, h_hi]: [T; 2],
     cos_half_cell_dlon: T,
 ) -> Result<HeightQuadBounds<T>, TerrainError> {
-    let trig = node_trig(g, storage, n, cos_half_cell_dlon);
+    let trig = node_trig(g, storage, n, None, cos_half_cell_dlon);
     Ok(HeightQuadBounds::from_trig(
         e, &trig, h_lo, h_hi, g.dlat, g.dlon,
     )?)
