@@ -245,12 +245,14 @@ fn center_point_formula_derived_again() {
     ] {
         let psi = c0.cross(c1).length().atan2(c0.dot(c1));
         let mid = c0.plus(c1).scaled(0.5);
-        let edge_point = mid.scaled(1.0 / mid.length().powi(2)); // on both tangent planes, above the midpoint
-        assert!((edge_point.dot(c0) - 1.0).abs() < 1e-15);
+        // On both tangent planes, above the midpoint. Tolerances are a few tens of ulps: Miri perturbs the
+        // results of libm functions (atan2, cos) by a few ulps on purpose.
+        let edge_point = mid.scaled(1.0 / mid.length_squared());
+        assert!((edge_point.dot(c0) - 1.0).abs() < 1e-14);
         let t = 1.0 / (1.0 + (psi / 2.0).cos());
         let c = edge_point.scaled(1.0 - t).add_scaled(t, mid);
         let geodesic_mid = normalized(c0.plus(c1)).unwrap();
-        assert!(c.minus(geodesic_mid).length() < 1e-15, "{psi}");
+        assert!(c.minus(geodesic_mid).length() < 1e-14, "{psi}");
         let t_paper = 1.0 / (1.0 + ((core::f64::consts::PI - psi) / 2.0).cos());
         let same = (t_paper - t).abs() < 1e-12;
         assert_eq!(same, (psi - core::f64::consts::FRAC_PI_2).abs() < 1e-12);
