@@ -774,6 +774,9 @@ pub struct DemStorage<'a> {
     /// kernel's `row_sin_cos` / `col_sin_cos` cache (16 bytes per row and per column).
     row_trig: Vec<(f64, f64)>,
     col_trig: Vec<(f64, f64)>,
+    /// The children of every node, by id (`u32::MAX`: none), found once at build time: the kernel asks for a
+    /// node's children at every quad it visits (16 bytes per node).
+    kids: Vec<[u32; 4]>,
 }
 
 impl<'a> DemStorage<'a> {
@@ -804,7 +807,22 @@ impl<'a> DemStorage<'a> {
             zones: Vec::new(),
             row_trig: Vec::new(),
             col_trig: Vec::new(),
+            kids: Vec::new(),
         };
+        let mut kids = vec![[u32::MAX; 4]; s.node_count()];
+        for (level, &(nr, nc)) in s.pyramid.dims.iter().enumerate().take(zone_level + 1) {
+            for r in 0..nr {
+                for c in 0..nc {
+                    let slot = &mut kids[s.id(level, r, c).0 as usize];
+                    for (k, kid) in slot.iter_mut().zip(s.children_of(level, r, c)) {
+                        if let Some((l, x, y)) = kid {
+                            *k = s.id(l, x, y).0;
+                        }
+                    }
+                }
+            }
+        }
+        s.kids = kids;
         let g: curvicast::terrain::Grid<f64> = curvicast::terrain::TerrainStorage::grid(&s);
         s.row_trig = (0..g.rows)
             .map(|i| curvicast::geodesy::sin_cos_deg(g.lat_deg(i)))
@@ -846,10 +864,10 @@ impl<'a> DemStorage<'a> {
         self.zone_level as u32
     }
 
-    /// The memory the tree adds to the heights, in bytes: two `f32` (max, min) per node of the levels in use, plus
-    /// the zone list, level offsets and the per-row / per-column sine and cosine tables.
+    /// The memory the tree adds to the heights, in bytes: two `f32` (max, min) and four `u32` child ids per node of
+    /// the levels in use, plus the zone list, level offsets and the per-row / per-column sine and cosine tables.
     pub fn overhead_bytes(&self) -> usize {
-        self.node_count() * 2 * std::mem::size_of::<f32>()
+        self.node_count() * (2 * std::mem::size_of::<f32>() + std::mem::size_of::<[u32; 4]>())
             + self.zones.len() * std::mem::size_of::<curvicast::terrain::NodeId>()
             + self.offsets.len() * std::mem::size_of::<usize>()
             + (self.row_trig.len() + self.col_trig.len()) * std::mem::size_of::<(f64, f64)>()
@@ -960,10 +978,8 @@ impl<T: curvicast::Real> curvicast::terrain::TerrainStorage<T> for DemStorage<'_
             self.pyramid.max[level][r * nc + c],
         );
         let heights = (hi >= lo).then(|| [T::from_f64(f64::from(lo)), T::from_f64(f64::from(hi))]);
-        let mut children = [None; 4];
-        for (slot, kid) in children.iter_mut().zip(self.children_of(level, r, c)) {
-            *slot = kid.map(|(l, x, y)| self.id(l, x, y));
-        }
+        let kids = self.kids.get(id.0 as usize)?;
+        let children = kids.map(|k| (k != u32::MAX).then_some(curvicast::terrain::NodeId(k)));
         Some(curvicast::terrain::Node {
             rows,
             cols,

@@ -183,7 +183,8 @@ impl<T: Real> QuadTrig<T> {
     /// the wedge is convex); none for wider quads.
     pub fn wedge(&self) -> Result<Wedge<T>, GeodesyError> {
         let ((sw, cw), (se, ce), span) = (self.west, self.east, self.span_deg);
-        if ![sw, cw, se, ce, span].iter().all(|x| x.is_finite()) || span < T::ZERO {
+        // One test for all five: sines and cosines are at most 1, so the sum is finite exactly when each is.
+        if !(sw + cw + se + ce + span).is_finite() || span < T::ZERO {
             return Err(GeodesyError::NonFinite);
         }
         let convex = span < T::from_f64(180.0);
