@@ -179,6 +179,20 @@ impl SideWalls {
 pub type Wedge<T> = [Option<(T, T)>; 2];
 
 impl<T: Real> QuadTrig<T> {
+    /// The trigonometry of the quad with latitudes `[lat_s, lat_n]` and longitudes `[lon_w, lon_e]` (degrees),
+    /// made of cells `cell_dlon` degrees wide, with all four walls.
+    pub fn from_degrees(lat_s: T, lat_n: T, lon_w: T, lon_e: T, cell_dlon: T) -> Self {
+        QuadTrig {
+            south: sin_cos_deg(lat_s),
+            north: sin_cos_deg(lat_n),
+            west: sin_cos_deg(lon_w),
+            east: sin_cos_deg(lon_e),
+            span_deg: lon_e - lon_w,
+            cos_half_cell_dlon: sin_cos_deg(cell_dlon.abs() / T::TWO).1,
+            walls: SideWalls::ALL,
+        }
+    }
+
     /// The meridian walls that bound the quad: those of [`QuadTrig::walls`], when the span is below 180° (where
     /// the wedge is convex); none for wider quads.
     pub fn wedge(&self) -> Result<Wedge<T>, GeodesyError> {
@@ -231,15 +245,7 @@ impl<T: Real> HeightQuadBounds<T> {
         if !(lat_s >= -ninety && lat_n <= ninety && lat_s <= lat_n) {
             return Err(GeodesyError::LatitudeOutOfRange);
         }
-        let trig = QuadTrig {
-            south: sin_cos_deg(lat_s),
-            north: sin_cos_deg(lat_n),
-            west: sin_cos_deg(lon_w),
-            east: sin_cos_deg(lon_e),
-            span_deg: lon_e - lon_w,
-            cos_half_cell_dlon: sin_cos_deg(cell_dlon.abs() / T::TWO).1,
-            walls: SideWalls::ALL,
-        };
+        let trig = QuadTrig::from_degrees(lat_s, lat_n, lon_w, lon_e, cell_dlon);
         Self::from_trig(e, &trig, h_min, h_max, cell_dlat, cell_dlon)
     }
 
@@ -254,91 +260,25 @@ impl<T: Real> HeightQuadBounds<T> {
         cell_dlat: T,
         cell_dlon: T,
     ) -> Result<Self, GeodesyError> {
-        let QuadTrig {
-            south: (s_s, c_s),
-            north: (s_n, c_n),
-            cos_half_cell_dlon: c_half,
-            ..
-        } = *trig;
-        let all = [
-            s_s, c_s, s_n, c_n, c_half, h_min, h_max, cell_dlat, cell_dlon,
-        ];
-        if all.iter().any(|x| !x.is_finite()) {
-            return Err(GeodesyError::NonFinite);
-        }
-        if !(s_s <= s_n) || c_s < T::ZERO || c_n < T::ZERO {
-            return Err(GeodesyError::LatitudeOutOfRange);
-        }
-        if !(h_min > e.min_height()) || !(h_max >= h_min) {
-            return Err(GeodesyError::HeightTooLow);
-        }
-        let (a, b) = (e.a(), e.b());
-        let rad = T::PI / T::from_f64(180.0);
-        let dpsi = cell_dlat.abs() * rad;
-        let dlam = cell_dlon.abs() * rad;
-        // Longest triangle edge: |∂P/∂ψ| = M + h, |∂P/∂λ| = (N + h) cos ψ, both ≤ a²/b + max(h, 0); |∂P/∂h| = 1.
-        let d = (a * (a / b) + h_max.max(T::ZERO)) * (dpsi * dpsi + dlam * dlam).sqrt()
-            + (h_max - h_min);
-        let d = d * (T::ONE + T::from_f64(16.0) * T::EPSILON);
-        let s = chord_sagitta_bound(e, d, h_min)?;
-
-        let upper = upper_spheroid(e, h_max)?;
-        let lower_r = b + h_min - s;
-
-        // Distance to the axis over the quad's triangles.
-        let cos_star = c_s.min(c_n);
-        let r_min = (a + h_min.min(T::ZERO)) * cos_star * c_half;
-
-        let south = if !trig.walls.south || c_s == T::ZERO && s_s < T::ZERO {
-            None
-        } else {
-            let sigma = if s_s < T::ZERO {
-                latitude_bulge_bound(s_s, d, r_min)
-            } else {
-                T::ZERO
-            };
-            Self::wall(e, s_s, c_s, -sigma)?
+        let p = QuadParts::new(e, trig, h_min, h_max, cell_dlat, cell_dlon)?;
+        let wall = |w: Option<WallApex<T>>| -> Result<Option<LatWall<T>>, GeodesyError> {
+            w.map(|WallApex { sin, cos, apex }| {
+                Ok(LatWall {
+                    cone: AxialCone::from_cos_sin(apex, sin, cos)?,
+                    apex,
+                    sin,
+                    cos,
+                })
+            })
+            .transpose()
         };
-        let north = if !trig.walls.north || c_n == T::ZERO && s_n > T::ZERO {
-            None
-        } else {
-            let sigma = if s_n > T::ZERO {
-                latitude_bulge_bound(s_n, d, r_min)
-            } else {
-                T::ZERO
-            };
-            Self::wall(e, s_n, c_n, sigma)?
-        };
-
-        let wedge = trig.wedge()?;
         Ok(HeightQuadBounds {
-            wedge,
-            south,
-            north,
-            upper,
-            lower_r,
+            wedge: trig.wedge()?,
+            south: wall(p.south)?,
+            north: wall(p.north)?,
+            upper: p.upper,
+            lower_r: p.lower_r,
         })
-    }
-
-    /// The wall of latitude ψ with its apex moved by `shift_f / cos ψ` (f increases by `shift_f`... i.e. the
-    /// region `f ≥ 0` grows when `shift_f < 0` for a south wall, and `f ≤ 0` grows for `shift_f > 0`).
-    fn wall(
-        e: &Ellipsoid<T>,
-        sin: T,
-        cos: T,
-        shift_f: T,
-    ) -> Result<Option<LatWall<T>>, GeodesyError> {
-        if !shift_f.is_finite() {
-            return Ok(None); // unbounded bulge: drop the wall (conservative)
-        }
-        let apex = e.latitude_cone_apex(sin) + shift_f / cos;
-        let cone = AxialCone::from_cos_sin(apex, sin, cos)?;
-        Ok(Some(LatWall {
-            cone,
-            apex,
-            sin,
-            cos,
-        }))
     }
 
     /// The upper bounding spheroid `B^{h_max}`.
@@ -464,6 +404,242 @@ impl<T: Real> HeightQuadBounds<T> {
     }
 }
 
+/// A latitude wall before its cone is built: the latitude's sine and cosine and the (bulge-shifted) apex.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct WallApex<T> {
+    sin: T,
+    cos: T,
+    apex: T,
+}
+
+/// The walls of a quad's volume that need no trigonometry beyond `trig` (module docs, items 1–4): the upper
+/// spheroid, the lower sphere (sagitta included) and the bulge-shifted apexes of the latitude walls it includes.
+struct QuadParts<T> {
+    upper: Spheroid<T>,
+    lower_r: T,
+    south: Option<WallApex<T>>,
+    north: Option<WallApex<T>>,
+}
+
+impl<T: Real> QuadParts<T> {
+    fn new(
+        e: &Ellipsoid<T>,
+        trig: &QuadTrig<T>,
+        h_min: T,
+        h_max: T,
+        cell_dlat: T,
+        cell_dlon: T,
+    ) -> Result<Self, GeodesyError> {
+        let QuadTrig {
+            south: (s_s, c_s),
+            north: (s_n, c_n),
+            cos_half_cell_dlon: c_half,
+            ..
+        } = *trig;
+        let all = [
+            s_s, c_s, s_n, c_n, c_half, h_min, h_max, cell_dlat, cell_dlon,
+        ];
+        if all.iter().any(|x| !x.is_finite()) {
+            return Err(GeodesyError::NonFinite);
+        }
+        if !(s_s <= s_n) || c_s < T::ZERO || c_n < T::ZERO {
+            return Err(GeodesyError::LatitudeOutOfRange);
+        }
+        if !(h_min > e.min_height()) || !(h_max >= h_min) {
+            return Err(GeodesyError::HeightTooLow);
+        }
+        let (a, b) = (e.a(), e.b());
+        let rad = T::PI / T::from_f64(180.0);
+        let dpsi = cell_dlat.abs() * rad;
+        let dlam = cell_dlon.abs() * rad;
+        // Longest triangle edge: |∂P/∂ψ| = M + h, |∂P/∂λ| = (N + h) cos ψ, both ≤ a²/b + max(h, 0); |∂P/∂h| = 1.
+        let d = (a * (a / b) + h_max.max(T::ZERO)) * (dpsi * dpsi + dlam * dlam).sqrt()
+            + (h_max - h_min);
+        let d = d * (T::ONE + T::from_f64(16.0) * T::EPSILON);
+        let s = chord_sagitta_bound(e, d, h_min)?;
+
+        let upper = upper_spheroid(e, h_max)?;
+        let lower_r = b + h_min - s;
+
+        // Distance to the axis over the quad's triangles.
+        let cos_star = c_s.min(c_n);
+        let r_min = (a + h_min.min(T::ZERO)) * cos_star * c_half;
+
+        // The wall of latitude ψ with its apex moved by `shift_f / cos ψ`: f grows by `shift_f`, so the region
+        // f ≥ 0 grows when `shift_f < 0` (a south wall) and f ≤ 0 grows when `shift_f > 0` (a north wall). An
+        // unbounded bulge drops the wall (conservative).
+        let wall = |sin: T, cos: T, shift_f: T| {
+            shift_f.is_finite().then(|| WallApex {
+                sin,
+                cos,
+                apex: e.latitude_cone_apex(sin) + shift_f / cos,
+            })
+        };
+        let south = if !trig.walls.south || c_s == T::ZERO && s_s < T::ZERO {
+            None
+        } else {
+            let sigma = if s_s < T::ZERO {
+                latitude_bulge_bound(s_s, d, r_min)
+            } else {
+                T::ZERO
+            };
+            wall(s_s, c_s, -sigma)
+        };
+        let north = if !trig.walls.north || c_n == T::ZERO && s_n > T::ZERO {
+            None
+        } else {
+            let sigma = if s_n > T::ZERO {
+                latitude_bulge_bound(s_n, d, r_min)
+            } else {
+                T::ZERO
+            };
+            wall(s_n, c_n, sigma)
+        };
+        Ok(QuadParts {
+            upper,
+            lower_r,
+            south,
+            north,
+        })
+    }
+}
+
+/// A cheaper, looser hull of the ray's parameters in a quad's volume, for the traversal's test of a child
+/// (beyond the paper; the volume of [`HeightQuadBounds::from_trig`] with the same `trig` and heights lies inside
+/// it, so it is conservative). Every wall is convex here, so the hull comes from crossings alone, with no point
+/// tests: the meridian planes, then each latitude wall replaced by a plane that bounds its side of the
+/// (bulge-shifted) cone, then the upper spheroid, and last the lower sphere cut from either end.
+///
+/// The planes, with `f = (z − k) cos ψ − r sin ψ` the cone, λm the quad's middle meridian and Δλ its span:
+/// `g = (z − k) cos ψ − sin ψ (x cos λm + y sin λm)` (the tangent plane along λm) satisfies `g − f =
+/// r sin ψ (1 − cos(λ − λm))`, so `g ≥ f` everywhere when ψ ≥ 0 and `g ≤ f` when ψ < 0: the convex side of the
+/// cone lies on one side of it. `h = (z − k) cos ψ cos(Δλ/2) − sin ψ (x cos λm + y sin λm)` (the plane through
+/// the cone's generators at λ_W and λ_E: the leaves' row plane) bounds the other side, for points in the wedge,
+/// where `cos(λ − λm) ≥ cos(Δλ/2)`. The quad's triangles lie in its wedge (its meridian planes contain the
+/// vertex normals), so `h` may be used even when the child's meridian walls are left out. The planes need a
+/// convex wedge: for spans of 180° or more this returns the full volume's [`HeightQuadBounds::ray_interval`].
+#[allow(clippy::too_many_arguments)]
+pub fn relaxed_interval<T: Real>(
+    e: &Ellipsoid<T>,
+    trig: &QuadTrig<T>,
+    h_min: T,
+    h_max: T,
+    cell_dlat: T,
+    cell_dlon: T,
+    ray: &Ray<T>,
+) -> Result<Option<(T, T)>, GeodesyError> {
+    let wedge = trig.wedge()?;
+    let (t0, t1) = (ray.t_min(), ray.t_max());
+    if !t0.is_finite() || !t1.is_finite() {
+        return Ok(None);
+    }
+    if !(trig.span_deg < T::from_f64(180.0)) {
+        // The latitude planes need a convex wedge: the full volume.
+        return Ok(
+            HeightQuadBounds::from_trig(e, trig, h_min, h_max, cell_dlat, cell_dlon)?
+                .ray_interval(ray),
+        );
+    }
+    let (mut lo, mut hi) = (t0, t1);
+    if !clip_wedge(&mut lo, &mut hi, wedge, ray) {
+        return Ok(None);
+    }
+    let p = QuadParts::new(e, trig, h_min, h_max, cell_dlat, cell_dlon)?;
+    let (o, d) = (ray.origin(), ray.dir());
+    let tau = T::from_f64(64.0) * T::EPSILON;
+    let ((sw, cw), (se, ce)) = (trig.west, trig.east);
+    let (mx, my) = (cw + ce, sw + se);
+    let len = (mx * mx + my * my).sqrt(); // 2 cos(Δλ/2)
+    let (cm, sm) = (mx / len, my / len);
+    // cos(Δλ/2), lowered by a few ε so that rounding of λm and of the span cannot make `h` too tight.
+    let ch = len * T::HALF - T::from_f64(8.0) * T::EPSILON;
+    let t_abs = t0.abs().max(t1.abs());
+    let d1 = d.x.abs() + d.y.abs() + d.z.abs();
+    let mut plane = |w: WallApex<T>, north_side: bool| {
+        let tangent = (w.sin >= T::ZERO) == north_side;
+        let kz = if tangent { w.cos } else { w.cos * ch };
+        if !tangent && !(ch > T::ZERO) {
+            return;
+        }
+        let (qz, radial) = (o.z - w.apex, cm * o.x + sm * o.y);
+        let s0 = kz * qz - w.sin * radial;
+        let sd = kz * d.z - w.sin * (cm * d.x + sm * d.y);
+        let tol = tau * (o.x.abs() + o.y.abs() + qz.abs() + w.apex.abs() + d1 * t_abs);
+        if north_side {
+            clip_half_space(&mut lo, &mut hi, s0, sd, tol);
+        } else {
+            clip_half_space(&mut lo, &mut hi, -s0, -sd, tol);
+        }
+    };
+    // The quad lies north of its south wall and south of its north wall.
+    if let Some(w) = p.south {
+        plane(w, true);
+    }
+    if let Some(w) = p.north {
+        plane(w, false);
+    }
+    if !(lo <= hi) || !clip_upper(&mut lo, &mut hi, &p.upper, ray) {
+        return Ok(None);
+    }
+    // The lower sphere (shrunk by the rounding of the ray's points) is convex, so the ray is inside it on one
+    // interval: cut it from whichever end of [lo, hi] it covers.
+    let r = p.lower_r - ray_point_slack(ray, lo, hi);
+    if r > T::ZERO {
+        let inside = |t: T| V3::from(ray.at(t)).length_squared() < r * r;
+        let (in_lo, in_hi) = (inside(lo), inside(hi));
+        if in_lo && in_hi {
+            return Ok(None);
+        }
+        if in_lo || in_hi {
+            let Ok(ball) = Spheroid::sphere(r) else {
+                return Ok(Some((lo, hi)));
+            };
+            for c in &ball.crossings(ray) {
+                match c.into {
+                    Side::Positive if in_lo => lo = lo.max(c.t),
+                    Side::Negative if in_hi => hi = hi.min(c.t),
+                    _ => {}
+                }
+            }
+        }
+    }
+    Ok((lo <= hi).then_some((lo, hi)))
+}
+
+/// Clips `[lo, hi]` to the meridian planes of `wedge` (each inflated like the point tests); false when empty.
+fn clip_wedge<T: Real>(lo: &mut T, hi: &mut T, wedge: Wedge<T>, ray: &Ray<T>) -> bool {
+    let (o, d) = (ray.origin(), ray.dir());
+    let tau = T::from_f64(64.0) * T::EPSILON;
+    let t_abs = ray.t_min().abs().max(ray.t_max().abs());
+    let mag = (o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * t_abs;
+    let [west, east] = wedge;
+    // East of λ_W: c·y − s·x ≥ 0; west of λ_E: c·y − s·x ≤ 0 (both inflated as in `contains`).
+    if let Some((c, s)) = west {
+        clip_half_space(lo, hi, c * o.y - s * o.x, c * d.y - s * d.x, tau * mag);
+    }
+    if let Some((c, s)) = east {
+        clip_half_space(lo, hi, s * o.x - c * o.y, s * d.x - c * d.y, tau * mag);
+    }
+    *lo <= *hi
+}
+
+/// Clips `[lo, hi]` (within the ray's interval) to the inside of the upper spheroid; false when empty.
+fn clip_upper<T: Real>(lo: &mut T, hi: &mut T, upper: &Spheroid<T>, ray: &Ray<T>) -> bool {
+    let cr = upper.crossings(ray);
+    if cr.is_empty() {
+        // No crossing within the ray's interval: all of it lies on one side.
+        let mid = V3::from(ray.at(*lo + (*hi - *lo) * T::HALF));
+        return inside_spheroid(upper, mid, ray_point_slack(ray, ray.t_min(), ray.t_max()));
+    }
+    for c in &cr {
+        match c.into {
+            Side::Negative => *lo = lo.max(c.t),
+            Side::Positive => *hi = hi.min(c.t),
+        }
+    }
+    *lo <= *hi
+}
+
 /// The first stage of [`HeightQuadBounds::ray_interval`] (§3.5's "B^h interval"): inside the meridian wedge
 /// (its planes, each inflated like the point tests) and inside the upper spheroid the ray's parameters form one
 /// interval each, found from their crossings alone. The planes come first (a division each), so that most
@@ -474,53 +650,12 @@ pub fn convex_interval<T: Real>(
     wedge: Wedge<T>,
     ray: &Ray<T>,
 ) -> Option<(T, T)> {
-    let (t0, t1) = (ray.t_min(), ray.t_max());
-    if !t0.is_finite() || !t1.is_finite() {
+    let (mut lo, mut hi) = (ray.t_min(), ray.t_max());
+    if !lo.is_finite() || !hi.is_finite() {
         return None;
     }
-    let (mut lo, mut hi) = (t0, t1);
-    let (o, d) = (ray.origin(), ray.dir());
-    let tau = T::from_f64(64.0) * T::EPSILON;
-    let mag = (o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * t0.abs().max(t1.abs());
-    let [west, east] = wedge;
-    // East of λ_W: c·y − s·x ≥ 0; west of λ_E: c·y − s·x ≤ 0 (both inflated as in `contains`).
-    if let Some((c, s)) = west {
-        clip_half_space(
-            &mut lo,
-            &mut hi,
-            c * o.y - s * o.x,
-            c * d.y - s * d.x,
-            tau * mag,
-        );
-    }
-    if let Some((c, s)) = east {
-        clip_half_space(
-            &mut lo,
-            &mut hi,
-            s * o.x - c * o.y,
-            s * d.x - c * d.y,
-            tau * mag,
-        );
-    }
-    if !(lo <= hi) {
-        return None;
-    }
-    let cr = upper.crossings(ray);
-    if cr.is_empty() {
-        // No crossing within [t0, t1]: the whole interval lies on one side.
-        let mid = V3::from(ray.at(lo + (hi - lo) * T::HALF));
-        if !inside_spheroid(upper, mid, ray_point_slack(ray, t0, t1)) {
-            return None;
-        }
-    } else {
-        for c in &cr {
-            match c.into {
-                Side::Negative => lo = lo.max(c.t),
-                Side::Positive => hi = hi.min(c.t),
-            }
-        }
-    }
-    (lo <= hi).then_some((lo, hi))
+    (clip_wedge(&mut lo, &mut hi, wedge, ray) && clip_upper(&mut lo, &mut hi, upper, ray))
+        .then_some((lo, hi))
 }
 
 /// The upper-spheroid test of [`HeightQuadBounds::contains`] (inflated by `64 ε`, plus `slack` metres).
@@ -736,6 +871,16 @@ mod tests {
             );
             let ray = Ray::segment(from, target.add_scaled(1.0, target.minus(from))).unwrap();
             let hull = q.ray_interval(&ray);
+            // The traversal's relaxed child test, with all walls and with a random subset of them.
+            let mut trig = QuadTrig::from_degrees(lat_s, lat_n, lon_w, lon_e, 0.1);
+            let relaxed_all = relaxed_interval(&e, &trig, h_lo, h_hi, 0.1, 0.1, &ray).unwrap();
+            trig.walls = SideWalls {
+                west: rnd() < 0.5,
+                east: rnd() < 0.5,
+                south: rnd() < 0.5,
+                north: rnd() < 0.5,
+            };
+            let relaxed_some = relaxed_interval(&e, &trig, h_lo, h_hi, 0.1, 0.1, &ray).unwrap();
             let n = 400;
             let inside: std::vec::Vec<f64> = (0..=n)
                 .map(|k| k as f64 / n as f64)
@@ -752,6 +897,12 @@ mod tests {
                 "hull {t_in}..{t_out} misses {a}..{b}"
             );
             assert!(t_in >= a - 1.0 / n as f64 && t_out <= b + 1.0 / n as f64);
+            for (what, r) in [("all walls", relaxed_all), ("some walls", relaxed_some)] {
+                assert!(
+                    r.is_some_and(|(lo, hi)| lo <= a && b <= hi),
+                    "relaxed ({what}) {r:?} misses {a}..{b}"
+                );
+            }
         }
         assert!(checked > 100, "{checked}");
     }

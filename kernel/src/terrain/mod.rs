@@ -116,7 +116,7 @@ pub use storage::{
 
 use crate::geodesy::{
     Ellipsoid, GeodesyError, HeightQuadBounds, QuadTrig, SideWalls, clip_half_space,
-    convex_interval, sin_cos_deg, upper_spheroid,
+    relaxed_interval, sin_cos_deg, upper_spheroid,
 };
 use crate::ray::{Ray, RayError};
 use crate::real::Real;
@@ -218,7 +218,15 @@ struct Candidate<T> {
 }
 
 /// A zone root with its precomputed volume.
-type Zone<T> = (NodeId, Node<T>, HeightQuadBounds<T>);
+/// A zone: its root, and how its volume is tested (the storage's cached volume, or the relaxed test of
+/// [`relaxed_interval`] from the zone's trigonometry).
+type Zone<T> = (NodeId, Node<T>, ZoneVolume<T>);
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum ZoneVolume<T> {
+    Cached(HeightQuadBounds<T>),
+    Relaxed(QuadTrig<T>),
+}
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Entry<T> {
@@ -273,8 +281,12 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 continue; // a zone without data has no triangles
             };
             let b = match storage.cached_bounds(id) {
-                Some(b) => b,
-                None => node_bounds(&ellipsoid, &grid, storage, &node, [lo, hi], half_cell.1)?,
+                Some(b) => ZoneVolume::Cached(b),
+                None => {
+                    // Built once so that a zone whose volume cannot be formed is an error here.
+                    node_bounds(&ellipsoid, &grid, storage, &node, [lo, hi], half_cell.1)?;
+                    ZoneVolume::Relaxed(node_trig(&grid, storage, &node, None, half_cell.1))
+                }
             };
             h_max = h_max.max(hi);
             if let Some(slot) = zones.get_mut(count) {
@@ -388,8 +400,23 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let mut order = [(0usize, T::ZERO, T::ZERO); ZONES];
         let mut n_order = 0usize;
         for (k, z) in self.zones.iter().enumerate().take(self.zone_count) {
-            if let Some((_, _, b)) = z {
-                if let Some((a, c)) = b.ray_interval(&clipped) {
+            if let Some((_, node, v)) = z {
+                let interval = match v {
+                    ZoneVolume::Cached(b) => b.ray_interval(&clipped),
+                    ZoneVolume::Relaxed(trig) => {
+                        let [lo, hi] = node.heights.ok_or(TerrainError::MalformedTree)?;
+                        relaxed_interval(
+                            &self.ellipsoid,
+                            trig,
+                            lo,
+                            hi,
+                            self.grid.dlat,
+                            self.grid.dlon,
+                            &clipped,
+                        )?
+                    }
+                };
+                if let Some((a, c)) = interval {
                     if let Some(slot) = order.get_mut(n_order) {
                         *slot = (k, a, c);
                         n_order = n_order.saturating_add(1);
@@ -474,30 +501,21 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 };
                 let interval = match self.storage.cached_bounds(*cid) {
                     Some(b) => b.ray_interval(&sub),
-                    None => {
-                        // The convex stage first, so that the rest of the volume is built only for
-                        // children the ray can enter.
-                        let trig = node_trig(
+                    None => relaxed_interval(
+                        &self.ellipsoid,
+                        &node_trig(
                             &self.grid,
                             self.storage,
                             &child,
                             Some(&e.node),
                             self.half_cell.1,
-                        );
-                        let upper = upper_spheroid(&self.ellipsoid, hi)?;
-                        match convex_interval(&upper, trig.wedge()?, &sub) {
-                            None => None,
-                            Some((a, c)) => HeightQuadBounds::from_trig(
-                                &self.ellipsoid,
-                                &trig,
-                                lo,
-                                hi,
-                                self.grid.dlat,
-                                self.grid.dlon,
-                            )?
-                            .walls_interval(&sub, a, c),
-                        }
-                    }
+                        ),
+                        lo,
+                        hi,
+                        self.grid.dlat,
+                        self.grid.dlon,
+                        &sub,
+                    )?,
                 };
                 if let Some((a, c)) = interval {
                     if let Some(slot) = kids.get_mut(nk) {
