@@ -42,6 +42,7 @@
 //! crossings of the lower sphere and the latitude cones (all crossings come from the shared [`crate::surface`]
 //! solvers) and each piece between breakpoints is classified by a point test at its midpoint. A volume the ray
 //! enters twice (two crossings of a latitude cone or of the lower sphere) yields one hull covering both visits.
+//! A terrain traversal uses a cheaper superset of the volume whose walls are all convex ([`relaxed_interval`]).
 
 use super::{Ellipsoid, GeodesyError, sin_cos_deg};
 use crate::ray::Ray;

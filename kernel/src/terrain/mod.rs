@@ -11,8 +11,11 @@
 //! 3. **Quads** (§3.1–3.5): each node's volume is a [`HeightQuadBounds`] — meridian wedge, latitude cones,
 //!    upper spheroid `B^{h_max}`, lower sphere — and the ray's parameter hull inside it comes from the crossings
 //!    of those walls (the §3.5 "side interval against `B^h` interval" test, generalised so that a volume entered
-//!    twice yields one hull over both visits). Children are visited nearest entry first, with an explicit stack
-//!    of fixed capacity (the const generic `STACK`; no recursion).
+//!    twice yields one hull over both visits). The traversal itself tests zones and children against a relaxed,
+//!    convex superset of that volume ([`crate::geodesy::relaxed_interval`]: each latitude cone replaced by a
+//!    plane bounding its side, so the hull needs no point tests), and a child only against its walls on the
+//!    parent's internal partition ([`crate::geodesy::SideWalls`]). Children are visited nearest entry first,
+//!    with an explicit stack of fixed capacity (the const generic `STACK`; no recursion).
 //!    This replaces the paper's sequential stepping between children (the child entered from `side_in` and the
 //!    internal partition half-spaces, the next child from `side_out`, the 3-or-4-side exit rule): those rules
 //!    assume that the quads' walls partition space, which the *conservative* volumes needed for triangles (item 5
@@ -45,7 +48,9 @@
 //!
 //! * every quad's volume provably contains all of its triangles ([`crate::geodesy::HeightQuadBounds`] derives
 //!   the sagitta bound for the lower wall and the bulge bound for the latitude walls from the curvature of the
-//!   height and cone functions; meridian walls and the upper bound are exact for triangles by convexity);
+//!   height and cone functions; meridian walls and the upper bound are exact for triangles by convexity), and
+//!   the relaxed volume the traversal tests contains those triangles too (each of its planes bounds a cone's
+//!   side, on the quad's wedge; [`crate::geodesy::relaxed_interval`]);
 //! * every cell's planar volume contains its two triangles exactly;
 //! * the traversal keeps the best hit `t*` found so far and discards a quad only when its entry parameter exceeds
 //!   `t*`, and stops only when no pending quad or zone can start before `t*`.
@@ -59,11 +64,9 @@
 //! # Cost
 //!
 //! Per child of a visited quad, only along the part of the ray inside the parent and only against the child's
-//! walls on the parent's internal partition (its outer walls are the parent's; [`crate::geodesy::SideWalls`]):
-//! first the convex stage ([`crate::geodesy::convex_interval`]: the internal meridian plane, then the child's
-//! upper spheroid), which rejects most children the ray misses; only for the others is the rest of the volume
-//! built (sagitta, bulge-shifted cone) and the lower sphere and the internal latitude cone crossed, with point
-//! tests for the pieces between. Per leaf: a clip against two meridian planes
+//! walls on the parent's internal partition: the internal meridian plane (a division), then the rest of the
+//! relaxed volume (the internal latitude plane, the upper spheroid, the lower sphere), each step only if the
+//! interval is still non-empty. Per leaf: a clip against two meridian planes
 //! per column (columns the ray misses are skipped), then two row planes per cell of the surviving columns, and
 //! the triangle test for crossed cells. No trigonometry is needed per ray when the storage caches the sines and
 //! cosines of its rows and columns ([`TerrainStorage::row_sin_cos`]); the prime vertical radius is computed once
