@@ -422,7 +422,15 @@ struct QuadParts<T> {
     north: Option<WallApex<T>>,
 }
 
-impl<T: Real> QuadParts<T> {
+/// The latitude walls of a quad and the longest triangle edge `d` that the height walls need.
+struct LatitudeParts<T> {
+    d: T,
+    south: Option<WallApex<T>>,
+    north: Option<WallApex<T>>,
+}
+
+impl<T: Real> LatitudeParts<T> {
+    /// Checks the quad's parameters and forms its latitude walls.
     fn new(
         e: &Ellipsoid<T>,
         trig: &QuadTrig<T>,
@@ -457,10 +465,6 @@ impl<T: Real> QuadParts<T> {
         let d = (a * (a / b) + h_max.max(T::ZERO)) * (dpsi * dpsi + dlam * dlam).sqrt()
             + (h_max - h_min);
         let d = d * (T::ONE + T::from_f64(16.0) * T::EPSILON);
-        let s = chord_sagitta_bound(e, d, h_min)?;
-
-        let upper = upper_spheroid(e, h_max)?;
-        let lower_r = b + h_min - s;
 
         // Distance to the axis over the quad's triangles.
         let cos_star = c_s.min(c_n);
@@ -496,12 +500,108 @@ impl<T: Real> QuadParts<T> {
             };
             wall(s_n, c_n, sigma)
         };
+        Ok(LatitudeParts { d, south, north })
+    }
+
+    /// The upper spheroid and the radius of the lower sphere (sagitta included).
+    fn height_walls(
+        &self,
+        e: &Ellipsoid<T>,
+        h_min: T,
+        h_max: T,
+    ) -> Result<(Spheroid<T>, T), GeodesyError> {
+        let s = chord_sagitta_bound(e, self.d, h_min)?;
+        Ok((upper_spheroid(e, h_max)?, e.b() + h_min - s))
+    }
+}
+
+impl<T: Real> QuadParts<T> {
+    fn new(
+        e: &Ellipsoid<T>,
+        trig: &QuadTrig<T>,
+        h_min: T,
+        h_max: T,
+        cell_dlat: T,
+        cell_dlon: T,
+    ) -> Result<Self, GeodesyError> {
+        let lat = LatitudeParts::new(e, trig, h_min, h_max, cell_dlat, cell_dlon)?;
+        let (upper, lower_r) = lat.height_walls(e, h_min, h_max)?;
         Ok(QuadParts {
             upper,
             lower_r,
-            south,
-            north,
+            south: lat.south,
+            north: lat.north,
         })
+    }
+}
+
+/// The middle meridian of a wedge narrower than 180° from its walls' sines and cosines: `(cos λm, sin λm)`, and
+/// `cos(Δλ/2)` lowered by a few ε so that the rounding of λm and of the span cannot make a chord plane too tight.
+fn middle_meridian<T: Real>(trig: &QuadTrig<T>) -> (T, T, T) {
+    let ((sw, cw), (se, ce)) = (trig.west, trig.east);
+    let (mx, my) = (cw + ce, sw + se);
+    let len = (mx * mx + my * my).sqrt(); // 2 cos(Δλ/2)
+    (
+        mx / len,
+        my / len,
+        len * T::HALF - T::from_f64(8.0) * T::EPSILON,
+    )
+}
+
+/// A quad's relaxed volume ([`relaxed_interval`]), formed once for repeated tests (a picker's zones).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RelaxedVolume<T> {
+    wedge: Wedge<T>,
+    middle: (T, T, T),
+    south: Option<WallApex<T>>,
+    north: Option<WallApex<T>>,
+    upper: Spheroid<T>,
+    lower_r: T,
+    /// Quads of 180° or more: the full volume.
+    full: Option<HeightQuadBounds<T>>,
+}
+
+impl<T: Real> RelaxedVolume<T> {
+    /// The relaxed volume of the quad (arguments as [`HeightQuadBounds::from_trig`]).
+    pub fn new(
+        e: &Ellipsoid<T>,
+        trig: &QuadTrig<T>,
+        h_min: T,
+        h_max: T,
+        cell_dlat: T,
+        cell_dlon: T,
+    ) -> Result<Self, GeodesyError> {
+        let p = QuadParts::new(e, trig, h_min, h_max, cell_dlat, cell_dlon)?;
+        let full = if trig.span_deg < T::from_f64(180.0) {
+            None
+        } else {
+            Some(HeightQuadBounds::from_trig(
+                e, trig, h_min, h_max, cell_dlat, cell_dlon,
+            )?)
+        };
+        Ok(RelaxedVolume {
+            wedge: trig.wedge()?,
+            middle: middle_meridian(trig),
+            south: p.south,
+            north: p.north,
+            upper: p.upper,
+            lower_r: p.lower_r,
+            full,
+        })
+    }
+
+    /// The hull of the ray's parameters in the volume, or `None` (the ray's interval must be finite).
+    pub fn interval(&self, ray: &Ray<T>) -> Option<(T, T)> {
+        if let Some(b) = &self.full {
+            return b.ray_interval(ray);
+        }
+        let (mut lo, mut hi) = (ray.t_min(), ray.t_max());
+        let ok = lo.is_finite()
+            && hi.is_finite()
+            && clip_wedge(&mut lo, &mut hi, self.wedge, ray)
+            && clip_latitude_planes(&mut lo, &mut hi, ray, self.middle, self.south, self.north)
+            && clip_height_walls(&mut lo, &mut hi, ray, &self.upper, self.lower_r);
+        ok.then_some((lo, hi))
     }
 }
 
@@ -509,7 +609,8 @@ impl<T: Real> QuadParts<T> {
 /// (beyond the paper; the volume of [`HeightQuadBounds::from_trig`] with the same `trig` and heights lies inside
 /// it, so it is conservative). Every wall is convex here, so the hull comes from crossings alone, with no point
 /// tests: the meridian planes, then each latitude wall replaced by a plane that bounds its side of the
-/// (bulge-shifted) cone, then the upper spheroid, and last the lower sphere cut from either end.
+/// (bulge-shifted) cone, then the upper spheroid, and last the lower sphere cut from either end. Each step runs
+/// only if the interval is still non-empty, and the parts of the volume it needs are formed only then.
 ///
 /// The planes, with `f = (z − k) cos ψ − r sin ψ` the cone, λm the quad's middle meridian and Δλ its span:
 /// `g = (z − k) cos ψ − sin ψ (x cos λm + y sin λm)` (the tangent plane along λm) satisfies `g − f =
@@ -529,82 +630,98 @@ pub fn relaxed_interval<T: Real>(
     cell_dlon: T,
     ray: &Ray<T>,
 ) -> Result<Option<(T, T)>, GeodesyError> {
-    let wedge = trig.wedge()?;
-    let (t0, t1) = (ray.t_min(), ray.t_max());
-    if !t0.is_finite() || !t1.is_finite() {
-        return Ok(None);
-    }
     if !(trig.span_deg < T::from_f64(180.0)) {
-        // The latitude planes need a convex wedge: the full volume.
-        return Ok(
-            HeightQuadBounds::from_trig(e, trig, h_min, h_max, cell_dlat, cell_dlon)?
-                .ray_interval(ray),
-        );
+        return Ok(RelaxedVolume::new(e, trig, h_min, h_max, cell_dlat, cell_dlon)?.interval(ray));
     }
-    let (mut lo, mut hi) = (t0, t1);
-    if !clip_wedge(&mut lo, &mut hi, wedge, ray) {
+    let wedge = trig.wedge()?;
+    let (mut lo, mut hi) = (ray.t_min(), ray.t_max());
+    if !lo.is_finite() || !hi.is_finite() || !clip_wedge(&mut lo, &mut hi, wedge, ray) {
         return Ok(None);
     }
-    let p = QuadParts::new(e, trig, h_min, h_max, cell_dlat, cell_dlon)?;
+    let lat = LatitudeParts::new(e, trig, h_min, h_max, cell_dlat, cell_dlon)?;
+    let middle = middle_meridian(trig);
+    if !clip_latitude_planes(&mut lo, &mut hi, ray, middle, lat.south, lat.north) {
+        return Ok(None);
+    }
+    let (upper, lower_r) = lat.height_walls(e, h_min, h_max)?;
+    Ok(clip_height_walls(&mut lo, &mut hi, ray, &upper, lower_r).then_some((lo, hi)))
+}
+
+/// Clips `[lo, hi]` to the planes that replace the latitude walls ([`relaxed_interval`]); false when empty.
+/// `middle` is [`middle_meridian`]'s.
+fn clip_latitude_planes<T: Real>(
+    lo: &mut T,
+    hi: &mut T,
+    ray: &Ray<T>,
+    (cm, sm, ch): (T, T, T),
+    south: Option<WallApex<T>>,
+    north: Option<WallApex<T>>,
+) -> bool {
     let (o, d) = (ray.origin(), ray.dir());
     let tau = T::from_f64(64.0) * T::EPSILON;
-    let ((sw, cw), (se, ce)) = (trig.west, trig.east);
-    let (mx, my) = (cw + ce, sw + se);
-    let len = (mx * mx + my * my).sqrt(); // 2 cos(Δλ/2)
-    let (cm, sm) = (mx / len, my / len);
-    // cos(Δλ/2), lowered by a few ε so that rounding of λm and of the span cannot make `h` too tight.
-    let ch = len * T::HALF - T::from_f64(8.0) * T::EPSILON;
-    let t_abs = t0.abs().max(t1.abs());
+    let t_abs = ray.t_min().abs().max(ray.t_max().abs());
     let d1 = d.x.abs() + d.y.abs() + d.z.abs();
+    let (radial_o, radial_d) = (cm * o.x + sm * o.y, cm * d.x + sm * d.y);
     let mut plane = |w: WallApex<T>, north_side: bool| {
         let tangent = (w.sin >= T::ZERO) == north_side;
         let kz = if tangent { w.cos } else { w.cos * ch };
         if !tangent && !(ch > T::ZERO) {
             return;
         }
-        let (qz, radial) = (o.z - w.apex, cm * o.x + sm * o.y);
-        let s0 = kz * qz - w.sin * radial;
-        let sd = kz * d.z - w.sin * (cm * d.x + sm * d.y);
+        let qz = o.z - w.apex;
+        let s0 = kz * qz - w.sin * radial_o;
+        let sd = kz * d.z - w.sin * radial_d;
         let tol = tau * (o.x.abs() + o.y.abs() + qz.abs() + w.apex.abs() + d1 * t_abs);
         if north_side {
-            clip_half_space(&mut lo, &mut hi, s0, sd, tol);
+            clip_half_space(lo, hi, s0, sd, tol);
         } else {
-            clip_half_space(&mut lo, &mut hi, -s0, -sd, tol);
+            clip_half_space(lo, hi, -s0, -sd, tol);
         }
     };
     // The quad lies north of its south wall and south of its north wall.
-    if let Some(w) = p.south {
+    if let Some(w) = south {
         plane(w, true);
     }
-    if let Some(w) = p.north {
+    if let Some(w) = north {
         plane(w, false);
     }
-    if !(lo <= hi) || !clip_upper(&mut lo, &mut hi, &p.upper, ray) {
-        return Ok(None);
+    *lo <= *hi
+}
+
+/// Clips `[lo, hi]` to the upper spheroid, then cuts the lower sphere (shrunk by the rounding of the ray's
+/// points) from whichever end it covers: the ball is convex, so the ray is inside it on one interval. False
+/// when empty.
+fn clip_height_walls<T: Real>(
+    lo: &mut T,
+    hi: &mut T,
+    ray: &Ray<T>,
+    upper: &Spheroid<T>,
+    lower_r: T,
+) -> bool {
+    if !clip_upper(lo, hi, upper, ray) {
+        return false;
     }
-    // The lower sphere (shrunk by the rounding of the ray's points) is convex, so the ray is inside it on one
-    // interval: cut it from whichever end of [lo, hi] it covers.
-    let r = p.lower_r - ray_point_slack(ray, lo, hi);
+    let r = lower_r - ray_point_slack(ray, *lo, *hi);
     if r > T::ZERO {
         let inside = |t: T| V3::from(ray.at(t)).length_squared() < r * r;
-        let (in_lo, in_hi) = (inside(lo), inside(hi));
+        let (in_lo, in_hi) = (inside(*lo), inside(*hi));
         if in_lo && in_hi {
-            return Ok(None);
+            return false;
         }
         if in_lo || in_hi {
             let Ok(ball) = Spheroid::sphere(r) else {
-                return Ok(Some((lo, hi)));
+                return true;
             };
             for c in &ball.crossings(ray) {
                 match c.into {
-                    Side::Positive if in_lo => lo = lo.max(c.t),
-                    Side::Negative if in_hi => hi = hi.min(c.t),
+                    Side::Positive if in_lo => *lo = lo.max(c.t),
+                    Side::Negative if in_hi => *hi = hi.min(c.t),
                     _ => {}
                 }
             }
         }
     }
-    Ok((lo <= hi).then_some((lo, hi)))
+    *lo <= *hi
 }
 
 /// Clips `[lo, hi]` to the meridian planes of `wedge` (each inflated like the point tests); false when empty.
@@ -882,6 +999,9 @@ mod tests {
                 north: rnd() < 0.5,
             };
             let relaxed_some = relaxed_interval(&e, &trig, h_lo, h_hi, 0.1, 0.1, &ray).unwrap();
+            // The volume formed once (a picker's zones) gives the same interval as the lazy test.
+            let formed = RelaxedVolume::new(&e, &trig, h_lo, h_hi, 0.1, 0.1).unwrap();
+            assert_eq!(formed.interval(&ray), relaxed_some);
             let n = 400;
             let inside: std::vec::Vec<f64> = (0..=n)
                 .map(|k| k as f64 / n as f64)

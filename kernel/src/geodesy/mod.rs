@@ -38,8 +38,8 @@ mod bounds;
 
 pub(crate) use bounds::clip_half_space;
 pub use bounds::{
-    HeightQuadBounds, QuadTrig, SideWalls, Wedge, chord_sagitta_bound, convex_interval,
-    latitude_bulge_bound, relaxed_interval, upper_spheroid,
+    HeightQuadBounds, QuadTrig, RelaxedVolume, SideWalls, Wedge, chord_sagitta_bound,
+    convex_interval, latitude_bulge_bound, relaxed_interval, upper_spheroid,
 };
 
 use crate::real::Real;

@@ -118,7 +118,7 @@ pub use storage::{
 };
 
 use crate::geodesy::{
-    Ellipsoid, GeodesyError, HeightQuadBounds, QuadTrig, SideWalls, clip_half_space,
+    Ellipsoid, GeodesyError, HeightQuadBounds, QuadTrig, RelaxedVolume, SideWalls, clip_half_space,
     relaxed_interval, sin_cos_deg, upper_spheroid,
 };
 use crate::ray::{Ray, RayError};
@@ -228,7 +228,7 @@ type Zone<T> = (NodeId, Node<T>, ZoneVolume<T>);
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum ZoneVolume<T> {
     Cached(HeightQuadBounds<T>),
-    Relaxed(QuadTrig<T>),
+    Relaxed(RelaxedVolume<T>),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -285,11 +285,14 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             };
             let b = match storage.cached_bounds(id) {
                 Some(b) => ZoneVolume::Cached(b),
-                None => {
-                    // Built once so that a zone whose volume cannot be formed is an error here.
-                    node_bounds(&ellipsoid, &grid, storage, &node, [lo, hi], half_cell.1)?;
-                    ZoneVolume::Relaxed(node_trig(&grid, storage, &node, None, half_cell.1))
-                }
+                None => ZoneVolume::Relaxed(RelaxedVolume::new(
+                    &ellipsoid,
+                    &node_trig(&grid, storage, &node, None, half_cell.1),
+                    lo,
+                    hi,
+                    grid.dlat,
+                    grid.dlon,
+                )?),
             };
             h_max = h_max.max(hi);
             if let Some(slot) = zones.get_mut(count) {
@@ -403,21 +406,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let mut order = [(0usize, T::ZERO, T::ZERO); ZONES];
         let mut n_order = 0usize;
         for (k, z) in self.zones.iter().enumerate().take(self.zone_count) {
-            if let Some((_, node, v)) = z {
+            if let Some((_, _, v)) = z {
                 let interval = match v {
                     ZoneVolume::Cached(b) => b.ray_interval(&clipped),
-                    ZoneVolume::Relaxed(trig) => {
-                        let [lo, hi] = node.heights.ok_or(TerrainError::MalformedTree)?;
-                        relaxed_interval(
-                            &self.ellipsoid,
-                            trig,
-                            lo,
-                            hi,
-                            self.grid.dlat,
-                            self.grid.dlon,
-                            &clipped,
-                        )?
-                    }
+                    ZoneVolume::Relaxed(r) => r.interval(&clipped),
                 };
                 if let Some((a, c)) = interval {
                     if let Some(slot) = order.get_mut(n_order) {
@@ -642,15 +634,20 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             }
             // Row plane i at this column: m = (−sin ψ cos λm, −sin ψ sin λm, cos ψ cos(Δλ/2)), through (0,0,k_i);
             // m·(P − k ẑ) > 0 is north of it.
+            // The parts that do not depend on the row are formed once per column.
+            let (radial_o, radial_d) = (cm * o.x + sm * o.y, cm * d.x + sm * d.y);
+            let up_d = c_half * d.z;
+            let mag = o.x.abs()
+                + o.y.abs()
+                + (d.x.abs() + d.y.abs() + d.z.abs()) * (lo.abs().max(hi.abs()));
             let row_plane = |i: u32| -> (T, T, T) {
                 let (sp, cp, k, _) = row_at(i);
-                let m = V3::new(-sp * cm, -sp * sm, cp * c_half);
-                let q = V3::new(o.x, o.y, o.z - k);
-                let mag = q.x.abs()
-                    + q.y.abs()
-                    + q.z.abs()
-                    + (d.x.abs() + d.y.abs() + d.z.abs()) * (lo.abs().max(hi.abs()));
-                (m.dot(q), m.dot(d), tau * mag)
+                let qz = o.z - k;
+                (
+                    cp * c_half * qz - sp * radial_o,
+                    cp * up_d - sp * radial_d,
+                    tau * (mag + qz.abs()),
+                )
             };
             let mut plane_a = row_plane(node.rows[0]);
             for i in node.rows[0]..node.rows[1] {
@@ -900,22 +897,6 @@ fn node_trig<T: Real, S: TerrainStorage<T>>(
             north: north_inner,
         },
     }
-}
-
-/// The conservative volume of a node from its grid ranges and heights ([`node_trig`]): equal to
-/// [`quad_bounds`] when the storage returns what its trigonometry methods require.
-fn node_bounds<T: Real, S: TerrainStorage<T>>(
-    e: &Ellipsoid<T>,
-    g: &Grid<T>,
-    storage: &S,
-    n: &Node<T>,
-    [h_lo, h_hi]: [T; 2],
-    cos_half_cell_dlon: T,
-) -> Result<HeightQuadBounds<T>, TerrainError> {
-    let trig = node_trig(g, storage, n, None, cos_half_cell_dlon);
-    Ok(HeightQuadBounds::from_trig(
-        e, &trig, h_lo, h_hi, g.dlat, g.dlon,
-    )?)
 }
 
 #[cfg(test)]
