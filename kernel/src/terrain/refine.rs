@@ -36,9 +36,10 @@
 //! flat terrain, where the neighbouring planes differ by the Earth's curvature). So the refined point's in-plane
 //! distances inside the three edges are checked (barycentric coordinates times the triangle's heights, with a
 //! tolerance of `16 ε ‖p‖∞`), and while it lies beyond an edge the refinement steps to the triangle across that
-//! edge (at most `MAX_WALK` steps, staying in the grid; a nodata neighbour or an unsettled walk keeps the first
-//! triangle's plane). The reported [`super::Hit::cell`] stays the traversal's: at such a tie either cell is a
-//! correct answer.
+//! edge (at most `MAX_WALK` steps, staying in the grid). A walk that does not settle in a triangle (a nodata
+//! neighbour, the grid's edge, or `MAX_WALK` steps) keeps the traversal's unrefined hit: a plane point outside
+//! every triangle tried is not on the surface. The reported [`super::Hit::cell`] stays the traversal's: at such
+//! a tie either cell is a correct answer.
 //!
 //! # The guard
 //!
@@ -253,7 +254,7 @@ pub(super) fn refine<T: Real>(
     // grazes past; step across the edge that the refined point lies beyond, to the triangle that contains it.
     let tol = T::from_f64(16.0) * T::EPSILON * V3::from(first.p).max_abs();
     let mut cur = (first, cell, tri);
-    let mut chosen = first;
+    let mut chosen = None;
     for _ in 0..MAX_WALK {
         let (h, c, tr) = cur;
         let [d0, d1, d2] = h.inside;
@@ -265,7 +266,7 @@ pub(super) fn refine<T: Real>(
             (2, d2)
         };
         if worst >= -tol {
-            chosen = h;
+            chosen = Some(h);
             break;
         }
         let Some((nc, nt)) = across(g, c, tr, k) else {
@@ -276,7 +277,10 @@ pub(super) fn refine<T: Real>(
         };
         cur = (nh, nc, nt);
     }
-    // The guard (module docs).
+    // The guard (module docs). A walk that did not settle in a triangle keeps the traversal's hit: the plane's
+    // point then lies outside every triangle tried (a ray almost in the triangle's plane slides along it
+    // arbitrarily far).
+    let chosen = chosen?;
     let (t, p) = (chosen.t, chosen.p);
     if !(ray.t_min() <= t && t <= ray.t_max()) {
         return None;

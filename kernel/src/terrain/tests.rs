@@ -812,3 +812,64 @@ fn ray_from_5e9_m_away_hits_a_vertical_sliver_at_the_south_pole() {
     let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
     same_hit(&ray, got, want, "sliver at the south pole");
 }
+
+/// Distance from `p` to the closed triangle `v` (the nearest of its interior and its three edges).
+fn distance_to_triangle(p: V3<f64>, v: [V3<f64>; 3]) -> f64 {
+    let n = v[1].minus(v[0]).cross(v[2].minus(v[0]));
+    let inside = (0..3).all(|k| {
+        let (a, b) = (v[k], v[(k + 1) % 3]);
+        b.minus(a).cross(p.minus(a)).dot(n) >= 0.0
+    });
+    let mut best = if inside && n.length() > 0.0 {
+        (p.minus(v[0]).dot(n) / n.length()).abs()
+    } else {
+        f64::INFINITY
+    };
+    for k in 0..3 {
+        let (a, b) = (v[k], v[(k + 1) % 3]);
+        let e = b.minus(a);
+        let s = (p.minus(a).dot(e) / e.dot(e)).clamp(0.0, 1.0);
+        best = best.min(p.minus(a.add_scaled(s, e)).length());
+    }
+    best
+}
+
+#[test]
+fn ray_almost_in_the_meridian_plane_of_polar_sliver_triangles() {
+    // Cells 4.1° tall and 0.0001° wide from the south pole: each triangle with two pole vertices lies in a
+    // meridian plane, and the ray (from the z axis 5.4e9 m away) almost lies in that plane too. The triangle
+    // test used to read the rounding noise of that edge-on view as a hit 7.7 km from any triangle (fuzz
+    // finding); the hit must lie on a triangle of its cell.
+    let g = grid(-90.0, -225.588_888_888_888_9, 4.0965, 0.0001, 2, 9);
+    let hs = std::vec![
+        63.75, 0.0, 0.0, 0.0, 0.0, 0.25, 0.0, 0.0, 704.0, 0.0, 0.0, 0.5, 576.0, 3183.75, -2425.5,
+        -2720.25, 6093.75, -5076.0,
+    ];
+    let dem = TestDem::new(g, hs, 8, 1, 1);
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let ray = Ray::new(
+        [0.0, -0.0, -5_362_342_899.685_755],
+        [
+            -240_033.236_469_758_65,
+            245_013.668_449_579_42,
+            5_355_995_345.833_253,
+        ],
+    )
+    .unwrap();
+    // The ray does cross the fan of slivers further out.
+    let hit = p.pick(&ray).unwrap().unwrap();
+    let [i, j] = hit.cell;
+    let v = |a: u32, b: u32| dem.vertex(a, b).unwrap();
+    let near = [
+        [v(i, j), v(i, j + 1), v(i + 1, j + 1)],
+        [v(i, j), v(i + 1, j + 1), v(i + 1, j)],
+    ]
+    .iter()
+    .map(|&tri| distance_to_triangle(V3::from(hit.ecef), tri))
+    .fold(f64::INFINITY, f64::min);
+    assert!(
+        near < 1e-3,
+        "hit {hit:?} is {near} m from its cell's triangles"
+    );
+    same_hit(&ray, Some((hit.t, hit.cell)), dem.brute(&ray), "sliver fan");
+}

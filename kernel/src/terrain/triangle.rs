@@ -108,6 +108,20 @@ impl<T: Real> WatertightRay<T> {
         if det == T::ZERO || det.is_nan() {
             return None;
         }
+        // A triangle seen edge-on to working precision (the ray lies in its plane within rounding): its
+        // projection is a segment, U, V and W are rounding noise around 0, and neither the inside decision nor
+        // `t` means anything. Treated as a miss, like det = 0 (a ray from the z axis in the meridian plane of a
+        // polar sliver otherwise "hits" it kilometres away). Each product carries at most one rounding and each
+        // edge function one more, so rounding alone cannot make |det| exceed 4 ε times the sum of the products.
+        let products = (cx * by).abs()
+            + (cy * bx).abs()
+            + (ax * cy).abs()
+            + (ay * cx).abs()
+            + (bx * ay).abs()
+            + (by * ax).abs();
+        if det.abs() <= T::from_f64(8.0) * T::EPSILON * products {
+            return None;
+        }
         let sz = self.sz;
         let az = sz * comp(a, kz);
         let bz = sz * comp(b, kz);
@@ -141,6 +155,52 @@ mod tests {
         assert!(miss.intersect(v0, v1, v2, 0.0, 10.0).is_none());
         // Out of the interval.
         assert!(down.intersect(v0, v1, v2, 0.0, 1.5).is_none());
+    }
+
+    #[test]
+    fn ray_almost_in_the_plane_of_a_triangle_is_a_miss() {
+        // The triangle lies in the plane x = 0; the ray starts in that plane (outside the triangle) and leaves
+        // it at an angle of 1e-13, so it meets the plane only at its origin. The projection along the ray is
+        // a segment and the edge functions are rounding noise: no hit.
+        let (v0, v1, v2) = (
+            V3::new(0.0, 0.0, 0.0),
+            V3::new(0.0, 1.0, 0.0),
+            V3::new(0.0, 0.3, 1.0),
+        );
+        for (o, d) in [
+            (V3::new(0.0, -1.0, 0.25), V3::new(1e-13, 1.0, 0.0)),
+            (V3::new(0.0, -5.0e6, 0.25), V3::new(-3e-13, 1.0, 1e-9)),
+            (V3::new(0.0, 2.0, 0.1), V3::new(1e-14, -1.0, 0.05)),
+        ] {
+            let w = WatertightRay::new(o, d).unwrap();
+            assert_eq!(w.intersect(v0, v1, v2, 0.0, 1e7), None, "{o:?} {d:?}");
+        }
+        // A polar sliver (two vertices on the z axis, 0.25 m apart, the third 457 km away) and a ray from the
+        // z axis 5.4e9 m below, heading out almost in the sliver's meridian plane (a fuzz finding): U and W
+        // round to exactly 0 and V to noise, which without the edge-on test reads as a hit at vertex B, at a
+        // point of the ray 343 km from the axis.
+        let w = WatertightRay::new(
+            V3::new(0.0, -0.0, -5_362_342_899.685_755),
+            V3::new(
+                -240_033.236_469_758_65,
+                245_013.668_449_579_42,
+                5_355_995_345.833_253,
+            ),
+        )
+        .unwrap();
+        let sliver = [
+            V3::new(-0.0, 0.0, -6_356_752.564_245_179),
+            V3::new(-0.0, 0.0, -6_356_752.314_245_179),
+            V3::new(
+                -319_786.616_911_798_5,
+                326_421.845_920_123_2,
+                -6_337_689.425_257_364,
+            ),
+        ];
+        assert_eq!(
+            w.intersect(sliver[0], sliver[1], sliver[2], 0.0, 10.0),
+            None
+        );
     }
 
     #[test]
