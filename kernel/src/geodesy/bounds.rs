@@ -261,7 +261,8 @@ impl<T: Real> HeightQuadBounds<T> {
         cell_dlat: T,
         cell_dlon: T,
     ) -> Result<Self, GeodesyError> {
-        let p = QuadParts::new(e, trig, h_min, h_max, cell_dlat, cell_dlon)?;
+        let lat = LatitudeParts::new(e, trig, h_min, h_max, cell_dlat, cell_dlon)?;
+        let (upper, lower_r) = lat.height_walls(e, h_min, h_max)?;
         let wall = |w: Option<WallApex<T>>| -> Result<Option<LatWall<T>>, GeodesyError> {
             w.map(|WallApex { sin, cos, apex }| {
                 Ok(LatWall {
@@ -275,10 +276,10 @@ impl<T: Real> HeightQuadBounds<T> {
         };
         Ok(HeightQuadBounds {
             wedge: trig.wedge()?,
-            south: wall(p.south)?,
-            north: wall(p.north)?,
-            upper: p.upper,
-            lower_r: p.lower_r,
+            south: wall(lat.south)?,
+            north: wall(lat.north)?,
+            upper,
+            lower_r,
         })
     }
 
@@ -413,16 +414,9 @@ struct WallApex<T> {
     apex: T,
 }
 
-/// The walls of a quad's volume that need no trigonometry beyond `trig` (module docs, items 1–4): the upper
-/// spheroid, the lower sphere (sagitta included) and the bulge-shifted apexes of the latitude walls it includes.
-struct QuadParts<T> {
-    upper: Spheroid<T>,
-    lower_r: T,
-    south: Option<WallApex<T>>,
-    north: Option<WallApex<T>>,
-}
-
-/// The latitude walls of a quad and the longest triangle edge `d` that the height walls need.
+/// The parts of a quad's volume that need no trigonometry beyond `trig` (module docs, items 1–4): the
+/// bulge-shifted apexes of the latitude walls it includes, and the longest triangle edge `d`, from which
+/// [`LatitudeParts::height_walls`] forms the upper spheroid and the lower sphere.
 struct LatitudeParts<T> {
     d: T,
     south: Option<WallApex<T>>,
@@ -515,26 +509,6 @@ impl<T: Real> LatitudeParts<T> {
     }
 }
 
-impl<T: Real> QuadParts<T> {
-    fn new(
-        e: &Ellipsoid<T>,
-        trig: &QuadTrig<T>,
-        h_min: T,
-        h_max: T,
-        cell_dlat: T,
-        cell_dlon: T,
-    ) -> Result<Self, GeodesyError> {
-        let lat = LatitudeParts::new(e, trig, h_min, h_max, cell_dlat, cell_dlon)?;
-        let (upper, lower_r) = lat.height_walls(e, h_min, h_max)?;
-        Ok(QuadParts {
-            upper,
-            lower_r,
-            south: lat.south,
-            north: lat.north,
-        })
-    }
-}
-
 /// The middle meridian of a wedge narrower than 180° from its walls' sines and cosines: `(cos λm, sin λm)`, and
 /// `cos(Δλ/2)` lowered by a few ε so that the rounding of λm and of the span cannot make a chord plane too tight.
 fn middle_meridian<T: Real>(trig: &QuadTrig<T>) -> (T, T, T) {
@@ -571,7 +545,8 @@ impl<T: Real> RelaxedVolume<T> {
         cell_dlat: T,
         cell_dlon: T,
     ) -> Result<Self, GeodesyError> {
-        let p = QuadParts::new(e, trig, h_min, h_max, cell_dlat, cell_dlon)?;
+        let lat = LatitudeParts::new(e, trig, h_min, h_max, cell_dlat, cell_dlon)?;
+        let (upper, lower_r) = lat.height_walls(e, h_min, h_max)?;
         let full = if trig.span_deg < T::from_f64(180.0) {
             None
         } else {
@@ -582,10 +557,10 @@ impl<T: Real> RelaxedVolume<T> {
         Ok(RelaxedVolume {
             wedge: trig.wedge()?,
             middle: middle_meridian(trig),
-            south: p.south,
-            north: p.north,
-            upper: p.upper,
-            lower_r: p.lower_r,
+            south: lat.south,
+            north: lat.north,
+            upper,
+            lower_r,
             full,
         })
     }
@@ -631,7 +606,11 @@ pub fn relaxed_interval<T: Real>(
     ray: &Ray<T>,
 ) -> Result<Option<(T, T)>, GeodesyError> {
     if !(trig.span_deg < T::from_f64(180.0)) {
-        return Ok(RelaxedVolume::new(e, trig, h_min, h_max, cell_dlat, cell_dlon)?.interval(ray));
+        // The latitude planes need a convex wedge: the full volume.
+        return Ok(
+            HeightQuadBounds::from_trig(e, trig, h_min, h_max, cell_dlat, cell_dlon)?
+                .ray_interval(ray),
+        );
     }
     let wedge = trig.wedge()?;
     let (mut lo, mut hi) = (ray.t_min(), ray.t_max());
