@@ -125,7 +125,7 @@ use crate::ray::{Ray, RayError};
 use crate::real::Real;
 use crate::surface::{Side, Surface};
 use crate::vec3::V3;
-use refine::Tri;
+use refine::{Tri, Vtx};
 use triangle::WatertightRay;
 
 /// Why a pick failed.
@@ -145,8 +145,10 @@ pub enum TerrainError {
     StackFull,
     /// The traversal visited more nodes than the grid can hold (a malformed tree).
     TraversalBound,
-    /// A leaf's heights are not in memory (paging storages; see [`TerrainStorage::is_resident`]).
-    NotResident,
+    /// The answer needs the block of this node, which is not resident, and no coarser resident block at or
+    /// below the picker's `min_level` can stand in for it (§5): page it in and ask again. Reported only when
+    /// the node could hold a hit nearer than any found.
+    NeedsBlock(NodeId),
 }
 
 impl core::fmt::Display for TerrainError {
@@ -161,7 +163,7 @@ impl core::fmt::Display for TerrainError {
                 f.write_str("traversal stack full (tree deeper than capacity)")
             }
             TerrainError::TraversalBound => f.write_str("traversal exceeded its node bound"),
-            TerrainError::NotResident => f.write_str("leaf heights not resident"),
+            TerrainError::NeedsBlock(id) => write!(f, "needs the block of node {}", id.0),
         }
     }
 }
@@ -193,10 +195,14 @@ pub struct Hit<T> {
     pub lon: T,
     /// Height of the hit point above the ellipsoid.
     pub h: T,
-    /// The grid cell `[i, j]` whose triangle was hit.
+    /// The grid cell `[i, j]` whose triangle was hit: the first grid row and column of the traced cell, which
+    /// spans `stride × stride` grid cells.
     pub cell: [u32; 2],
-    /// The quadtree level of the leaf that holds the cell.
+    /// The quadtree level of the node whose block was traced (the leaf's, or its resident ancestor's, §5).
     pub level: u8,
+    /// The traced cell's size in grid steps: 1 at the DEM's own resolution, the block's
+    /// [`TerrainStorage::block_stride`] for coarser blocks.
+    pub stride: u32,
 }
 
 /// Per-ray work counters.
@@ -216,11 +222,104 @@ pub struct PickStats {
 struct Candidate<T> {
     t: T,
     cell: [u32; 2],
-    tri: Tri,
+    tri: TriRef,
+    level: u8,
+    stride: u32,
+}
+
+/// Which triangle a candidate is: one of a full-resolution cell's two (refined with the containment walk), or
+/// any other by its vertices (coarse cells and stitched fans, refined without a walk).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum TriRef {
+    Cell(Tri),
+    Vertices([Vtx; 3]),
+}
+
+/// A traced unit (§4, §5): a node's cell range traced with cells of `stride` grid steps from the block of the
+/// node at `level` (the node's own, or its nearest resident ancestor's).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Unit {
+    rows: [u32; 2],
+    cols: [u32; 2],
+    stride: u32,
     level: u8,
 }
 
-/// A zone root with its precomputed volume.
+/// The resident block a subtree falls back to (§5): the deepest resident node at or below `min_level` on the
+/// path from the zone, when every node between it and `min_level` is resident.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Source {
+    stride: u32,
+    level: u8,
+}
+
+/// What the traversal does at a node (module docs, "Multi-resolution").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Step {
+    /// Visit the children; the source they fall back to.
+    Descend(Option<Source>),
+    /// Trace this unit.
+    Trace(Unit),
+    /// The node's block is needed.
+    Needs,
+}
+
+/// The traced unit covering a grid cell, for stitching ([`Picker::unit_at`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Lookup {
+    Unit(Unit),
+    /// No node covers the cell (no data there).
+    Empty,
+    Needs(NodeId),
+}
+
+/// A traced cell's grid ranges: rows `[i, i1]`, columns `[j, j1]` (corner vertices).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct CellAt {
+    rows: [u32; 2],
+    cols: [u32; 2],
+}
+
+/// One side of a traced cell: along a row (`along_cols`: the points are columns) or a column, at row or column
+/// `fixed`, from `from` to `to`; `across` is the neighbouring cells' row or column when the side is on the
+/// unit's border.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct SideAt {
+    along_cols: bool,
+    fixed: u32,
+    from: u32,
+    to: u32,
+    across: Option<u32>,
+}
+
+/// The outcome of [`Picker::stitch`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Stitch {
+    Plain,
+    Done,
+}
+
+/// The per-ray state of a traversal: the ray, the nearest hit so far, the nearest needed block, the counters.
+struct Walk<'r, 'w, T> {
+    ray: &'r Ray<T>,
+    wray: &'r WatertightRay<T>,
+    best: &'w mut Option<Candidate<T>>,
+    pending: &'w mut Option<(T, NodeId)>,
+    stats: &'w mut PickStats,
+}
+
+impl<T: Real> Walk<'_, '_, T> {
+    fn best_t(&self) -> T {
+        self.best.as_ref().map_or(T::INFINITY, |h| h.t)
+    }
+    /// Records that node `id`'s block is needed from parameter `t` on (the nearest such is kept).
+    fn need(&mut self, t: T, id: NodeId) {
+        if self.pending.is_none_or(|(p, _)| t < p) {
+            *self.pending = Some((t, id));
+        }
+    }
+}
+
 /// A zone: its root, and how its volume is tested (the storage's cached volume, or the relaxed test of
 /// [`relaxed_interval`] from the zone's trigonometry).
 type Zone<T> = (NodeId, Node<T>, ZoneVolume<T>);
@@ -237,6 +336,10 @@ struct Entry<T> {
     node: Node<T>,
     t_in: T,
     t_out: T,
+    /// The node's block stride.
+    stride: u32,
+    /// The source inherited from the parent.
+    src: Option<Source>,
 }
 
 /// The picker: a borrowed storage plus the per-storage constants (global bound, zone volumes).
@@ -250,8 +353,10 @@ pub struct Picker<'s, T, S, const STACK: usize = 64, const ZONES: usize = 64> {
     grid: Grid<T>,
     /// Global height range over the zones.
     h_max: T,
-    /// `(sin, cos)` of half a cell's longitude span.
-    half_cell: (T, T),
+    /// `(sin, cos)` of half a traced cell's longitude span, for cells of `2^k` grid steps.
+    half_cells: [(T, T); 32],
+    /// The coarsest level whose blocks may stand in for missing finer ones (§5).
+    min_level: u8,
     zones: [Option<Zone<T>>; ZONES],
     zone_count: usize,
     /// The grid steps' sines and cosines in double-double, for the hit refinement.
@@ -261,7 +366,8 @@ pub struct Picker<'s, T, S, const STACK: usize = 64, const ZONES: usize = 64> {
 impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     Picker<'s, T, S, STACK, ZONES>
 {
-    /// Checks the storage's grid and zones and precomputes the zone volumes.
+    /// Checks the storage's grid and zones and precomputes the zone volumes. `min_level` is 0: any resident
+    /// block may stand in for a missing finer one ([`Picker::with_min_level`]).
     pub fn new(storage: &'s S) -> Result<Self, TerrainError> {
         let ellipsoid = storage.ellipsoid();
         let grid = storage.grid();
@@ -272,44 +378,82 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         if n > ZONES {
             return Err(TerrainError::TooManyZones);
         }
-        let half_cell = sin_cos_deg(grid.dlon.abs() * T::HALF);
-        let mut zones = [None; ZONES];
-        let mut h_max = T::NEG_INFINITY;
-        let mut count = 0usize;
-        for k in 0..n {
-            let id = storage.zone(k).ok_or(TerrainError::MalformedTree)?;
-            let node = storage.node(id).ok_or(TerrainError::MalformedTree)?;
-            check_in_grid(&node, &grid)?;
-            let Some([lo, hi]) = node.heights else {
-                continue; // a zone without data has no triangles
-            };
-            let b = match storage.cached_bounds(id) {
-                Some(b) => ZoneVolume::Cached(b),
-                None => ZoneVolume::Relaxed(RelaxedVolume::new(
-                    &ellipsoid,
-                    &node_trig(&grid, storage, &node, None, half_cell.1),
-                    lo,
-                    hi,
-                    grid.dlat,
-                    grid.dlon,
-                )?),
-            };
-            h_max = h_max.max(hi);
-            if let Some(slot) = zones.get_mut(count) {
-                *slot = Some((id, node, b));
-                count = count.saturating_add(1);
-            }
+        let mut half_cells = [(T::ZERO, T::ONE); 32];
+        for (k, h) in half_cells.iter_mut().enumerate() {
+            *h = sin_cos_deg(grid.dlon.abs() * T::HALF * T::from_f64(f64::from(1u32 << k)));
         }
-        Ok(Picker {
+        let mut picker = Picker {
             storage,
             ellipsoid,
             steps: refine::Steps::new(&grid),
             grid,
-            h_max,
-            half_cell,
-            zones,
-            zone_count: count,
-        })
+            h_max: T::NEG_INFINITY,
+            half_cells,
+            min_level: 0,
+            zones: [None; ZONES],
+            zone_count: 0,
+        };
+        for k in 0..n {
+            let id = storage.zone(k).ok_or(TerrainError::MalformedTree)?;
+            let node = storage.node(id).ok_or(TerrainError::MalformedTree)?;
+            check_in_grid(&node, &grid)?;
+            let stride = picker.stride_of(id, u32::MAX)?;
+            let Some([lo, hi]) = node.heights else {
+                continue; // a zone without data has no triangles
+            };
+            let b = match storage.cached_bounds(id).filter(|_| stride == 1) {
+                Some(b) => ZoneVolume::Cached(b),
+                None => ZoneVolume::Relaxed(RelaxedVolume::new(
+                    &ellipsoid,
+                    &node_trig(&grid, storage, &node, None, picker.half_cell(stride).1),
+                    lo,
+                    hi,
+                    grid.dlat * picker.scale(stride),
+                    grid.dlon * picker.scale(stride),
+                )?),
+            };
+            picker.h_max = picker.h_max.max(hi);
+            if let Some(slot) = picker.zones.get_mut(picker.zone_count) {
+                *slot = Some((id, node, b));
+                picker.zone_count = picker.zone_count.saturating_add(1);
+            }
+        }
+        Ok(picker)
+    }
+
+    /// The picker with another `min_level` (seed 000 §5): blocks of nodes shallower than `min_level` never stand
+    /// in for missing finer ones. 0 (the default) uses whatever is resident; the tree's depth asks for the
+    /// finest blocks only. The module docs ("Multi-resolution") give the rules.
+    #[must_use]
+    pub fn with_min_level(mut self, min_level: u8) -> Self {
+        self.min_level = min_level;
+        self
+    }
+
+    /// The picker's `min_level`.
+    pub fn min_level(&self) -> u8 {
+        self.min_level
+    }
+
+    /// A node's block stride, checked: a power of two, at most `parent_stride`.
+    fn stride_of(&self, id: NodeId, parent_stride: u32) -> Result<u32, TerrainError> {
+        let s = self.storage.block_stride(id);
+        if s.is_power_of_two() && s <= parent_stride {
+            Ok(s)
+        } else {
+            Err(TerrainError::MalformedTree)
+        }
+    }
+
+    /// `stride` as a scalar.
+    fn scale(&self, stride: u32) -> T {
+        T::from_f64(f64::from(stride))
+    }
+
+    /// `(sin, cos)` of half the longitude span of a traced cell `stride` grid steps wide (a power of two).
+    fn half_cell(&self, stride: u32) -> (T, T) {
+        let k = usize::try_from(stride.trailing_zeros()).unwrap_or(0);
+        self.half_cells.get(k).copied().unwrap_or((T::ZERO, T::ONE))
     }
 
     /// The nearest hit of `ray` with the terrain for `t_min ≤ t ≤ t_max`, or `None` (seed 000 §3.5, §4; the
@@ -423,6 +567,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         sort_by_entry(order);
 
         let mut best: Option<Candidate<T>> = None;
+        let mut pending: Option<(T, NodeId)> = None;
         let mut budget = node_budget(&self.grid, self.zone_count);
         for &(k, a, c) in order.iter() {
             if let Some(h) = &best {
@@ -438,10 +583,24 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 node: *node,
                 t_in: a,
                 t_out: c,
+                stride: self.stride_of(*id, u32::MAX)?,
+                src: None,
             };
-            self.traverse(root, ray, &wray, &mut best, stats, &mut budget)?;
+            let mut walk = Walk {
+                ray,
+                wray: &wray,
+                best: &mut best,
+                pending: &mut pending,
+                stats,
+            };
+            self.traverse(root, &mut walk, &mut budget)?;
         }
-        Ok(best)
+        // A missing block matters only if it could hold a hit before the nearest one found.
+        match (pending, &best) {
+            (Some((t, id)), Some(h)) if t <= h.t => Err(TerrainError::NeedsBlock(id)),
+            (Some((_, id)), None) => Err(TerrainError::NeedsBlock(id)),
+            _ => Ok(best),
+        }
     }
 
     /// Line of sight from `a` to `b` (ECEF): `true` when no terrain triangle meets the closed segment.
@@ -460,29 +619,31 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     fn traverse(
         &self,
         root: Entry<T>,
-        ray: &Ray<T>,
-        wray: &WatertightRay<T>,
-        best: &mut Option<Candidate<T>>,
-        stats: &mut PickStats,
+        w: &mut Walk<'_, '_, T>,
         budget: &mut u64,
     ) -> Result<(), TerrainError> {
+        let ray = w.ray;
         let mut stack: heapless::Vec<Entry<T>, STACK> = heapless::Vec::new();
         stack.push(root).map_err(|_| TerrainError::StackFull)?;
         while let Some(e) = stack.pop() {
-            let best_t = best.as_ref().map_or(T::INFINITY, |h| h.t);
+            let best_t = w.best_t();
             if e.t_in > best_t {
                 continue;
             }
             *budget = budget.checked_sub(1).ok_or(TerrainError::TraversalBound)?;
-            stats.quads_visited = stats.quads_visited.saturating_add(1);
+            w.stats.quads_visited = w.stats.quads_visited.saturating_add(1);
             let t_out = e.t_out.min(best_t);
-            if e.node.is_leaf() {
-                if !self.storage.is_resident(e.id) {
-                    return Err(TerrainError::NotResident);
+            let src = match self.step(e.id, &e.node, e.stride, e.src)? {
+                Step::Trace(unit) => {
+                    self.trace_unit(&unit, e.t_in, t_out, w)?;
+                    continue;
                 }
-                self.trace_leaf(&e.node, ray, wray, e.t_in, t_out, best, stats)?;
-                continue;
-            }
+                Step::Needs => {
+                    w.need(e.t_in, e.id);
+                    continue;
+                }
+                Step::Descend(src) => src,
+            };
             // Children, nearest entry pushed last (popped first).
             let sub =
                 ray.with_interval(e.t_in.max(ray.t_min()), t_out.max(e.t_in).min(ray.t_max()))?;
@@ -491,10 +652,19 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             for cid in e.node.children.iter().flatten() {
                 let child = self.storage.node(*cid).ok_or(TerrainError::MalformedTree)?;
                 check_child(&e.node, &child)?;
+                let stride = self.stride_of(*cid, e.stride)?;
                 let Some([lo, hi]) = child.heights else {
                     continue;
                 };
-                let interval = match self.storage.cached_bounds(*cid) {
+                // The volume bounds the coarsest cells traced under the child: its own block's, or the source's
+                // when the child falls back to it.
+                let falls_back =
+                    child.level >= self.min_level && !self.storage.is_resident(*cid);
+                let vol = match src {
+                    Some(s) if falls_back => s.stride,
+                    _ => stride,
+                };
+                let interval = match self.storage.cached_bounds(*cid).filter(|_| vol == 1) {
                     Some(b) => b.ray_interval(&sub),
                     None => relaxed_interval(
                         &self.ellipsoid,
@@ -503,12 +673,12 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                             self.storage,
                             &child,
                             Some(&e.node),
-                            self.half_cell.1,
+                            self.half_cell(vol).1,
                         ),
                         lo,
                         hi,
-                        self.grid.dlat,
-                        self.grid.dlon,
+                        self.grid.dlat * self.scale(vol),
+                        self.grid.dlon * self.scale(vol),
                         &sub,
                     )?,
                 };
@@ -520,6 +690,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                                 node: child,
                                 t_in: a,
                                 t_out: c,
+                                stride,
+                                src,
                             },
                             true,
                         );
@@ -551,30 +723,134 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         Ok(())
     }
 
-    /// Traces the cells of a leaf (§4): clip per column against the meridian planes, per cell against the two
-    /// row planes (planes through the spheroid normals at the grid vertices), then the watertight test.
-    #[allow(clippy::too_many_arguments)]
-    fn trace_leaf(
+    /// What to do at a node (module docs, "Multi-resolution"): `stride` is its block stride, `src` the source
+    /// inherited from its parent.
+    fn step(
         &self,
+        id: NodeId,
         node: &Node<T>,
-        ray: &Ray<T>,
-        wray: &WatertightRay<T>,
+        stride: u32,
+        src: Option<Source>,
+    ) -> Result<Step, TerrainError> {
+        let own = Unit {
+            rows: node.rows,
+            cols: node.cols,
+            stride,
+            level: node.level,
+        };
+        let resident = self.storage.is_resident(id);
+        if node.level < self.min_level {
+            // Above min_level a block is used only by a leaf, for itself.
+            return Ok(match (node.is_leaf(), resident) {
+                (false, _) => Step::Descend(None),
+                (true, true) => Step::Trace(self.aligned(own).ok_or(TerrainError::MalformedTree)?),
+                (true, false) => Step::Needs,
+            });
+        }
+        if resident {
+            return Ok(if node.is_leaf() {
+                Step::Trace(self.aligned(own).ok_or(TerrainError::MalformedTree)?)
+            } else {
+                Step::Descend(Some(Source {
+                    stride,
+                    level: node.level,
+                }))
+            });
+        }
+        // Not resident: the subset of the source's block that covers the node (§5), when the node's ranges fall
+        // on the source's sample lattice; otherwise (or without a source) the node's own block is needed.
+        Ok(src
+            .and_then(|s| {
+                self.aligned(Unit {
+                    stride: s.stride,
+                    level: s.level,
+                    ..own
+                })
+            })
+            .map_or(Step::Needs, Step::Trace))
+    }
+
+    /// The unit if its ranges start on multiples of its stride and end on one or at the grid's last cell.
+    fn aligned(&self, u: Unit) -> Option<Unit> {
+        let fits = |r: [u32; 2], last: u32| {
+            let [a, b] = r;
+            a.checked_rem(u.stride) == Some(0) && (b.checked_rem(u.stride) == Some(0) || b == last)
+        };
+        (fits(u.rows, self.grid.cell_rows()) && fits(u.cols, self.grid.cell_cols())).then_some(u)
+    }
+
+    /// The traced unit that covers grid cell `(i, j)` under the current residency: the traversal's own rules,
+    /// followed down the one path that holds the cell.
+    fn unit_at(&self, i: u32, j: u32) -> Result<Lookup, TerrainError> {
+        let holds = |n: &Node<T>| {
+            (n.rows[0]..n.rows[1]).contains(&i) && (n.cols[0]..n.cols[1]).contains(&j)
+        };
+        let Some((mut id, mut node)) = self
+            .zones
+            .iter()
+            .take(self.zone_count)
+            .flatten()
+            .find(|(_, n, _)| holds(n))
+            .map(|(id, n, _)| (*id, *n))
+        else {
+            return Ok(Lookup::Empty);
+        };
+        let mut stride = self.stride_of(id, u32::MAX)?;
+        let mut src = None;
+        // Children are strictly smaller, so a path has at most 64 nodes within u32 ranges.
+        for _ in 0..64 {
+            match self.step(id, &node, stride, src)? {
+                Step::Trace(u) => return Ok(Lookup::Unit(u)),
+                Step::Needs => return Ok(Lookup::Needs(id)),
+                Step::Descend(s) => src = s,
+            }
+            let mut next = None;
+            for cid in node.children.iter().flatten() {
+                let child = self.storage.node(*cid).ok_or(TerrainError::MalformedTree)?;
+                if holds(&child) {
+                    check_child(&node, &child)?;
+                    next = Some((*cid, child));
+                    break;
+                }
+            }
+            let Some((cid, child)) = next else {
+                return Ok(Lookup::Empty);
+            };
+            if child.heights.is_none() {
+                return Ok(Lookup::Empty);
+            }
+            stride = self.stride_of(cid, stride)?;
+            (id, node) = (cid, child);
+        }
+        Err(TerrainError::TraversalBound)
+    }
+
+    /// Traces the cells of a unit (§4; §5 for a coarser block): clip per column of cells against its meridian
+    /// planes, per cell against its two row planes (planes through the spheroid normals at the cell's corner
+    /// vertices), then the watertight test. A coarse cell on the unit's border whose neighbour is finer is
+    /// stitched to it (module docs, "Multi-resolution").
+    fn trace_unit(
+        &self,
+        u: &Unit,
         t_in: T,
         t_out: T,
-        best: &mut Option<Candidate<T>>,
-        stats: &mut PickStats,
+        w: &mut Walk<'_, '_, T>,
     ) -> Result<(), TerrainError> {
         let g = &self.grid;
         let e = &self.ellipsoid;
+        let ray = w.ray;
         let o = ray.origin();
         let d = ray.dir();
         let tau = T::from_f64(64.0) * T::EPSILON;
-        let (s_half, c_half) = self.half_cell;
+        let s = u.stride;
+        let [r0, r1] = u.rows;
+        let [c0, c1] = u.cols;
+        let step = |i: u32, end: u32| i.saturating_add(s).min(end);
         let north_up = g.dlat > T::ZERO;
-        // Per-leaf cache of the row values (sin ψ, cos ψ, cone apex k, prime vertical radius N) for leaves up
-        // to ROW_CACHE − 1 cells tall.
+        // Per-unit cache of the lattice rows' values (sin ψ, cos ψ, cone apex k, prime vertical radius N) for
+        // units up to ROW_CACHE − 1 cells tall.
         let mut rows_cache: heapless::Vec<(T, T, T, T), ROW_CACHE> = heapless::Vec::new();
-        let n_rows = node.rows[1].saturating_sub(node.rows[0]);
+        let n_rows = r1.saturating_sub(r0).div_ceil(s);
         let cached = usize::try_from(n_rows).is_ok_and(|n| n < ROW_CACHE);
         let row_vals = |i: u32| -> (T, T, T, T) {
             let (sp, cp) = self.storage.row_sin_cos(i);
@@ -586,42 +862,44 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             )
         };
         if cached {
-            for i in node.rows[0]..=node.rows[1] {
-                if rows_cache.push(row_vals(i)).is_err() {
-                    break;
-                }
+            let mut i = r0;
+            while rows_cache.push(row_vals(i)).is_ok() && i < r1 {
+                i = step(i, r1);
             }
         }
         let row_at = |i: u32| -> (T, T, T, T) {
-            if cached {
-                let k = i.saturating_sub(node.rows[0]);
-                if let Some(v) = usize::try_from(k).ok().and_then(|k| rows_cache.get(k)) {
+            let k = i.saturating_sub(r0);
+            if cached && (k.checked_rem(s) == Some(0) || i == r1) {
+                if let Some(v) = usize::try_from(k.div_ceil(s))
+                    .ok()
+                    .and_then(|k| rows_cache.get(k))
+                {
                     return *v;
                 }
             }
             row_vals(i)
         };
-        let (j_first, j_end) = self.leaf_columns(node, ray, t_in, t_out);
-        for j in j_first..j_end {
-            let j1 = j.saturating_add(1);
+        let stitchable = s > 1;
+        let (k_first, k_end) = self.unit_columns(u, ray, t_in, t_out);
+        for k in k_first..k_end {
+            let j = c0.saturating_add(k.saturating_mul(s));
+            let j1 = step(j, c1);
             let (sw, cw) = self.storage.col_sin_cos(j);
             let (se, ce) = self.storage.col_sin_cos(j1);
-            // The cell's middle meridian λ_j + Δλ/2 by the addition theorem (a few ulps; the row plane only
+            let (s_half, c_half) = if j1.saturating_sub(j) == s {
+                self.half_cell(s)
+            } else {
+                sin_cos_deg(g.dlon * T::HALF * self.scale(j1.saturating_sub(j)))
+            };
+            // The cell's middle meridian λ_j + w/2 by the addition theorem (a few ulps; the row plane only
             // needs its direction, and the vertices' rounding is covered by `tau`).
             let (sm, cm) = (sw * c_half + cw * s_half, cw * c_half - sw * s_half);
-            let best_t = best.as_ref().map_or(T::INFINITY, |h| h.t);
             let mut lo = t_in;
-            let mut hi = t_out.min(best_t);
+            let mut hi = t_out.min(w.best_t());
             // West wall: n_w·P ≥ 0, n_w = (−sin λ_w, cos λ_w, 0); east wall: n_e·P ≤ 0.
             let mag = (o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * (lo.abs().max(hi.abs()));
             let tol = tau * mag;
-            clip_half_space(
-                &mut lo,
-                &mut hi,
-                cw * o.y - sw * o.x,
-                cw * d.y - sw * d.x,
-                tol,
-            );
+            clip_half_space(&mut lo, &mut hi, cw * o.y - sw * o.x, cw * d.y - sw * d.x, tol);
             clip_half_space(
                 &mut lo,
                 &mut hi,
@@ -632,73 +910,107 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             if !(lo <= hi) {
                 continue;
             }
-            // Row plane i at this column: m = (−sin ψ cos λm, −sin ψ sin λm, cos ψ cos(Δλ/2)), through (0,0,k_i);
-            // m·(P − k ẑ) > 0 is north of it.
-            // The parts that do not depend on the row are formed once per column.
+            // Row plane i at this column: m = (−sin ψ cos λm, −sin ψ sin λm, cos ψ cos(w/2)), through (0,0,k_i);
+            // m·(P − k ẑ) > 0 is north of it. With `tangent`, cos(w/2) is replaced by 1: the plane tangent to
+            // the latitude cone along the middle meridian, which bounds the cone's arc over the cell from the
+            // other side (stitched sides). The parts that do not depend on the row are formed once per column.
             let (radial_o, radial_d) = (cm * o.x + sm * o.y, cm * d.x + sm * d.y);
-            let up_d = c_half * d.z;
             let mag = o.x.abs()
                 + o.y.abs()
                 + (d.x.abs() + d.y.abs() + d.z.abs()) * (lo.abs().max(hi.abs()));
-            let row_plane = |i: u32| -> (T, T, T) {
-                let (sp, cp, k, _) = row_at(i);
-                let qz = o.z - k;
+            let row_plane = |i: u32, tangent: bool| -> (T, T, T) {
+                let (sp, cp, kz, _) = row_at(i);
+                let ch = if tangent { T::ONE } else { c_half };
+                let qz = o.z - kz;
                 (
-                    cp * c_half * qz - sp * radial_o,
-                    cp * up_d - sp * radial_d,
+                    cp * ch * qz - sp * radial_o,
+                    cp * ch * d.z - sp * radial_d,
                     tau * (mag + qz.abs()),
                 )
             };
-            let mut plane_a = row_plane(node.rows[0]);
-            for i in node.rows[0]..node.rows[1] {
-                let i1 = i.saturating_add(1);
-                let plane_b = row_plane(i1);
-                let (mut clo, mut chi) = (lo, hi.min(best.as_ref().map_or(T::INFINITY, |h| h.t)));
+            // A border row of a coarse unit may carry a finer neighbour's vertices, which lie on the latitude
+            // cone: where the cone's arc bulges out of the cell across the chord plane (a southern wall with
+            // ψ > 0, a northern one with ψ < 0) the tangent plane is the wall.
+            let border_plane = |i: u32, low: bool| -> (T, T, T) {
+                let south = low == north_up;
+                let sp = row_at(i).0;
+                row_plane(i, (south && sp > T::ZERO) || (!south && sp < T::ZERO))
+            };
+            let mut plane_a = row_plane(r0, false);
+            let mut i = r0;
+            while i < r1 {
+                let i1 = step(i, r1);
+                let plane_b = row_plane(i1, false);
+                let mut low = plane_a;
+                let mut high = plane_b;
+                plane_a = plane_b;
+                let (row_i, row_i1) = (i, i1);
+                i = i1;
+                if stitchable && row_i == r0 {
+                    low = border_plane(row_i, true);
+                }
+                if stitchable && row_i1 == r1 {
+                    high = border_plane(row_i1, false);
+                }
+                let (mut clo, mut chi) = (lo, hi.min(w.best_t()));
                 // The cell lies north of its southern row plane and south of its northern one.
-                let (south, north) = if north_up {
-                    (plane_a, plane_b)
-                } else {
-                    (plane_b, plane_a)
-                };
+                let (south, north) = if north_up { (low, high) } else { (high, low) };
                 clip_half_space(&mut clo, &mut chi, south.0, south.1, south.2);
                 clip_half_space(&mut clo, &mut chi, -north.0, -north.1, north.2);
-                plane_a = plane_b;
                 if !(clo <= chi) {
                     continue;
                 }
-                stats.triangle_pairs_visited = stats.triangle_pairs_visited.saturating_add(1);
+                w.stats.triangle_pairs_visited = w.stats.triangle_pairs_visited.saturating_add(1);
                 let vtx = |ii: u32, jj: u32| -> Option<V3<T>> {
                     let h = self.storage.height(ii, jj)?;
                     if !h.is_finite() {
                         return None;
                     }
                     let (sl, cl, _, n) = row_at(ii);
-                    let (s_lon, c_lon) = if jj == j { (sw, cw) } else { (se, ce) };
+                    let (s_lon, c_lon) = if jj == j {
+                        (sw, cw)
+                    } else if jj == j1 {
+                        (se, ce)
+                    } else {
+                        self.storage.col_sin_cos(jj)
+                    };
                     Some(e.ecef_from_parts(sl, cl, n, s_lon, c_lon, h))
                 };
-                let v00 = vtx(i, j);
-                let v01 = vtx(i, j1);
-                let v11 = vtx(i1, j1);
-                let v10 = vtx(i1, j);
-                for (tri, which) in [
-                    ([v00, v01, v11], Tri::First),
-                    ([v00, v11, v10], Tri::Second),
-                ] {
-                    let [Some(a), Some(b), Some(c)] = tri else {
-                        continue;
-                    };
-                    stats.triangles_tested = stats.triangles_tested.saturating_add(1);
-                    let limit = best.as_ref().map_or(ray.t_max(), |h| h.t);
-                    if let Some((t, _)) = wray.intersect(a, b, c, ray.t_min(), limit) {
-                        let better = best.as_ref().is_none_or(|h| t < h.t);
-                        if better {
-                            *best = Some(Candidate {
-                                t,
-                                cell: [i, j],
-                                tri: which,
-                                level: node.level,
-                            });
-                        }
+                let cell = CellAt {
+                    rows: [row_i, row_i1],
+                    cols: [j, j1],
+                };
+                let v00 = vtx(row_i, j);
+                let v11 = vtx(row_i1, j1);
+                let border = row_i == r0 || row_i1 == r1 || j == c0 || j1 == c1;
+                if stitchable && border {
+                    match self.stitch(u, &cell, v00, v11, &vtx, w, clo)? {
+                        Stitch::Done => continue,
+                        Stitch::Plain => {}
+                    }
+                }
+                let v01 = vtx(row_i, j1);
+                let v10 = vtx(row_i1, j);
+                let refs = |first: bool| {
+                    if s == 1 {
+                        TriRef::Cell(if first { Tri::First } else { Tri::Second })
+                    } else if first {
+                        TriRef::Vertices([
+                            Vtx::Grid(row_i, j),
+                            Vtx::Grid(row_i, j1),
+                            Vtx::Grid(row_i1, j1),
+                        ])
+                    } else {
+                        TriRef::Vertices([
+                            Vtx::Grid(row_i, j),
+                            Vtx::Grid(row_i1, j1),
+                            Vtx::Grid(row_i1, j),
+                        ])
+                    }
+                };
+                for (tri, which) in [([v00, v01, v11], refs(true)), ([v00, v11, v10], refs(false))] {
+                    if let [Some(a), Some(b), Some(c)] = tri {
+                        self.test_triangle(w, [a, b, c], [row_i, j], which, u);
                     }
                 }
             }
@@ -706,15 +1018,196 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         Ok(())
     }
 
-    /// The leaf's columns `[first, end)` that the ray can cross within `[t_in, t_out]`: along a line the
-    /// azimuth is monotone (`dφ/dt = (p × d)_z / r²`) and sweeps less than 180°, so the crossed columns lie
-    /// between the columns of the two end points (plus one column of margin for rounding). Falls back to all
-    /// columns when the leaf spans 180° or more, the line meets the z axis, or the sweep wraps around.
-    fn leaf_columns(&self, node: &Node<T>, ray: &Ray<T>, t_in: T, t_out: T) -> (u32, u32) {
-        let all = (node.cols[0], node.cols[1]);
+    /// One watertight ray–triangle test; a nearer hit becomes the candidate.
+    fn test_triangle(
+        &self,
+        w: &mut Walk<'_, '_, T>,
+        [a, b, c]: [V3<T>; 3],
+        cell: [u32; 2],
+        tri: TriRef,
+        u: &Unit,
+    ) {
+        w.stats.triangles_tested = w.stats.triangles_tested.saturating_add(1);
+        let limit = w.best.as_ref().map_or(w.ray.t_max(), |h| h.t);
+        if let Some((t, _)) = w.wray.intersect(a, b, c, w.ray.t_min(), limit) {
+            if w.best.as_ref().is_none_or(|h| t < h.t) {
+                *w.best = Some(Candidate {
+                    t,
+                    cell,
+                    tri,
+                    level: u.level,
+                    stride: u.stride,
+                });
+            }
+        }
+    }
+
+    /// Stitching of a coarse cell on its unit's border (module docs, "Multi-resolution"): when a neighbouring
+    /// unit is finer along a side, that unit's vertices on the side are T-junctions of the coarse edge, and the
+    /// cell is triangulated instead as a fan from the middle `M` of its diagonal `V00–V11` through its corners
+    /// and every such vertex, so that the two sides share every edge exactly. `Plain` when no side has such a
+    /// vertex (or a diagonal corner is nodata: the cell has no triangle then); `Done` after testing the fan, or
+    /// when a neighbour's block is needed (recorded at `t_cell`).
+    #[allow(clippy::too_many_arguments)]
+    fn stitch(
+        &self,
+        u: &Unit,
+        cell: &CellAt,
+        v00: Option<V3<T>>,
+        v11: Option<V3<T>>,
+        vtx: &impl Fn(u32, u32) -> Option<V3<T>>,
+        w: &mut Walk<'_, '_, T>,
+        t_cell: T,
+    ) -> Result<Stitch, TerrainError> {
+        let (Some(p00), Some(p11)) = (v00, v11) else {
+            return Ok(Stitch::Plain);
+        };
+        let sides = self.cell_sides(u, cell);
+        let mut any = false;
+        for side in sides.iter().flatten() {
+            if let Some(id) = self.side_extras(u.stride, side, &mut |_| any = true)? {
+                w.need(t_cell, id);
+                return Ok(Stitch::Done);
+            }
+        }
+        if !any {
+            return Ok(Stitch::Plain);
+        }
+        let m = p00.plus(p11).scaled(T::HALF);
+        let [i, i1] = cell.rows;
+        let [j, j1] = cell.cols;
+        let mid = Vtx::Mid([i, j, i1, j1]);
+        // The four sides from corner to corner, each with its extra vertices in increasing order.
+        let all = [
+            SideAt { along_cols: true, fixed: i, from: j, to: j1, across: None },
+            SideAt { along_cols: true, fixed: i1, from: j, to: j1, across: None },
+            SideAt { along_cols: false, fixed: j, from: i, to: i1, across: None },
+            SideAt { along_cols: false, fixed: j1, from: i, to: i1, across: None },
+        ];
+        for (k, plain) in all.iter().enumerate() {
+            let side = sides.get(k).copied().flatten().unwrap_or(*plain);
+            let at = |p: u32| {
+                if side.along_cols {
+                    (side.fixed, p)
+                } else {
+                    (p, side.fixed)
+                }
+            };
+            let mut prev = at(side.from);
+            let mut fan = |p: u32| {
+                let cur = at(p);
+                if let (Some(a), Some(b)) = (vtx(prev.0, prev.1), vtx(cur.0, cur.1)) {
+                    let refs = TriRef::Vertices([
+                        mid,
+                        Vtx::Grid(prev.0, prev.1),
+                        Vtx::Grid(cur.0, cur.1),
+                    ]);
+                    self.test_triangle(w, [m, a, b], [i, j], refs, u);
+                }
+                prev = cur;
+            };
+            if side.across.is_some() {
+                // Needs were ruled out by the first pass.
+                let _ = self.side_extras(u.stride, &side, &mut fan)?;
+            }
+            fan(side.to);
+        }
+        Ok(Stitch::Done)
+    }
+
+    /// The sides of a cell that lie on its unit's border and have a neighbouring cell row or column in the grid
+    /// (low row, high row, low column, high column).
+    fn cell_sides(&self, u: &Unit, c: &CellAt) -> [Option<SideAt>; 4] {
+        let [i, i1] = c.rows;
+        let [j, j1] = c.cols;
         let g = &self.grid;
-        let n_cols = T::from_f64(f64::from(node.cols[1].saturating_sub(node.cols[0])));
-        if !(n_cols * g.dlon < T::from_f64(180.0)) {
+        [
+            (i == u.rows[0] && i > 0).then(|| SideAt {
+                along_cols: true,
+                fixed: i,
+                from: j,
+                to: j1,
+                across: Some(i.saturating_sub(1)),
+            }),
+            (i1 == u.rows[1] && i1 < g.cell_rows()).then_some(SideAt {
+                along_cols: true,
+                fixed: i1,
+                from: j,
+                to: j1,
+                across: Some(i1),
+            }),
+            (j == u.cols[0] && j > 0).then(|| SideAt {
+                along_cols: false,
+                fixed: j,
+                from: i,
+                to: i1,
+                across: Some(j.saturating_sub(1)),
+            }),
+            (j1 == u.cols[1] && j1 < g.cell_cols()).then_some(SideAt {
+                along_cols: false,
+                fixed: j1,
+                from: i,
+                to: i1,
+                across: Some(j1),
+            }),
+        ]
+    }
+
+    /// Calls `emit(p)`, in increasing order, for every vertex strictly inside a coarse cell's side (of a cell
+    /// `stride` steps wide) that a finer neighbouring unit has on it: the points of its sample lattice. Returns
+    /// the node whose block is needed to know the neighbour, if any.
+    fn side_extras(
+        &self,
+        stride: u32,
+        side: &SideAt,
+        emit: &mut impl FnMut(u32),
+    ) -> Result<Option<NodeId>, TerrainError> {
+        let Some(across) = side.across else {
+            return Ok(None);
+        };
+        let (from, to) = (side.from, side.to);
+        let mut k = from;
+        let mut last = from;
+        while k < to {
+            let look = if side.along_cols {
+                self.unit_at(across, k)?
+            } else {
+                self.unit_at(k, across)?
+            };
+            match look {
+                Lookup::Needs(id) => return Ok(Some(id)),
+                Lookup::Empty => k = k.saturating_add(1),
+                Lookup::Unit(n) => {
+                    let range = if side.along_cols { n.cols } else { n.rows };
+                    let end = range[1].min(to);
+                    if n.stride < stride {
+                        let mut p = k.div_ceil(n.stride).saturating_mul(n.stride);
+                        while p <= end && p < to {
+                            if p > last {
+                                emit(p);
+                                last = p;
+                            }
+                            p = p.saturating_add(n.stride);
+                        }
+                    }
+                    k = end.max(k.saturating_add(1));
+                }
+            }
+        }
+        Ok(None)
+    }
+
+    /// The unit's cell columns `[first, end)` (in cells of its stride from its first column) that the ray can
+    /// cross within `[t_in, t_out]`: along a line the azimuth is monotone (`dφ/dt = (p × d)_z / r²`) and sweeps
+    /// less than 180°, so the crossed columns lie between the columns of the two end points (plus one column of
+    /// margin for rounding). Falls back to all columns when the unit spans 180° or more, the line meets the z
+    /// axis, or the sweep wraps around.
+    fn unit_columns(&self, u: &Unit, ray: &Ray<T>, t_in: T, t_out: T) -> (u32, u32) {
+        let n = u.cols[1].saturating_sub(u.cols[0]).div_ceil(u.stride);
+        let all = (0, n);
+        let g = &self.grid;
+        let span = T::from_f64(f64::from(u.cols[1].saturating_sub(u.cols[0])));
+        if !(span * g.dlon < T::from_f64(180.0)) {
             return all;
         }
         let (o, d) = (ray.origin(), ray.dir());
@@ -726,7 +1219,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             return all;
         }
         let deg = T::from_f64(180.0) / T::PI;
-        let lon_w = g.lon_deg(node.cols[0]);
+        let lon_w = g.lon_deg(u.cols[0]);
         let wrap = |x: T| {
             let turns = libm::round((x / T::from_f64(360.0)).to_f64());
             x - T::from_f64(360.0 * turns)
@@ -737,19 +1230,15 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         if !(u_lo <= u_hi) {
             return all;
         }
-        let col = |u: T| libm::floor((u / g.dlon).to_f64());
-        let lo = col(u_lo) - 1.0;
-        let hi = col(u_hi) + 2.0;
-        let n = f64::from(node.cols[1].saturating_sub(node.cols[0]));
-        let lo = lo.clamp(0.0, n);
-        let hi = hi.clamp(0.0, n);
+        let width = g.dlon * self.scale(u.stride);
+        let col = |x: T| libm::floor((x / width).to_f64());
+        let nf = f64::from(n);
+        let lo = (col(u_lo) - 1.0).clamp(0.0, nf);
+        let hi = (col(u_hi) + 2.0).clamp(0.0, nf);
         // Both are integers in [0, n] ⊂ u32 range; the casts are exact.
         #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
         let (lo, hi) = (lo as u32, hi as u32);
-        (
-            node.cols[0].saturating_add(lo),
-            node.cols[0].saturating_add(hi),
-        )
+        (lo, hi)
     }
 
     /// The [`Hit`] of the traversal's nearest triangle, with its parameter and point refined in double-double
@@ -757,16 +1246,11 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// unrefined values are kept when the refinement's guard rejects it).
     fn make_hit(&self, ray: &Ray<T>, c: Candidate<T>) -> Hit<T> {
         let height = |i: u32, j: u32| self.storage.height(i, j).filter(|h| h.is_finite());
-        let refined = refine::refine(
-            &self.ellipsoid,
-            &self.grid,
-            &self.steps,
-            ray,
-            c.t,
-            c.cell,
-            c.tri,
-            &height,
-        );
+        let (e, g) = (&self.ellipsoid, &self.grid);
+        let refined = match c.tri {
+            TriRef::Cell(tri) => refine::refine(e, g, &self.steps, ray, c.t, c.cell, tri, &height),
+            TriRef::Vertices(v) => refine::refine_vertices(e, g, ray, c.t, v, &height),
+        };
         let (t, p) = refined.unwrap_or((c.t, ray.at(c.t)));
         let (cell, level) = (c.cell, c.level);
         let geo = self.ellipsoid.ecef_to_geodetic(V3::from(p));
@@ -779,6 +1263,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             h: geo.h,
             cell,
             level,
+            stride: c.stride,
         }
     }
 }

@@ -96,6 +96,15 @@ pub(super) enum Tri {
     Second,
 }
 
+/// A vertex of a traced triangle that is not a full-resolution cell's (coarse cells, stitched fans): grid
+/// vertex `V(i, j)`, or the middle of the segment `V(i, j)–V(i1, j1)` (`Mid([i, j, i1, j1])`, a stitched cell's
+/// fan center).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Vtx {
+    Grid(u32, u32),
+    Mid([u32; 4]),
+}
+
 /// `a − b` rounded to scalars.
 #[inline]
 fn diff<T: Real>(a: &[Dd<T>; 3], b: &[Dd<T>; 3]) -> V3<T> {
@@ -177,9 +186,56 @@ fn plane_hit<T: Real>(
         Tri::First => (row0.ecef(se, ce, height(i, j1)?), v11),
         Tri::Second => (v11, row1.ecef(sw, cw, height(i1, j)?)),
     };
+    plane_through(ray, &v0, &v1, &v2)
+}
+
+/// The grid vertex `V(i, j)` in pairs (directly from its latitude and longitude); `None` for nodata or outside
+/// the grid.
+fn vertex_dd<T: Real>(
+    e: &Ellipsoid<T>,
+    g: &Grid<T>,
+    (i, j): (u32, u32),
+    height: &impl Fn(u32, u32) -> Option<T>,
+) -> Option<[Dd<T>; 3]> {
+    if i >= g.rows || j >= g.cols {
+        return None;
+    }
+    let (sl, cl) = sin_cos_deg(lat_dd(g, i));
+    let (so, co) = sin_cos_deg(lon_dd(g, j));
+    Some(Parallel::from_sin_cos(e, sl, cl).ecef(so, co, height(i, j)?))
+}
+
+/// A [`Vtx`] in pairs.
+fn vtx_dd<T: Real>(
+    e: &Ellipsoid<T>,
+    g: &Grid<T>,
+    v: Vtx,
+    height: &impl Fn(u32, u32) -> Option<T>,
+) -> Option<[Dd<T>; 3]> {
+    match v {
+        Vtx::Grid(i, j) => vertex_dd(e, g, (i, j), height),
+        Vtx::Mid([i, j, i1, j1]) => {
+            let a = vertex_dd(e, g, (i, j), height)?;
+            let b = vertex_dd(e, g, (i1, j1), height)?;
+            let [a0, a1, a2] = a;
+            let [b0, b1, b2] = b;
+            let half = |x: Dd<T>, y: Dd<T>| x.plus(y).times_t(T::HALF);
+            Some([half(a0, b0), half(a1, b1), half(a2, b2)])
+        }
+    }
+}
+
+/// The intersection of the ray with the plane through `v0, v1, v2` (pairs), with the point's in-plane distances
+/// inside the three edges.
+fn plane_through<T: Real>(
+    ray: &Ray<T>,
+    v0: &[Dd<T>; 3],
+    v1: &[Dd<T>; 3],
+    v2: &[Dd<T>; 3],
+) -> Option<PlaneHit<T>> {
     // Edges rounded to scalars; the normal in scalars (module docs: its error tilts the plane about v0 only).
-    let a = diff(&v1, &v0);
-    let b = diff(&v2, &v0);
+    let a = diff(v1, v0);
+    let b = diff(v2, v0);
     let n = a.cross(b);
     let o = ray.origin().to_array();
     let d = ray.dir().to_array();
@@ -197,7 +253,7 @@ fn plane_hit<T: Real>(
     // Barycentric coordinates of p: λ1 = (w × b)·n / |n|², λ2 = (a × w)·n / |n|², λ0 = 1 − λ1 − λ2, times the
     // heights |n|/|edge| of the triangle over the opposite edges: in-plane distances inside each edge.
     let [p0, p1, p2] = p;
-    let w = diff(&[Dd::from(p0), Dd::from(p1), Dd::from(p2)], &v0);
+    let w = diff(&[Dd::from(p0), Dd::from(p1), Dd::from(p2)], v0);
     let nn = n.length_squared();
     let n_len = nn.sqrt();
     let (c1, c2) = (w.cross(b).dot(n), a.cross(w).dot(n));
@@ -280,7 +336,12 @@ pub(super) fn refine<T: Real>(
     // The guard (module docs). A walk that did not settle in a triangle keeps the traversal's hit: the plane's
     // point then lies outside every triangle tried (a ray almost in the triangle's plane slides along it
     // arbitrarily far).
-    let chosen = chosen?;
+    guard(ray, t0, &chosen?)
+}
+
+/// The guard (module docs): the refined hit if it is in the ray's range and moved along the normal by at most
+/// a few hundred ulps of the coordinates.
+fn guard<T: Real>(ray: &Ray<T>, t0: T, chosen: &PlaneHit<T>) -> Option<(T, [T; 3])> {
     let (t, p) = (chosen.t, chosen.p);
     if !(ray.t_min() <= t && t <= ray.t_max()) {
         return None;
@@ -289,6 +350,30 @@ pub(super) fn refine<T: Real>(
     let allowed =
         T::from_f64(256.0) * T::EPSILON * (ray.origin().max_abs() + V3::from(ray.at(t0)).max_abs());
     (moved <= allowed).then_some((t, p))
+}
+
+/// The refined hit for a triangle given by its vertices (coarse cells and stitched fans, §5): the same plane
+/// and guard as [`refine`], without the containment walk — a point beyond an edge keeps the traversal's hit.
+pub(super) fn refine_vertices<T: Real>(
+    e: &Ellipsoid<T>,
+    g: &Grid<T>,
+    ray: &Ray<T>,
+    t0: T,
+    tri: [Vtx; 3],
+    height: &impl Fn(u32, u32) -> Option<T>,
+) -> Option<(T, [T; 3])> {
+    let [a, b, c] = tri;
+    let h = plane_through(
+        ray,
+        &vtx_dd(e, g, a, height)?,
+        &vtx_dd(e, g, b, height)?,
+        &vtx_dd(e, g, c, height)?,
+    )?;
+    let tol = T::from_f64(16.0) * T::EPSILON * V3::from(h.p).max_abs();
+    if h.inside.iter().any(|&x| x < -tol) {
+        return None;
+    }
+    guard(ray, t0, &h)
 }
 
 #[cfg(test)]

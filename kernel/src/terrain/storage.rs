@@ -111,10 +111,11 @@ impl<T> Node<T> {
 /// heights. Zones and quads are ranges of the DEM's own cells, so nothing is resampled and the surface the
 /// kernel intersects is exactly the contract's triangles.
 ///
-/// Extension (multi-resolution, paging): [`TerrainStorage::is_resident`] says whether a leaf's heights are in
-/// memory. In this single-resolution kernel a non-resident leaf is an error
-/// ([`super::TerrainError::NotResident`]); the multi-resolution issue adds coarser blocks, `min_level` and
-/// ancestor fallback through new provided methods, so implementations of this trait keep compiling.
+/// Multi-resolution and paging (seed 000 §5): every node may have a *block*, its own regular sub-grid of the DEM's
+/// vertices at a spacing of [`TerrainStorage::block_stride`] grid steps, resident in memory or not
+/// ([`TerrainStorage::is_resident`]). A single-resolution storage keeps the defaults (stride 1, always
+/// resident) and the kernel traces every leaf's full-resolution cells. The surface a multi-resolution storage
+/// gives is stated in the module docs of [`super`] ("Multi-resolution").
 pub trait TerrainStorage<T: Real> {
     /// The reference ellipsoid.
     fn ellipsoid(&self) -> Ellipsoid<T>;
@@ -126,11 +127,24 @@ pub trait TerrainStorage<T: Real> {
     fn zone(&self, k: usize) -> Option<NodeId>;
     /// A node by id.
     fn node(&self, id: NodeId) -> Option<Node<T>>;
-    /// The height of vertex `V(i, j)`, `None` for nodata (or NaN), or out of range.
+    /// The height of vertex `V(i, j)`, `None` for nodata (or NaN), or out of range. The kernel asks only for
+    /// vertices of resident blocks.
     fn height(&self, i: u32, j: u32) -> Option<T>;
-    /// Whether the heights of this leaf are in memory (always, unless the storage pages).
+    /// Whether node `id`'s block is in memory (default: always). The kernel never blocks: a block it needs and
+    /// cannot replace by a coarser resident one is reported as [`super::TerrainError::NeedsBlock`].
     fn is_resident(&self, _id: NodeId) -> bool {
         true
+    }
+    /// The spacing of node `id`'s block samples, in grid steps: a power of two (default 1, the DEM's own
+    /// resolution). The block's vertices are `V(i, j)` with `i` a multiple of the stride or the grid's last
+    /// row, likewise `j`, within the node's range; its cells are `stride × stride` grid cells (fewer at the
+    /// grid's last row and column), each split into two triangles like a grid cell. Requirements (violations
+    /// are [`super::TerrainError::MalformedTree`]): a node's ranges start on multiples of its stride and end
+    /// on one or at the grid's last cell; a child's stride is at most its parent's. A vertex has one height
+    /// whichever block holds it ([`TerrainStorage::height`]): coarse blocks subsample the finest data, as
+    /// the paper's pyramid does.
+    fn block_stride(&self, _id: NodeId) -> u32 {
+        1
     }
     /// `(sin, cos)` of the latitude of vertex row `i`: [`sin_cos_deg`]`(grid.lat_deg(i))`. A storage may return
     /// it from a per-row table (one entry per row: a few kilobytes), which spares the kernel the trigonometry of
