@@ -4,5 +4,6 @@
 //! high precision with logic of its own, so that a bug cannot hide in both.
 
 pub mod march;
+pub mod multires;
 pub mod surfaces;
 pub mod terrain;

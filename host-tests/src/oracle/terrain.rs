@@ -30,8 +30,8 @@ use crate::scenes::spec::RaySpec;
 use crate::scenes::terrain::{Dem, geodetic_to_ecef_f64};
 use astro_float::{BigFloat, Consts, RoundingMode};
 
-const P: usize = 256;
-const RM: RoundingMode = RoundingMode::ToEven;
+pub(crate) const P: usize = 256;
+pub(crate) const RM: RoundingMode = RoundingMode::ToEven;
 const CHUNK: usize = 8;
 const SUPER: usize = 64;
 
@@ -119,14 +119,14 @@ fn margin(scale: f64) -> f64 {
 }
 
 /// Rows and columns of 256-bit trigonometry for a DEM, computed once.
-struct Exact {
+pub(crate) struct Exact {
     /// Per row: (N cosφ, N (b²/a²) sinφ, cosφ, sinφ).
     rows: Vec<[BigFloat; 4]>,
     /// Per column: (cosλ, sinλ).
     cols: Vec<[BigFloat; 2]>,
 }
 
-fn bf(x: f64) -> BigFloat {
+pub(crate) fn bf(x: f64) -> BigFloat {
     BigFloat::from_f64(x, P)
 }
 
@@ -149,7 +149,7 @@ fn deg_to_rad(deg: &BigFloat, cc: &mut Consts) -> BigFloat {
 }
 
 impl Exact {
-    fn new(dem: &Dem) -> Exact {
+    pub(crate) fn new(dem: &Dem) -> Exact {
         let mut cc = Consts::new().expect("astro-float constants");
         let a = bf(dem.a);
         let b = bf(dem.b);
@@ -191,7 +191,7 @@ impl Exact {
     }
 
     /// Vertex (i, j) at height h in 256 bits: ((N + h) cosφ cosλ, (N + h) cosφ sinλ, (N b²/a² + h) sinφ).
-    fn vertex(&self, i: usize, j: usize, h: f32) -> [BigFloat; 3] {
+    pub(crate) fn vertex(&self, i: usize, j: usize, h: f32) -> [BigFloat; 3] {
         let [ncos, nz, c, s] = &self.rows[i];
         let [cl, sl] = &self.cols[j];
         let h = bf(f64::from(h));
@@ -417,7 +417,7 @@ impl<'a> TerrainOracle<'a> {
 
 /// Entry parameter of the ray into the ball around the triangle's centroid through its farthest vertex (grown by
 /// the margin), if the ray meets it within [t0, t1] (conservatively widened).
-fn ball_entry(
+pub(crate) fn ball_entry(
     v: &[[f64; 3]; 3],
     o: &[f64; 3],
     d: &[f64; 3],
@@ -469,7 +469,7 @@ fn mag(v: &[BigFloat; 3]) -> f64 {
 /// A ray in the triangle's plane (|det| below 2⁻²⁰⁰ of its scale: at 256 bits only an exactly coplanar ray, such
 /// as a ray down the axis in the plane of a pole triangle, gets there) is clipped against the triangle's edges
 /// in the plane's 2-D projection.
-fn intersect_exact(
+pub(crate) fn intersect_exact(
     o: &[BigFloat; 3],
     d: &[BigFloat; 3],
     v: &[[BigFloat; 3]; 3],

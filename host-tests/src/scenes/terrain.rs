@@ -763,7 +763,7 @@ mod tests {
 ///   pyramid's two `f32` per node ([`DemStorage::overhead_bytes`]); the kernel's [`curvicast::terrain::Node`] is
 ///   formed on demand. A parent whose only child covers the same cells is skipped (the kernel requires children
 ///   strictly smaller than their parent).
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct DemStorage<'a> {
     dem: &'a Dem,
     pyramid: HeightPyramid,
@@ -777,6 +777,23 @@ pub struct DemStorage<'a> {
     /// The children of every node, by id (`u32::MAX`: none), found once at build time: the kernel asks for a
     /// node's children at every quad it visits (16 bytes per node).
     kids: Vec<[u32; 4]>,
+    /// Multi-resolution mode: node blocks subsample the DEM at `2^(pyramid level)` and are paged
+    /// ([`MultiRes`]); `None` for the single-resolution tree.
+    multires: Option<MultiRes>,
+    /// Residency per node (multi-resolution mode; all resident otherwise).
+    resident: Vec<std::sync::atomic::AtomicBool>,
+}
+
+/// How [`DemStorage::multi_resolution`] shapes a multi-resolution tree (seed 000 §5, Fig. 11): every node has a
+/// block of `block × block` cells that subsamples the DEM at `2^k` grid steps (`k` its pyramid level, 0 at the
+/// full-resolution leaves), and branches stop at pyramid level `coarse_level` outside `fine_region`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MultiRes {
+    /// `[lat_s, lat_n, lon_w, lon_e]` (degrees): nodes that meet this box go down to full resolution. `None`:
+    /// everywhere.
+    pub fine_region: Option<[f64; 4]>,
+    /// The pyramid level at which branches outside `fine_region` end (0: full depth everywhere).
+    pub coarse_level: usize,
 }
 
 impl<'a> DemStorage<'a> {
@@ -784,6 +801,17 @@ impl<'a> DemStorage<'a> {
     /// 16; values below 1 are taken as 1). On very coarse grids the block is reduced so that a leaf spans less
     /// than 180° of longitude (the kernel's meridian walls bound wedges narrower than a half-turn).
     pub fn new(dem: &'a Dem, block: usize) -> DemStorage<'a> {
+        Self::build(dem, block, None)
+    }
+
+    /// The multi-resolution storage over `dem` (module docs of [`curvicast::terrain`], "Multi-resolution"):
+    /// every node has its own block subsampled at `2^k` grid steps, all resident until marked otherwise
+    /// ([`DemStorage::set_resident`]), and the tree is shaped by `shape`.
+    pub fn multi_resolution(dem: &'a Dem, block: usize, shape: MultiRes) -> DemStorage<'a> {
+        Self::build(dem, block, Some(shape))
+    }
+
+    fn build(dem: &'a Dem, block: usize, multires: Option<MultiRes>) -> DemStorage<'a> {
         let max_block = ((180.0 / dem.dlon).ceil() as usize)
             .saturating_sub(1)
             .max(1);
@@ -808,11 +836,21 @@ impl<'a> DemStorage<'a> {
             row_trig: Vec::new(),
             col_trig: Vec::new(),
             kids: Vec::new(),
+            multires,
+            resident: Vec::new(),
         };
+        s.resident = (0..s.node_count())
+            .map(|_| std::sync::atomic::AtomicBool::new(true))
+            .collect();
         let mut kids = vec![[u32::MAX; 4]; s.node_count()];
         for (level, &(nr, nc)) in s.pyramid.dims.iter().enumerate().take(zone_level + 1) {
             for r in 0..nr {
                 for c in 0..nc {
+                    if let Some(m) = multires {
+                        if level <= m.coarse_level && !s.meets_region(level, r, c, m.fine_region) {
+                            continue; // a leaf of the coarse part of the tree
+                        }
+                    }
                     let slot = &mut kids[s.id(level, r, c).0 as usize];
                     for (k, kid) in slot.iter_mut().zip(s.children_of(level, r, c)) {
                         if let Some((l, x, y)) = kid {
@@ -844,6 +882,62 @@ impl<'a> DemStorage<'a> {
     /// The DEM.
     pub fn dem(&self) -> &Dem {
         self.dem
+    }
+
+    /// Whether pyramid node (level, r, c) meets the box `[lat_s, lat_n, lon_w, lon_e]` (always, without one).
+    fn meets_region(&self, level: usize, r: usize, c: usize, region: Option<[f64; 4]>) -> bool {
+        let Some([lat_s, lat_n, lon_w, lon_e]) = region else {
+            return true;
+        };
+        let (rows, cols) = self.ranges(level, r, c);
+        let d = self.dem;
+        let lat = |i: u32| d.lat0 + f64::from(i) * d.dlat;
+        let lon = |j: u32| d.lon0 + f64::from(j) * d.dlon;
+        let (la, lb) = (lat(rows[0]), lat(rows[1]));
+        let (lo_a, lo_b) = (lon(cols[0]), lon(cols[1]));
+        la.min(lb) <= lat_n && la.max(lb) >= lat_s && lo_a <= lon_e && lo_b >= lon_w
+    }
+
+    /// Whether this is a multi-resolution storage.
+    pub fn is_multi_resolution(&self) -> bool {
+        self.multires.is_some()
+    }
+
+    /// Marks node `id`'s block resident or not (multi-resolution mode; a single-resolution storage keeps every
+    /// block resident and ignores this).
+    pub fn set_resident(&self, id: curvicast::terrain::NodeId, resident: bool) {
+        if self.multires.is_some() {
+            if let Some(flag) = self.resident.get(id.0 as usize) {
+                flag.store(resident, std::sync::atomic::Ordering::Relaxed);
+            }
+        }
+    }
+
+    /// The tree as plain data (for the multi-resolution oracle and for choosing residency): every node reachable
+    /// from the zones, with its parent, level, ranges, stride and residency, in id order.
+    pub fn tree(&self) -> Vec<crate::oracle::multires::TreeNode> {
+        use curvicast::terrain::TerrainStorage;
+        let mut out = Vec::new();
+        let mut stack: Vec<(curvicast::terrain::NodeId, Option<u32>)> =
+            self.zones.iter().map(|&z| (z, None)).collect();
+        while let Some((id, parent)) = stack.pop() {
+            let Some(n) = TerrainStorage::<f64>::node(self, id) else {
+                continue;
+            };
+            out.push(crate::oracle::multires::TreeNode {
+                id: id.0,
+                parent,
+                level: n.level,
+                rows: n.rows,
+                cols: n.cols,
+                leaf: n.is_leaf(),
+                stride: TerrainStorage::<f64>::block_stride(self, id),
+                resident: TerrainStorage::<f64>::is_resident(self, id),
+            });
+            stack.extend(n.children.iter().flatten().map(|&c| (c, Some(id.0))));
+        }
+        out.sort_by_key(|x| x.id);
+        out
     }
 
     /// Cells per leaf-block side.
@@ -993,6 +1087,19 @@ impl<T: curvicast::Real> curvicast::terrain::TerrainStorage<T> for DemStorage<'_
         self.dem
             .height(i as usize, j as usize)
             .map(|h| T::from_f64(f64::from(h)))
+    }
+
+    fn is_resident(&self, id: curvicast::terrain::NodeId) -> bool {
+        self.resident
+            .get(id.0 as usize)
+            .is_none_or(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+    }
+
+    fn block_stride(&self, id: curvicast::terrain::NodeId) -> u32 {
+        match (self.multires, self.locate(id)) {
+            (Some(_), Some((level, _, _))) => 1 << level.min(31),
+            _ => 1,
+        }
     }
 
     // The tables hold the `f64` values; other scalar types compute their own (the kernel requires exactly

@@ -223,8 +223,7 @@ struct Candidate<T> {
     t: T,
     cell: [u32; 2],
     tri: TriRef,
-    level: u8,
-    stride: u32,
+    unit: Unit,
 }
 
 /// Which triangle a candidate is: one of a full-resolution cell's two (refined with the containment walk), or
@@ -1035,8 +1034,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     t,
                     cell,
                     tri,
-                    level: u.level,
-                    stride: u.stride,
+                    unit: *u,
                 });
             }
         }
@@ -1248,11 +1246,20 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let height = |i: u32, j: u32| self.storage.height(i, j).filter(|h| h.is_finite());
         let (e, g) = (&self.ellipsoid, &self.grid);
         let refined = match c.tri {
-            TriRef::Cell(tri) => refine::refine(e, g, &self.steps, ray, c.t, c.cell, tri, &height),
+            TriRef::Cell(tri) => {
+                // The walk may leave the unit only into cells traced at full resolution.
+                let fine = |[i, j]: [u32; 2]| {
+                    let inside = (c.unit.rows[0]..c.unit.rows[1]).contains(&i)
+                        && (c.unit.cols[0]..c.unit.cols[1]).contains(&j);
+                    inside
+                        || matches!(self.unit_at(i, j), Ok(Lookup::Unit(u)) if u.stride == 1)
+                };
+                refine::refine(e, g, &self.steps, ray, c.t, c.cell, tri, &height, &fine)
+            }
             TriRef::Vertices(v) => refine::refine_vertices(e, g, ray, c.t, v, &height),
         };
         let (t, p) = refined.unwrap_or((c.t, ray.at(c.t)));
-        let (cell, level) = (c.cell, c.level);
+        let (cell, level) = (c.cell, c.unit.level);
         let geo = self.ellipsoid.ecef_to_geodetic(V3::from(p));
         let deg = T::from_f64(180.0) / T::PI;
         Hit {
@@ -1263,7 +1270,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             h: geo.h,
             cell,
             level,
-            stride: c.stride,
+            stride: c.unit.stride,
         }
     }
 }

@@ -293,7 +293,9 @@ fn across<T: Real>(g: &Grid<T>, [i, j]: [u32; 2], tri: Tri, k: usize) -> Option<
 const MAX_WALK: usize = 7;
 
 /// The refined hit `(t, point)` of `ray` for the traversal's triangle `tri` of cell `[i, j]` at parameter `t0`
-/// (module docs), or `None` when the guard rejects it. `height` gives the storage's vertex heights.
+/// (module docs), or `None` when the guard rejects it. `height` gives the storage's vertex heights;
+/// `full_resolution` tells whether a cell is traced at the DEM's own resolution (the walk steps only into such
+/// cells: elsewhere a multi-resolution surface has other triangles).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn refine<T: Real>(
     e: &Ellipsoid<T>,
@@ -304,6 +306,7 @@ pub(super) fn refine<T: Real>(
     cell: [u32; 2],
     tri: Tri,
     height: &impl Fn(u32, u32) -> Option<T>,
+    full_resolution: &impl Fn([u32; 2]) -> bool,
 ) -> Option<(T, [T; 3])> {
     let first = plane_hit(e, g, steps, ray, cell, tri, height)?;
     // Containment walk (module docs): at a tie the traversal may have chosen a triangle that the exact ray only
@@ -325,7 +328,7 @@ pub(super) fn refine<T: Real>(
             chosen = Some(h);
             break;
         }
-        let Some((nc, nt)) = across(g, c, tr, k) else {
+        let Some((nc, nt)) = across(g, c, tr, k).filter(|(nc, _)| full_resolution(*nc)) else {
             break;
         };
         let Some(nh) = plane_hit(e, g, steps, ray, nc, nt, height) else {

@@ -1,0 +1,436 @@
+//! Multi-resolution picking (seed 000 §5–§6) against the independent multi-resolution oracle
+//! ([`curvicast_host::oracle::multires`]): the surface that a tree, a residency pattern and a `min_level` select,
+//! brute force in 256 bits.
+//!
+//! Criterion: no miss, no false hit, hit points within 1 µm; a disagreement within 1 µm of an edge is accepted
+//! when the oracle, asked again with the ray moved by 1 µm, agrees with the kernel (a tie decided by rounding).
+//! The crack tests aim rays at resolution borders of terrain without missing data, where every downward ray must
+//! hit.
+
+use curvicast::Ray;
+use curvicast::terrain::{Hit, NodeId, Picker, TerrainError};
+use curvicast_host::oracle::multires::{MultiResOracle, TreeNode};
+use curvicast_host::oracle::terrain::TerrainOracle;
+use curvicast_host::scenes::spec::RaySpec;
+use curvicast_host::scenes::terrain::{Dem, DemStorage, MultiRes, geodetic_to_ecef_f64};
+use curvicast_host::scenes::terrain_cases::{TerrainKind, camera_rays, random_rays, synthetic};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+
+const TOL: f64 = 1e-6;
+
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+fn kernel_ray(r: &RaySpec) -> Ray<f64> {
+    Ray::new(r.origin, r.dir)
+        .and_then(|x| x.with_interval(r.t_min, r.t_max_or_inf()))
+        .expect("valid ray")
+}
+
+fn pick(s: &DemStorage<'_>, min_level: u8, r: &RaySpec) -> Result<Option<Hit<f64>>, TerrainError> {
+    let p: Picker<'_, f64, DemStorage<'_>> = Picker::new(s).expect("picker");
+    p.with_min_level(min_level).pick(&kernel_ray(r))
+}
+
+/// A fractal DEM of `n × n` vertices at (lat, lon) with 0.002° spacing.
+fn dem_at(lat: f64, lon: f64, n: usize, seed: u64) -> Dem {
+    synthetic(TerrainKind::Fractal, (lat, lon, 0.002, 0.002), (n, n), seed)
+}
+
+/// Sets residency from `keep` for every node, except that nodes at or above `min_level` (and the first node at or
+/// below it on each path) stay resident, so that the surface needs no block.
+fn set_residency(s: &DemStorage<'_>, min_level: u8, keep: impl Fn(&TreeNode) -> bool) {
+    let tree = s.tree();
+    let level_of = |id: u32| tree.iter().find(|n| n.id == id).map_or(0, |n| n.level);
+    for n in &tree {
+        let top = n.level <= min_level || n.parent.is_none_or(|p| level_of(p) < min_level);
+        s.set_resident(NodeId(n.id), top || keep(n));
+    }
+}
+
+#[derive(Default, Debug)]
+struct Tally {
+    rays: usize,
+    hits: usize,
+    coarse_hits: usize,
+    ties: usize,
+    worst: f64,
+    failures: Vec<String>,
+}
+
+/// Every ray through the kernel and the oracle of the storage's current residency.
+fn compare(dem: &Dem, s: &DemStorage<'_>, min_level: u8, rays: &[RaySpec]) -> Tally {
+    let oracle = MultiResOracle::new(dem, &s.tree(), min_level).expect("a surface that needs no block");
+    let picker: Picker<'_, f64, DemStorage<'_>> = Picker::new(s).expect("picker");
+    let picker = picker.with_min_level(min_level);
+    let out: Vec<Result<(Option<Hit<f64>>, bool), String>> = rays
+        .par_iter()
+        .enumerate()
+        .map(|(k, r)| {
+            let ours = picker.pick(&kernel_ray(r)).map_err(|e| format!("ray {k} {r:?}: {e}"))?;
+            let truth = oracle.pick(r);
+            let agree = |q: Option<[f64; 3]>, tol: f64| match (ours.map(|h| h.ecef), q) {
+                (None, None) => true,
+                (Some(a), Some(b)) => dist(a, b) <= tol,
+                _ => false,
+            };
+            if agree(truth.map(|h| h.point), TOL) {
+                return Ok((ours, false));
+            }
+            for a in 0..6 {
+                let mut moved = *r;
+                moved.origin[a % 3] += if a < 3 { 1e-6 } else { -1e-6 };
+                if agree(oracle.pick(&moved).map(|h| h.point), 2.0 * TOL) {
+                    return Ok((ours, true));
+                }
+            }
+            Err(format!("ray {k} {r:?}: kernel {ours:?} vs oracle {truth:?}"))
+        })
+        .collect();
+    let mut t = Tally::default();
+    for (res, r) in out.into_iter().zip(rays) {
+        t.rays += 1;
+        match res {
+            Err(e) => t.failures.push(e),
+            Ok((h, tie)) => {
+                t.ties += usize::from(tie);
+                if let Some(h) = h {
+                    t.hits += 1;
+                    t.coarse_hits += usize::from(h.stride > 1);
+                    if !tie {
+                        if let Some(q) = oracle.pick(r) {
+                            t.worst = t.worst.max(dist(h.ecef, q.point));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    t
+}
+
+fn assert_clean(name: &str, t: &Tally) {
+    eprintln!(
+        "{name}: {} rays, {} hits ({} on coarse cells), {} ties, worst {:.2e} m",
+        t.rays, t.hits, t.coarse_hits, t.ties, t.worst
+    );
+    assert!(t.failures.is_empty(), "{name}: {} failures, first: {:#?}", t.failures.len(), &t.failures[..t.failures.len().min(5)]);
+    assert!(t.ties * 50 <= t.rays, "{name}: too many ties ({})", t.ties);
+}
+
+/// Rays aimed at the interior borders between nodes (not the DEM's own edges): from 50 m to 5 km above a random
+/// point of a random node's border (exactly on a lattice vertex for a third of them), down towards a point at or
+/// near it.
+fn border_rays(dem: &Dem, tree: &[TreeNode], n: usize, seed: u64) -> Vec<RaySpec> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (hmin, hmax) = dem.height_range().expect("data");
+    let (cr, cc) = ((dem.rows - 1) as u32, (dem.cols - 1) as u32);
+    let mut out = Vec::with_capacity(n);
+    while out.len() < n {
+        let k = out.len();
+        let node = &tree[rng.random_range(0..tree.len())];
+        let along_row = rng.random_bool(0.5);
+        let (ends, last) = if along_row { (node.rows, cr) } else { (node.cols, cc) };
+        let inner: Vec<u32> = ends.into_iter().filter(|&x| x > 0 && x < last).collect();
+        if inner.is_empty() {
+            continue;
+        }
+        let at = f64::from(inner[rng.random_range(0..inner.len())]);
+        let span = if along_row { node.cols } else { node.rows };
+        let pos = if k % 3 == 0 {
+            f64::from(rng.random_range(span[0]..=span[1]))
+        } else {
+            rng.random_range(f64::from(span[0])..=f64::from(span[1]))
+        };
+        let (fi, fj) = if along_row { (at, pos) } else { (pos, at) };
+        let (lat, lon) = (dem.lat0 + fi * dem.dlat, dem.lon0 + fj * dem.dlon);
+        let top = geodetic_to_ecef_f64(dem.a, dem.b, lat, lon, f64::from(hmax) + rng.random_range(50.0..5000.0));
+        let jitter = if k % 2 == 0 { 0.0 } else { 0.3 };
+        let fi2 = (fi + rng.random_range(-jitter..=jitter)).clamp(0.5, f64::from(cr) - 0.5);
+        let fj2 = (fj + rng.random_range(-jitter..=jitter)).clamp(0.5, f64::from(cc) - 0.5);
+        let bottom = geodetic_to_ecef_f64(
+            dem.a,
+            dem.b,
+            dem.lat0 + fi2 * dem.dlat,
+            dem.lon0 + fj2 * dem.dlon,
+            f64::from(hmin) - 100.0,
+        );
+        out.push(RaySpec::new(top, [0, 1, 2].map(|a| bottom[a] - top[a])));
+    }
+    out
+}
+
+/// Grazing rays along node borders: starting 1–30 m above the terrain's maximum... over a border vertex, heading
+/// along the border line (a parallel or a meridian) at 0.2°–3° below the horizontal.
+fn grazing_border_rays(dem: &Dem, tree: &[TreeNode], n: usize, seed: u64) -> Vec<RaySpec> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (_, hmax) = dem.height_range().expect("data");
+    (0..n)
+        .map(|_| {
+            let node = &tree[rng.random_range(0..tree.len())];
+            let i = if rng.random_bool(0.5) { node.rows[0] } else { node.rows[1] } as usize;
+            let j = if rng.random_bool(0.5) { node.cols[0] } else { node.cols[1] } as usize;
+            let h = f64::from(hmax) + rng.random_range(1.0..30.0);
+            let o = geodetic_to_ecef_f64(dem.a, dem.b, dem.lat(i), dem.lon(j), h);
+            // A target along the row (parallel) or the column (meridian), far enough to cross many cells.
+            let (ti, tj) = if rng.random_bool(0.5) {
+                (i as f64, if j > dem.cols / 2 { 0.0 } else { (dem.cols - 1) as f64 })
+            } else {
+                (if i > dem.rows / 2 { 0.0 } else { (dem.rows - 1) as f64 }, j as f64)
+            };
+            let far = geodetic_to_ecef_f64(dem.a, dem.b, dem.lat0 + ti * dem.dlat, dem.lon0 + tj * dem.dlon, h);
+            let horiz = [0, 1, 2].map(|a| far[a] - o[a]);
+            let len = (horiz.iter().map(|x| x * x).sum::<f64>()).sqrt();
+            let up = {
+                let l = (o.iter().map(|x| x * x).sum::<f64>()).sqrt();
+                o.map(|x| x / l)
+            };
+            let dip = rng.random_range(0.2f64..3.0).to_radians().tan() * len;
+            RaySpec::new(o, [0, 1, 2].map(|a| horiz[a] - dip * up[a]))
+        })
+        .collect()
+}
+
+/// A multi-resolution storage: 8-cell blocks, full resolution only in the box around the DEM's center, leaves
+/// at pyramid level `coarse` elsewhere.
+fn shaped(dem: &Dem, coarse: usize) -> DemStorage<'_> {
+    let (ci, cj) = ((dem.rows / 2) as f64, (dem.cols / 2) as f64);
+    let q = |x: f64| x * 0.3;
+    let region = [
+        dem.lat0 + (ci - q(dem.rows as f64)) * dem.dlat,
+        dem.lat0 + (ci + q(dem.rows as f64)) * dem.dlat,
+        dem.lon0 + (cj - q(dem.cols as f64)) * dem.dlon,
+        dem.lon0 + (cj + q(dem.cols as f64)) * dem.dlon,
+    ];
+    let region = [region[0].min(region[1]), region[0].max(region[1]), region[2], region[3]];
+    DemStorage::multi_resolution(dem, 8, MultiRes { fine_region: Some(region), coarse_level: coarse })
+}
+
+fn run_suite(name: &str, dem: &Dem, coarse: usize, seeds: u64, rays_per: usize) {
+    let s = shaped(dem, coarse);
+    let depth = s.tree().iter().map(|n| n.level).max().unwrap_or(0);
+    let mut total = Tally::default();
+    for seed in 0..seeds {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let min_level = rng.random_range(0..=depth);
+        let p: f64 = rng.random_range(0.2..0.9);
+        let salt: u64 = rng.random();
+        // Random residency, independent per node (the kernel then uses a block only below resident ancestors).
+        set_residency(&s, min_level, |n| {
+            let mut r = ChaCha8Rng::seed_from_u64(salt ^ u64::from(n.id).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+            r.random_bool(p)
+        });
+        let tree = s.tree();
+        let mut rays = border_rays(dem, &tree, rays_per, seed + 100);
+        rays.extend(grazing_border_rays(dem, &tree, rays_per / 4, seed + 200));
+        rays.extend(camera_rays(dem, rays_per / 4, 1500.0, seed + 300));
+        rays.extend(random_rays(dem, rays_per / 4, seed + 400));
+        let t = compare(dem, &s, min_level, &rays);
+        assert!(t.failures.is_empty(), "{name} seed {seed} (min_level {min_level}, p {p:.2}): {} failures, first: {:#?}", t.failures.len(), &t.failures[..t.failures.len().min(4)]);
+        total.rays += t.rays;
+        total.hits += t.hits;
+        total.coarse_hits += t.coarse_hits;
+        total.ties += t.ties;
+        total.worst = total.worst.max(t.worst);
+    }
+    assert_clean(name, &total);
+    assert!(total.coarse_hits > 0, "{name}: no ray hit a coarse cell");
+}
+
+#[test]
+fn random_residency_and_every_min_level_mid_latitude() {
+    let dem = dem_at(36.0, -118.0, 97, 1);
+    run_suite("mid-latitude", &dem, 2, 12, 160);
+}
+
+#[test]
+fn random_residency_high_latitude_across_the_antimeridian() {
+    let dem = dem_at(71.9, 179.9, 97, 2);
+    run_suite("high latitude, antimeridian", &dem, 2, 12, 160);
+}
+
+#[test]
+fn random_residency_southern_hemisphere_negative_latitudes() {
+    let dem = synthetic(TerrainKind::Spiky, (-48.0, 10.0, 0.003, 0.003), (81, 81), 3);
+    run_suite("southern, spiky", &dem, 3, 10, 160);
+}
+
+/// Every downward ray aimed at a resolution border of gap-free terrain hits, and where the oracle's surface
+/// stitches coarse cells to finer ones, the hit agrees with it: no crack lets a ray through.
+#[test]
+fn rays_along_resolution_borders_find_no_crack() {
+    for (lat, seed) in [(36.0, 5), (-63.0, 6), (84.0, 7)] {
+        let dem = dem_at(lat, 20.0, 97, seed);
+        let s = shaped(&dem, 2);
+        let tree = s.tree();
+        let oracle = MultiResOracle::new(&dem, &tree, 0).expect("all resident");
+        assert!(oracle.stitched_cells() > 0, "the tree has resolution borders");
+        let rays = border_rays(&dem, &tree, 3000, seed);
+        let misses: Vec<usize> = rays
+            .par_iter()
+            .enumerate()
+            .filter(|(_, r)| pick(&s, 0, r).expect("answer").is_none())
+            .map(|(k, _)| k)
+            .collect();
+        assert!(misses.is_empty(), "lat {lat}: {} rays passed through the surface, first {:?}", misses.len(), rays[misses[0]]);
+        let t = compare(&dem, &s, 0, &rays[..600]);
+        assert_clean(&format!("borders at {lat}°"), &t);
+    }
+}
+
+/// The four cases of the ancestor loop, on one tree: 97 × 97 vertices, 8-cell blocks, full depth everywhere
+/// (zones at level 0, leaves at level 3 with stride 1).
+mod ancestor_loop {
+    use super::*;
+
+    fn setup(dem: &Dem) -> DemStorage<'_> {
+        DemStorage::multi_resolution(dem, 8, MultiRes { fine_region: None, coarse_level: 0 })
+    }
+
+    /// A ray straight down onto the middle of leaf `leaf`.
+    fn down_onto(dem: &Dem, leaf: &TreeNode) -> RaySpec {
+        let fi = f64::from(leaf.rows[0] + leaf.rows[1]) / 2.0 + 0.37;
+        let fj = f64::from(leaf.cols[0] + leaf.cols[1]) / 2.0 + 0.21;
+        let (lat, lon) = (dem.lat0 + fi * dem.dlat, dem.lon0 + fj * dem.dlon);
+        let top = geodetic_to_ecef_f64(dem.a, dem.b, lat, lon, 9000.0);
+        let bottom = geodetic_to_ecef_f64(dem.a, dem.b, lat, lon, -1000.0);
+        RaySpec::new(top, [0, 1, 2].map(|a| bottom[a] - top[a]))
+    }
+
+    fn path(tree: &[TreeNode], leaf: &TreeNode) -> Vec<TreeNode> {
+        let mut p = vec![*leaf];
+        while let Some(q) = p.last().and_then(|n| n.parent) {
+            p.push(*tree.iter().find(|n| n.id == q).expect("parent"));
+        }
+        p.reverse();
+        p
+    }
+
+    fn a_deep_leaf(tree: &[TreeNode]) -> TreeNode {
+        let depth = tree.iter().map(|n| n.level).max().expect("nodes");
+        *tree.iter().filter(|n| n.leaf && n.level == depth).nth(5).expect("leaves")
+    }
+
+    fn check_against_oracle(dem: &Dem, s: &DemStorage<'_>, min_level: u8, r: &RaySpec, hit: &Hit<f64>) {
+        let o = MultiResOracle::new(dem, &s.tree(), min_level).expect("surface").pick(r).expect("oracle hit");
+        assert!(dist(o.point, hit.ecef) < TOL, "{hit:?} vs {o:?}");
+        assert_eq!((o.level, o.stride), (hit.level, hit.stride));
+    }
+
+    #[test]
+    fn resident_leaf_uses_its_own_block() {
+        let dem = dem_at(45.0, 7.0, 97, 11);
+        let s = setup(&dem);
+        let tree = s.tree();
+        let leaf = a_deep_leaf(&tree);
+        let r = down_onto(&dem, &leaf);
+        let hit = pick(&s, 0, &r).expect("answer").expect("hit");
+        assert_eq!((hit.level, hit.stride), (leaf.level, 1));
+        check_against_oracle(&dem, &s, 0, &r, &hit);
+    }
+
+    #[test]
+    fn resident_parent_stands_in_for_a_missing_leaf() {
+        let dem = dem_at(45.0, 7.0, 97, 11);
+        let s = setup(&dem);
+        let tree = s.tree();
+        let leaf = a_deep_leaf(&tree);
+        s.set_resident(NodeId(leaf.id), false);
+        let parent = path(&tree, &leaf)[leaf.level as usize - 1];
+        let r = down_onto(&dem, &leaf);
+        let hit = pick(&s, 0, &r).expect("answer").expect("hit");
+        assert_eq!((hit.level, hit.stride), (parent.level, parent.stride));
+        assert_eq!(parent.stride, 2);
+        check_against_oracle(&dem, &s, 0, &r, &hit);
+    }
+
+    #[test]
+    fn only_the_zone_resident_traces_the_zone_block() {
+        let dem = dem_at(45.0, 7.0, 97, 11);
+        let s = setup(&dem);
+        let tree = s.tree();
+        for n in &tree {
+            s.set_resident(NodeId(n.id), n.parent.is_none());
+        }
+        let leaf = a_deep_leaf(&tree);
+        let zone = path(&tree, &leaf)[0];
+        let r = down_onto(&dem, &leaf);
+        let hit = pick(&s, 0, &r).expect("answer").expect("hit");
+        assert_eq!((hit.level, hit.stride), (0, zone.stride));
+        assert!(zone.stride >= 4);
+        check_against_oracle(&dem, &s, 0, &r, &hit);
+    }
+
+    #[test]
+    fn needs_block_when_the_node_at_min_level_is_not_resident() {
+        let dem = dem_at(45.0, 7.0, 97, 11);
+        let s = setup(&dem);
+        let tree = s.tree();
+        let leaf = a_deep_leaf(&tree);
+        let p = path(&tree, &leaf);
+        // Level 1 and everything below it missing on this path; the zone resident.
+        for n in &p[1..] {
+            s.set_resident(NodeId(n.id), false);
+        }
+        let r = down_onto(&dem, &leaf);
+        // min_level 0: the zone stands in.
+        let hit = pick(&s, 0, &r).expect("answer").expect("hit");
+        assert_eq!(hit.level, 0);
+        // min_level 1: the zone may not; the node at level 1 is needed.
+        assert_eq!(pick(&s, 1, &r), Err(TerrainError::NeedsBlock(NodeId(p[1].id))));
+        // Paged in, it answers, and its own missing child falls back to it.
+        s.set_resident(NodeId(p[1].id), true);
+        let hit = pick(&s, 1, &r).expect("answer").expect("hit");
+        assert_eq!((hit.level, hit.stride), (1, p[1].stride));
+        check_against_oracle(&dem, &s, 1, &r, &hit);
+    }
+
+    #[test]
+    fn leaf_shallower_than_min_level_uses_its_own_block() {
+        let dem = dem_at(45.0, 7.0, 97, 11);
+        // Leaves at pyramid level 2 (kernel level 1) outside a small box.
+        let box_ = [45.0, 45.02, 7.0, 7.02];
+        let s = DemStorage::multi_resolution(&dem, 8, MultiRes { fine_region: Some(box_), coarse_level: 2 });
+        let tree = s.tree();
+        let depth = tree.iter().map(|n| n.level).max().expect("nodes");
+        let shallow = *tree.iter().filter(|n| n.leaf && n.level < depth).last().expect("a coarse leaf");
+        let r = down_onto(&dem, &shallow);
+        // Every inner node not resident: irrelevant, the leaves are at or above min_level = depth.
+        for n in &tree {
+            s.set_resident(NodeId(n.id), n.leaf);
+        }
+        let hit = pick(&s, depth, &r).expect("answer").expect("hit");
+        assert_eq!((hit.level, hit.stride), (shallow.level, shallow.stride));
+        check_against_oracle(&dem, &s, depth, &r, &hit);
+        // The leaf itself missing: its block is needed, whatever its ancestors hold.
+        s.set_resident(NodeId(shallow.id), false);
+        assert_eq!(pick(&s, depth, &r), Err(TerrainError::NeedsBlock(NodeId(shallow.id))));
+    }
+}
+
+/// With every block resident and `min_level` at the tree's depth, a full-depth tree answers exactly as the
+/// single-resolution surface (the contract's triangles): checked against the single-resolution oracle.
+#[test]
+fn min_level_at_full_depth_is_the_single_resolution_surface() {
+    let dem = dem_at(-12.0, 131.0, 97, 21);
+    let s = DemStorage::multi_resolution(&dem, 8, MultiRes { fine_region: None, coarse_level: 0 });
+    let depth = s.tree().iter().map(|n| n.level).max().expect("nodes");
+    let oracle = TerrainOracle::new(&dem);
+    let rays = random_rays(&dem, 400, 9);
+    for (k, r) in rays.iter().enumerate() {
+        let ours = pick(&s, depth, r).expect("answer");
+        let truth = oracle.pick(r);
+        match (ours, truth) {
+            (None, None) => {}
+            (Some(a), Some(b)) => {
+                assert!(dist(a.ecef, b.point) < TOL, "ray {k}: {a:?} vs {b:?}");
+                assert_eq!(a.stride, 1);
+            }
+            (a, b) => panic!("ray {k}: {a:?} vs {b:?}"),
+        }
+    }
+}
+
