@@ -42,13 +42,39 @@ enum Command {
         /// Rays (JSON Lines); standard input without it.
         #[arg(long)]
         rays: Option<PathBuf>,
-        /// Coarsest quadtree level allowed to answer (multi-resolution terrain). The trees built by this tool are
-        /// single-resolution, so the answer does not depend on it; it must be between 0 and the tree's depth.
+        /// Coarsest quadtree level whose blocks may stand in for missing finer ones (multi-resolution terrain;
+        /// between 0 and the tree's depth).
         #[arg(long, default_value_t = 0)]
         min_level: u32,
-        /// Cells per leaf-block side (1 to 1024).
+        /// Cells per block side (1 to 1024).
         #[arg(long, default_value_t = 16)]
         block: usize,
+        /// Multi-resolution tree: full resolution only in this box (LAT_S,LAT_N,LON_W,LON_E, degrees); elsewhere
+        /// branches end at --coarse-level.
+        #[arg(
+            long,
+            value_name = "LAT_S,LAT_N,LON_W,LON_E",
+            allow_hyphen_values = true
+        )]
+        fine_region: Option<String>,
+        /// Pyramid level (0 = full resolution, each level doubles the block spacing) where branches outside
+        /// --fine-region end (default 2).
+        #[arg(long)]
+        coarse_level: Option<u32>,
+        /// Multi-resolution tree with the blocks of these quadtree levels not resident (comma-separated; zones
+        /// are level 0).
+        #[arg(long, value_name = "L,L,..")]
+        non_resident_levels: Option<String>,
+        /// Multi-resolution tree with the blocks of the nodes inside this box not resident.
+        #[arg(
+            long,
+            value_name = "LAT_S,LAT_N,LON_W,LON_E",
+            allow_hyphen_values = true
+        )]
+        non_resident_region: Option<String>,
+        /// Report a needed block as an error line instead of paging it in and asking again.
+        #[arg(long)]
+        no_paging: bool,
     },
     /// Marching against the independent oracle on random rays over random grids (both engines, every precision);
     /// exit code 1 when an f64 ray fails the criterion or any list breaks the contract's invariants.
@@ -95,12 +121,24 @@ fn main() -> ExitCode {
             rays,
             min_level,
             block,
+            fine_region,
+            coarse_level,
+            non_resident_levels,
+            non_resident_region,
+            no_paging,
         } => {
             let args = curvicast_host::cli::pick::PickArgs {
                 terrain,
                 rays,
                 min_level,
                 block,
+                multires: curvicast_host::cli::pick::MultiResArgs {
+                    fine_region,
+                    coarse_level,
+                    non_resident_levels,
+                    non_resident_region,
+                    no_paging,
+                },
             };
             let mut out = std::io::stdout().lock();
             curvicast_host::cli::pick::run(&args, &mut out).map_err(anyhow::Error::from)

@@ -227,3 +227,131 @@ fn pick_on_the_shipped_etopo20_written_as_terrain_json_matches_the_oracle() {
     assert!(hits >= 20, "{hits}");
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// Multi-resolution options end to end: a tree with full resolution only in a box, the blocks below the zones not
+/// resident, answered from the zones' blocks (checked against the multi-resolution oracle); the same with
+/// `--min-level` at the full depth, where the tool pages in what each ray needs and the answers are the
+/// full-resolution ones; and `--no-paging`, where a needed block is an error line naming the node.
+#[test]
+fn pick_multi_resolution_options_page_in_what_each_ray_needs() {
+    use curvicast_host::oracle::multires::MultiResOracle;
+    use curvicast_host::scenes::terrain::{DemStorage, MultiRes};
+    let d = dir("multires");
+    let dem = synthetic(
+        TerrainKind::Fractal,
+        (36.0, -118.0, 0.002, 0.002),
+        (97, 97),
+        8,
+    );
+    let json = d.join("terrain.json");
+    dem.write_terrain_json(&json).unwrap();
+    let rays = random_rays(&dem, 60, 9);
+    let text: String = rays
+        .iter()
+        .map(|r| serde_json::to_string(r).unwrap() + "\n")
+        .collect();
+    let rays_path = d.join("rays.jsonl");
+    std::fs::write(&rays_path, &text).unwrap();
+    let base = [
+        "pick",
+        "--terrain",
+        json.to_str().unwrap(),
+        "--rays",
+        rays_path.to_str().unwrap(),
+        "--block",
+        "8",
+    ];
+    let lines = |extra: &[&str]| -> Vec<serde_json::Value> {
+        let args: Vec<&str> = base.iter().chain(extra).copied().collect();
+        let (code, out, err) = run(&args, None);
+        assert_eq!(code, 0, "{err}");
+        out.lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect()
+    };
+    let point = |l: &serde_json::Value| -> Option<[f64; 3]> {
+        let e = l["hit"].get("ecef")?;
+        Some([0, 1, 2].map(|k| e[k].as_f64().unwrap()))
+    };
+    let near = |a: Option<[f64; 3]>, b: Option<[f64; 3]>| match (a, b) {
+        (None, None) => true,
+        (Some(a), Some(b)) => (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt() < 1e-6,
+        _ => false,
+    };
+    // 1. Zones only: the tree of the tool, rebuilt here for the oracle with the same residency.
+    let region = "36.05,36.12,-117.95,-117.88";
+    let out = lines(&[
+        "--fine-region",
+        region,
+        "--coarse-level",
+        "1",
+        "--non-resident-levels",
+        "1,2",
+    ]);
+    let s = DemStorage::multi_resolution(
+        &dem,
+        8,
+        MultiRes {
+            fine_region: Some([36.05, 36.12, -117.95, -117.88]),
+            coarse_level: 1,
+        },
+    );
+    for n in s.tree() {
+        s.set_resident(curvicast::terrain::NodeId(n.id), n.level == 0);
+    }
+    let oracle = MultiResOracle::new(&dem, &s.tree(), 0).expect("zones resident");
+    let mut coarse = 0;
+    for (k, (l, r)) in out.iter().zip(&rays).enumerate() {
+        assert_eq!(l["ray"], k);
+        let o = oracle.pick(r);
+        assert!(near(point(l), o.map(|h| h.point)), "ray {k}: {l} vs {o:?}");
+        coarse += usize::from(
+            l["hit"]
+                .get("stride")
+                .and_then(|s| s.as_u64())
+                .is_some_and(|s| s > 1),
+        );
+    }
+    assert!(coarse > 10, "answers come from coarse blocks ({coarse})");
+    // 2. min_level at full depth: every needed block is paged in; the full-resolution surface answers.
+    let depth = s.depth().to_string();
+    let out = lines(&["--non-resident-levels", "1,2", "--min-level", &depth]);
+    let fine = TerrainOracle::new(&dem);
+    for (k, (l, r)) in out.iter().zip(&rays).enumerate() {
+        assert!(
+            near(point(l), fine.pick(r).map(|h| h.point)),
+            "ray {k}: {l}"
+        );
+        if l["hit"].is_object() {
+            assert_eq!(l["hit"]["stride"], 1);
+        }
+    }
+    // 3. Without paging: error lines naming the needed node.
+    let out = lines(&[
+        "--non-resident-levels",
+        "1,2",
+        "--min-level",
+        &depth,
+        "--no-paging",
+    ]);
+    let needs = out
+        .iter()
+        .filter(|l| {
+            l["error"]
+                .as_str()
+                .is_some_and(|e| e.contains("needs the block of node"))
+        })
+        .count();
+    assert!(needs > 30, "{needs} rays needed a block");
+    // Bad option values are one-line usage errors.
+    for bad in [
+        &["--fine-region", "1,2,3"][..],
+        &["--non-resident-levels", "x"],
+        &["--non-resident-levels", "99"],
+    ] {
+        let args: Vec<&str> = base.iter().chain(bad).copied().collect();
+        let (code, out, err) = run(&args, None);
+        assert_eq!(code, 2, "{bad:?}: {out}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+}

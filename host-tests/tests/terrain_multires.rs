@@ -63,14 +63,18 @@ struct Tally {
 
 /// Every ray through the kernel and the oracle of the storage's current residency.
 fn compare(dem: &Dem, s: &DemStorage<'_>, min_level: u8, rays: &[RaySpec]) -> Tally {
-    let oracle = MultiResOracle::new(dem, &s.tree(), min_level).expect("a surface that needs no block");
+    let oracle =
+        MultiResOracle::new(dem, &s.tree(), min_level).expect("a surface that needs no block");
     let picker: Picker<'_, f64, DemStorage<'_>> = Picker::new(s).expect("picker");
     let picker = picker.with_min_level(min_level);
-    let out: Vec<Result<(Option<Hit<f64>>, bool), String>> = rays
+    type Answer = Result<(Option<Hit<f64>>, bool), String>;
+    let out: Vec<Answer> = rays
         .par_iter()
         .enumerate()
         .map(|(k, r)| {
-            let ours = picker.pick(&kernel_ray(r)).map_err(|e| format!("ray {k} {r:?}: {e}"))?;
+            let ours = picker
+                .pick(&kernel_ray(r))
+                .map_err(|e| format!("ray {k} {r:?}: {e}"))?;
             let truth = oracle.pick(r);
             let agree = |q: Option<[f64; 3]>, tol: f64| match (ours.map(|h| h.ecef), q) {
                 (None, None) => true,
@@ -87,7 +91,9 @@ fn compare(dem: &Dem, s: &DemStorage<'_>, min_level: u8, rays: &[RaySpec]) -> Ta
                     return Ok((ours, true));
                 }
             }
-            Err(format!("ray {k} {r:?}: kernel {ours:?} vs oracle {truth:?}"))
+            Err(format!(
+                "ray {k} {r:?}: kernel {ours:?} vs oracle {truth:?}"
+            ))
         })
         .collect();
     let mut t = Tally::default();
@@ -117,7 +123,12 @@ fn assert_clean(name: &str, t: &Tally) {
         "{name}: {} rays, {} hits ({} on coarse cells), {} ties, worst {:.2e} m",
         t.rays, t.hits, t.coarse_hits, t.ties, t.worst
     );
-    assert!(t.failures.is_empty(), "{name}: {} failures, first: {:#?}", t.failures.len(), &t.failures[..t.failures.len().min(5)]);
+    assert!(
+        t.failures.is_empty(),
+        "{name}: {} failures, first: {:#?}",
+        t.failures.len(),
+        &t.failures[..t.failures.len().min(5)]
+    );
     assert!(t.ties * 50 <= t.rays, "{name}: too many ties ({})", t.ties);
 }
 
@@ -133,7 +144,11 @@ fn border_rays(dem: &Dem, tree: &[TreeNode], n: usize, seed: u64) -> Vec<RaySpec
         let k = out.len();
         let node = &tree[rng.random_range(0..tree.len())];
         let along_row = rng.random_bool(0.5);
-        let (ends, last) = if along_row { (node.rows, cr) } else { (node.cols, cc) };
+        let (ends, last) = if along_row {
+            (node.rows, cr)
+        } else {
+            (node.cols, cc)
+        };
         let inner: Vec<u32> = ends.into_iter().filter(|&x| x > 0 && x < last).collect();
         if inner.is_empty() {
             continue;
@@ -147,7 +162,13 @@ fn border_rays(dem: &Dem, tree: &[TreeNode], n: usize, seed: u64) -> Vec<RaySpec
         };
         let (fi, fj) = if along_row { (at, pos) } else { (pos, at) };
         let (lat, lon) = (dem.lat0 + fi * dem.dlat, dem.lon0 + fj * dem.dlon);
-        let top = geodetic_to_ecef_f64(dem.a, dem.b, lat, lon, f64::from(hmax) + rng.random_range(50.0..5000.0));
+        let top = geodetic_to_ecef_f64(
+            dem.a,
+            dem.b,
+            lat,
+            lon,
+            f64::from(hmax) + rng.random_range(50.0..5000.0),
+        );
         let jitter = if k % 2 == 0 { 0.0 } else { 0.3 };
         let fi2 = (fi + rng.random_range(-jitter..=jitter)).clamp(0.5, f64::from(cr) - 0.5);
         let fj2 = (fj + rng.random_range(-jitter..=jitter)).clamp(0.5, f64::from(cc) - 0.5);
@@ -171,17 +192,45 @@ fn grazing_border_rays(dem: &Dem, tree: &[TreeNode], n: usize, seed: u64) -> Vec
     (0..n)
         .map(|_| {
             let node = &tree[rng.random_range(0..tree.len())];
-            let i = if rng.random_bool(0.5) { node.rows[0] } else { node.rows[1] } as usize;
-            let j = if rng.random_bool(0.5) { node.cols[0] } else { node.cols[1] } as usize;
+            let i = if rng.random_bool(0.5) {
+                node.rows[0]
+            } else {
+                node.rows[1]
+            } as usize;
+            let j = if rng.random_bool(0.5) {
+                node.cols[0]
+            } else {
+                node.cols[1]
+            } as usize;
             let h = f64::from(hmax) + rng.random_range(1.0..30.0);
             let o = geodetic_to_ecef_f64(dem.a, dem.b, dem.lat(i), dem.lon(j), h);
             // A target along the row (parallel) or the column (meridian), far enough to cross many cells.
             let (ti, tj) = if rng.random_bool(0.5) {
-                (i as f64, if j > dem.cols / 2 { 0.0 } else { (dem.cols - 1) as f64 })
+                (
+                    i as f64,
+                    if j > dem.cols / 2 {
+                        0.0
+                    } else {
+                        (dem.cols - 1) as f64
+                    },
+                )
             } else {
-                (if i > dem.rows / 2 { 0.0 } else { (dem.rows - 1) as f64 }, j as f64)
+                (
+                    if i > dem.rows / 2 {
+                        0.0
+                    } else {
+                        (dem.rows - 1) as f64
+                    },
+                    j as f64,
+                )
             };
-            let far = geodetic_to_ecef_f64(dem.a, dem.b, dem.lat0 + ti * dem.dlat, dem.lon0 + tj * dem.dlon, h);
+            let far = geodetic_to_ecef_f64(
+                dem.a,
+                dem.b,
+                dem.lat0 + ti * dem.dlat,
+                dem.lon0 + tj * dem.dlon,
+                h,
+            );
             let horiz = [0, 1, 2].map(|a| far[a] - o[a]);
             let len = (horiz.iter().map(|x| x * x).sum::<f64>()).sqrt();
             let up = {
@@ -205,8 +254,20 @@ fn shaped(dem: &Dem, coarse: usize) -> DemStorage<'_> {
         dem.lon0 + (cj - q(dem.cols as f64)) * dem.dlon,
         dem.lon0 + (cj + q(dem.cols as f64)) * dem.dlon,
     ];
-    let region = [region[0].min(region[1]), region[0].max(region[1]), region[2], region[3]];
-    DemStorage::multi_resolution(dem, 8, MultiRes { fine_region: Some(region), coarse_level: coarse })
+    let region = [
+        region[0].min(region[1]),
+        region[0].max(region[1]),
+        region[2],
+        region[3],
+    ];
+    DemStorage::multi_resolution(
+        dem,
+        8,
+        MultiRes {
+            fine_region: Some(region),
+            coarse_level: coarse,
+        },
+    )
 }
 
 fn run_suite(name: &str, dem: &Dem, coarse: usize, seeds: u64, rays_per: usize) {
@@ -220,7 +281,9 @@ fn run_suite(name: &str, dem: &Dem, coarse: usize, seeds: u64, rays_per: usize) 
         let salt: u64 = rng.random();
         // Random residency, independent per node (the kernel then uses a block only below resident ancestors).
         set_residency(&s, min_level, |n| {
-            let mut r = ChaCha8Rng::seed_from_u64(salt ^ u64::from(n.id).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+            let mut r = ChaCha8Rng::seed_from_u64(
+                salt ^ u64::from(n.id).wrapping_mul(0x9E37_79B9_7F4A_7C15),
+            );
             r.random_bool(p)
         });
         let tree = s.tree();
@@ -229,7 +292,12 @@ fn run_suite(name: &str, dem: &Dem, coarse: usize, seeds: u64, rays_per: usize) 
         rays.extend(camera_rays(dem, rays_per / 4, 1500.0, seed + 300));
         rays.extend(random_rays(dem, rays_per / 4, seed + 400));
         let t = compare(dem, &s, min_level, &rays);
-        assert!(t.failures.is_empty(), "{name} seed {seed} (min_level {min_level}, p {p:.2}): {} failures, first: {:#?}", t.failures.len(), &t.failures[..t.failures.len().min(4)]);
+        assert!(
+            t.failures.is_empty(),
+            "{name} seed {seed} (min_level {min_level}, p {p:.2}): {} failures, first: {:#?}",
+            t.failures.len(),
+            &t.failures[..t.failures.len().min(4)]
+        );
         total.rays += t.rays;
         total.hits += t.hits;
         total.coarse_hits += t.coarse_hits;
@@ -267,7 +335,10 @@ fn rays_along_resolution_borders_find_no_crack() {
         let s = shaped(&dem, 2);
         let tree = s.tree();
         let oracle = MultiResOracle::new(&dem, &tree, 0).expect("all resident");
-        assert!(oracle.stitched_cells() > 0, "the tree has resolution borders");
+        assert!(
+            oracle.stitched_cells() > 0,
+            "the tree has resolution borders"
+        );
         let rays = border_rays(&dem, &tree, 3000, seed);
         let misses: Vec<usize> = rays
             .par_iter()
@@ -275,7 +346,12 @@ fn rays_along_resolution_borders_find_no_crack() {
             .filter(|(_, r)| pick(&s, 0, r).expect("answer").is_none())
             .map(|(k, _)| k)
             .collect();
-        assert!(misses.is_empty(), "lat {lat}: {} rays passed through the surface, first {:?}", misses.len(), rays[misses[0]]);
+        assert!(
+            misses.is_empty(),
+            "lat {lat}: {} rays passed through the surface, first {:?}",
+            misses.len(),
+            rays[misses[0]]
+        );
         let t = compare(&dem, &s, 0, &rays[..600]);
         assert_clean(&format!("borders at {lat}°"), &t);
     }
@@ -287,7 +363,14 @@ mod ancestor_loop {
     use super::*;
 
     fn setup(dem: &Dem) -> DemStorage<'_> {
-        DemStorage::multi_resolution(dem, 8, MultiRes { fine_region: None, coarse_level: 0 })
+        DemStorage::multi_resolution(
+            dem,
+            8,
+            MultiRes {
+                fine_region: None,
+                coarse_level: 0,
+            },
+        )
     }
 
     /// A ray straight down onto the middle of leaf `leaf`.
@@ -311,11 +394,24 @@ mod ancestor_loop {
 
     fn a_deep_leaf(tree: &[TreeNode]) -> TreeNode {
         let depth = tree.iter().map(|n| n.level).max().expect("nodes");
-        *tree.iter().filter(|n| n.leaf && n.level == depth).nth(5).expect("leaves")
+        *tree
+            .iter()
+            .filter(|n| n.leaf && n.level == depth)
+            .nth(5)
+            .expect("leaves")
     }
 
-    fn check_against_oracle(dem: &Dem, s: &DemStorage<'_>, min_level: u8, r: &RaySpec, hit: &Hit<f64>) {
-        let o = MultiResOracle::new(dem, &s.tree(), min_level).expect("surface").pick(r).expect("oracle hit");
+    fn check_against_oracle(
+        dem: &Dem,
+        s: &DemStorage<'_>,
+        min_level: u8,
+        r: &RaySpec,
+        hit: &Hit<f64>,
+    ) {
+        let o = MultiResOracle::new(dem, &s.tree(), min_level)
+            .expect("surface")
+            .pick(r)
+            .expect("oracle hit");
         assert!(dist(o.point, hit.ecef) < TOL, "{hit:?} vs {o:?}");
         assert_eq!((o.level, o.stride), (hit.level, hit.stride));
     }
@@ -380,7 +476,10 @@ mod ancestor_loop {
         let hit = pick(&s, 0, &r).expect("answer").expect("hit");
         assert_eq!(hit.level, 0);
         // min_level 1: the zone may not; the node at level 1 is needed.
-        assert_eq!(pick(&s, 1, &r), Err(TerrainError::NeedsBlock(NodeId(p[1].id))));
+        assert_eq!(
+            pick(&s, 1, &r),
+            Err(TerrainError::NeedsBlock(NodeId(p[1].id)))
+        );
         // Paged in, it answers, and its own missing child falls back to it.
         s.set_resident(NodeId(p[1].id), true);
         let hit = pick(&s, 1, &r).expect("answer").expect("hit");
@@ -393,10 +492,20 @@ mod ancestor_loop {
         let dem = dem_at(45.0, 7.0, 97, 11);
         // Leaves at pyramid level 2 (kernel level 1) outside a small box.
         let box_ = [45.0, 45.02, 7.0, 7.02];
-        let s = DemStorage::multi_resolution(&dem, 8, MultiRes { fine_region: Some(box_), coarse_level: 2 });
+        let s = DemStorage::multi_resolution(
+            &dem,
+            8,
+            MultiRes {
+                fine_region: Some(box_),
+                coarse_level: 2,
+            },
+        );
         let tree = s.tree();
         let depth = tree.iter().map(|n| n.level).max().expect("nodes");
-        let shallow = *tree.iter().filter(|n| n.leaf && n.level < depth).last().expect("a coarse leaf");
+        let shallow = *tree
+            .iter()
+            .rfind(|n| n.leaf && n.level < depth)
+            .expect("a coarse leaf");
         let r = down_onto(&dem, &shallow);
         // Every inner node not resident: irrelevant, the leaves are at or above min_level = depth.
         for n in &tree {
@@ -407,7 +516,10 @@ mod ancestor_loop {
         check_against_oracle(&dem, &s, depth, &r, &hit);
         // The leaf itself missing: its block is needed, whatever its ancestors hold.
         s.set_resident(NodeId(shallow.id), false);
-        assert_eq!(pick(&s, depth, &r), Err(TerrainError::NeedsBlock(NodeId(shallow.id))));
+        assert_eq!(
+            pick(&s, depth, &r),
+            Err(TerrainError::NeedsBlock(NodeId(shallow.id)))
+        );
     }
 }
 
@@ -416,7 +528,14 @@ mod ancestor_loop {
 #[test]
 fn min_level_at_full_depth_is_the_single_resolution_surface() {
     let dem = dem_at(-12.0, 131.0, 97, 21);
-    let s = DemStorage::multi_resolution(&dem, 8, MultiRes { fine_region: None, coarse_level: 0 });
+    let s = DemStorage::multi_resolution(
+        &dem,
+        8,
+        MultiRes {
+            fine_region: None,
+            coarse_level: 0,
+        },
+    );
     let depth = s.tree().iter().map(|n| n.level).max().expect("nodes");
     let oracle = TerrainOracle::new(&dem);
     let rays = random_rays(&dem, 400, 9);
@@ -433,4 +552,3 @@ fn min_level_at_full_depth_is_the_single_resolution_surface() {
         }
     }
 }
-

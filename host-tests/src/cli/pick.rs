@@ -3,15 +3,24 @@
 //! [`curvicast::terrain::Picker`] over the host's [`DemStorage`] (seed 000 §3–§4).
 //!
 //! Output, one line per ray in input order:
-//! `{"ray": 0, "hit": {"t": .., "ecef": [x, y, z], "lat": .., "lon": .., "h": .., "cell": [i, j], "level": L}}`,
-//! `{"ray": 1, "hit": null}`, or `{"ray": 2, "error": ".."}` for a ray that cannot be answered. `level` (the
-//! quadtree depth of the leaf, zones are 0) is an extra field.
+//! `{"ray": 0, "hit": {"t": .., "ecef": [x, y, z], "lat": .., "lon": .., "h": .., "cell": [i, j], "level": L,
+//! "stride": S}}`, `{"ray": 1, "hit": null}`, or `{"ray": 2, "error": ".."}` for a ray that cannot be answered.
+//! `level` (the quadtree depth of the node whose block answered, zones are 0) and `stride` (the traced cell's
+//! size in grid steps) are extra fields.
+//!
+//! Multi-resolution experiments (seed 000 §5): `--fine-region` and `--coarse-level` shape a tree whose branches
+//! end early outside a box, `--non-resident-levels` and `--non-resident-region` mark blocks as not in memory,
+//! and `--min-level` limits which coarser blocks may stand in for missing ones. With any of the first four, every
+//! node has its own block (the DEM subsampled at 2^k grid steps, k its height above the full-resolution
+//! level). A ray whose answer needs a missing block gets it paged in and is asked again (the caller's side of
+//! `NeedsBlock`; per ray, so answers do not depend on the order of the rays), or with `--no-paging` an error
+//! line naming the node.
 
 use super::io::{UsageError, error_line, read_rays};
 use crate::scenes::spec::RaySpec;
-use crate::scenes::terrain::{DemStorage, load_terrain};
+use crate::scenes::terrain::{DemStorage, MultiRes, load_terrain};
 use curvicast::Ray;
-use curvicast::terrain::Picker;
+use curvicast::terrain::{NodeId, Picker, TerrainError, TerrainStorage};
 use rayon::prelude::*;
 use std::io::Write;
 use std::path::PathBuf;
@@ -29,6 +38,93 @@ pub struct PickArgs {
     pub min_level: u32,
     /// Cells per leaf-block side (default 16), 1 to 1024.
     pub block: usize,
+    /// The multi-resolution options.
+    pub multires: MultiResArgs,
+}
+
+/// The multi-resolution options of `curvicast pick` (as given on the command line; checked by [`run`]).
+#[derive(Debug, Clone, Default)]
+pub struct MultiResArgs {
+    /// `LAT_S,LAT_N,LON_W,LON_E`: full resolution only inside.
+    pub fine_region: Option<String>,
+    /// Pyramid level where branches outside the fine region end.
+    pub coarse_level: Option<u32>,
+    /// Comma-separated quadtree levels whose blocks are not resident.
+    pub non_resident_levels: Option<String>,
+    /// `LAT_S,LAT_N,LON_W,LON_E`: blocks of nodes inside are not resident.
+    pub non_resident_region: Option<String>,
+    /// Print needed blocks as errors instead of paging them in.
+    pub no_paging: bool,
+}
+
+impl MultiResArgs {
+    fn any(&self) -> bool {
+        self.fine_region.is_some()
+            || self.coarse_level.is_some()
+            || self.non_resident_levels.is_some()
+            || self.non_resident_region.is_some()
+    }
+}
+
+/// Parses `LAT_S,LAT_N,LON_W,LON_E`.
+fn parse_box(flag: &str, v: &str) -> Result<[f64; 4], UsageError> {
+    let parts: Vec<f64> = v
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| {
+            UsageError(format!(
+                "{flag}: {e} in {v:?} (expected LAT_S,LAT_N,LON_W,LON_E)"
+            ))
+        })?;
+    match parts.as_slice() {
+        &[a, b, c, d] if parts.iter().all(|x| x.is_finite()) && a <= b && c <= d => {
+            Ok([a, b, c, d])
+        }
+        _ => Err(UsageError(format!(
+            "{flag}: expected four finite numbers LAT_S,LAT_N,LON_W,LON_E with LAT_S <= LAT_N and LON_W <= LON_E, \
+             got {v:?}"
+        ))),
+    }
+}
+
+/// A storage whose blocks are the base's plus those paged in while answering one ray.
+struct Paged<'b, 'd> {
+    base: &'b DemStorage<'d>,
+    paged: std::cell::RefCell<Vec<NodeId>>,
+}
+
+impl TerrainStorage<f64> for Paged<'_, '_> {
+    fn ellipsoid(&self) -> curvicast::geodesy::Ellipsoid<f64> {
+        self.base.ellipsoid()
+    }
+    fn grid(&self) -> curvicast::terrain::Grid<f64> {
+        self.base.grid()
+    }
+    fn zone_count(&self) -> usize {
+        TerrainStorage::<f64>::zone_count(self.base)
+    }
+    fn zone(&self, k: usize) -> Option<NodeId> {
+        TerrainStorage::<f64>::zone(self.base, k)
+    }
+    fn node(&self, id: NodeId) -> Option<curvicast::terrain::Node<f64>> {
+        self.base.node(id)
+    }
+    fn height(&self, i: u32, j: u32) -> Option<f64> {
+        self.base.height(i, j)
+    }
+    fn is_resident(&self, id: NodeId) -> bool {
+        TerrainStorage::<f64>::is_resident(self.base, id) || self.paged.borrow().contains(&id)
+    }
+    fn block_stride(&self, id: NodeId) -> u32 {
+        TerrainStorage::<f64>::block_stride(self.base, id)
+    }
+    fn row_sin_cos(&self, i: u32) -> (f64, f64) {
+        self.base.row_sin_cos(i)
+    }
+    fn col_sin_cos(&self, j: u32) -> (f64, f64) {
+        self.base.col_sin_cos(j)
+    }
 }
 
 /// The output line for one answered ray.
@@ -37,19 +133,49 @@ pub fn hit_line(ray: usize, hit: Option<&curvicast::terrain::Hit<f64>>) -> Strin
         None => serde_json::json!({"ray": ray, "hit": null}).to_string(),
         Some(h) => serde_json::json!({"ray": ray, "hit": {
             "t": h.t, "ecef": h.ecef, "lat": h.lat, "lon": h.lon, "h": h.h,
-            "cell": h.cell, "level": h.level}})
+            "cell": h.cell, "level": h.level, "stride": h.stride}})
         .to_string(),
     }
 }
 
-/// Answers one ray (the line it prints).
-pub fn answer(picker: &Picker<'_, f64, DemStorage<'_>>, k: usize, r: &RaySpec) -> String {
+/// Answers one ray (the line it prints): with `paging`, a needed block is paged in (for this ray only) and the
+/// ray asked again.
+pub fn answer(
+    picker: &Picker<'_, f64, DemStorage<'_>>,
+    storage: &DemStorage<'_>,
+    paging: bool,
+    k: usize,
+    r: &RaySpec,
+) -> String {
     let ray =
         match Ray::new(r.origin, r.dir).and_then(|x| x.with_interval(r.t_min, r.t_max_or_inf())) {
             Ok(x) => x,
             Err(e) => return error_line(k, &format!("invalid ray: {e}")),
         };
-    match picker.pick(&ray) {
+    let mut result = picker.pick(&ray);
+    if paging {
+        if let Err(TerrainError::NeedsBlock(first)) = result {
+            let paged = Paged {
+                base: storage,
+                paged: std::cell::RefCell::new(vec![first]),
+            };
+            match Picker::<f64, Paged<'_, '_>>::new(&paged) {
+                Err(e) => result = Err(e),
+                Ok(p) => {
+                    let p = p.with_min_level(picker.min_level());
+                    // Every retry pages in one more node, so this ends within the tree's size.
+                    for _ in 0..=storage.node_count() {
+                        result = p.pick(&ray);
+                        let Err(TerrainError::NeedsBlock(id)) = result else {
+                            break;
+                        };
+                        paged.paged.borrow_mut().push(id);
+                    }
+                }
+            }
+        }
+    }
+    match result {
         Ok(h) => hit_line(k, h.as_ref()),
         Err(e) => error_line(k, &format!("pick failed: {e}")),
     }
@@ -64,10 +190,51 @@ pub fn run(args: &PickArgs, out: &mut dyn Write) -> Result<(), UsageError> {
             args.block
         )));
     }
+    let m = &args.multires;
+    let fine_region = m
+        .fine_region
+        .as_deref()
+        .map(|v| parse_box("--fine-region", v))
+        .transpose()?;
+    let non_resident_region = m
+        .non_resident_region
+        .as_deref()
+        .map(|v| parse_box("--non-resident-region", v))
+        .transpose()?;
+    let non_resident_levels: Vec<u32> = match &m.non_resident_levels {
+        None => Vec::new(),
+        Some(v) => v
+            .split(',')
+            .map(|x| x.trim().parse::<u32>())
+            .collect::<Result<_, _>>()
+            .map_err(|e| {
+                UsageError(format!(
+                    "--non-resident-levels: {e} in {v:?} (expected levels like 2,3)"
+                ))
+            })?,
+    };
+    if m.coarse_level.is_some_and(|c| c > 30) {
+        return Err(UsageError(
+            "--coarse-level: must be between 0 and 30".into(),
+        ));
+    }
     let dem = load_terrain(&args.terrain).map_err(|e| UsageError(e.to_string()))?;
-    let storage = DemStorage::new(&dem, args.block);
-    let picker: Picker<'_, f64, DemStorage<'_>> = Picker::new(&storage)
-        .map_err(|e| UsageError(format!("{}: terrain rejected: {e}", args.terrain.display())))?;
+    let storage = if m.any() {
+        DemStorage::multi_resolution(
+            &dem,
+            args.block,
+            MultiRes {
+                fine_region,
+                coarse_level: if fine_region.is_some() {
+                    m.coarse_level.unwrap_or(2) as usize
+                } else {
+                    0
+                },
+            },
+        )
+    } else {
+        DemStorage::new(&dem, args.block)
+    };
     let depth = storage.depth();
     if args.min_level > depth {
         return Err(UsageError(format!(
@@ -75,6 +242,27 @@ pub fn run(args: &PickArgs, out: &mut dyn Write) -> Result<(), UsageError> {
             args.min_level, args.block
         )));
     }
+    if let Some(&l) = non_resident_levels.iter().find(|&&l| l > depth) {
+        return Err(UsageError(format!(
+            "--non-resident-levels: {l} is deeper than the terrain's quadtree (levels 0 to {depth})"
+        )));
+    }
+    if m.any() {
+        let lat = |i: u32| dem.lat0 + f64::from(i) * dem.dlat;
+        let lon = |j: u32| dem.lon0 + f64::from(j) * dem.dlon;
+        for n in storage.tree() {
+            let inside = non_resident_region.is_some_and(|[s, nn, w, e]| {
+                let (a, b) = (lat(n.rows[0]), lat(n.rows[1]));
+                a.min(b) >= s && a.max(b) <= nn && lon(n.cols[0]) >= w && lon(n.cols[1]) <= e
+            });
+            if inside || non_resident_levels.contains(&u32::from(n.level)) {
+                storage.set_resident(NodeId(n.id), false);
+            }
+        }
+    }
+    let picker: Picker<'_, f64, DemStorage<'_>> = Picker::new(&storage)
+        .map_err(|e| UsageError(format!("{}: terrain rejected: {e}", args.terrain.display())))?;
+    let picker = picker.with_min_level(u8::try_from(args.min_level).unwrap_or(u8::MAX));
     let rays = read_rays(args.rays.as_deref())?;
     // A progress bar on stderr for long runs, only when stderr is a terminal (never on stdout).
     let bar = (rays.len() >= 10_000 && std::io::IsTerminal::is_terminal(&std::io::stderr()))
@@ -87,7 +275,7 @@ pub fn run(args: &PickArgs, out: &mut dyn Write) -> Result<(), UsageError> {
                 b.inc(1);
             }
             match r {
-                Ok(r) => answer(&picker, k, r),
+                Ok(r) => answer(&picker, &storage, !m.no_paging, k, r),
                 Err(e) => error_line(k, e),
             }
         })

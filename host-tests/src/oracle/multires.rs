@@ -79,12 +79,14 @@ pub struct MultiResHit {
     pub level: u8,
 }
 
+/// One triangle of the surface: its vertices, their `f64` positions, its cell and the cell's region.
+type Triangle = ([V; 3], [[f64; 3]; 3], [u32; 2], Region);
+
 /// The surface of one tree, residency and `min_level`, ready for rays.
 pub struct MultiResOracle<'a> {
     dem: &'a Dem,
     exact: Exact,
-    /// Triangles: vertices, their `f64` positions, the cell and its region.
-    tris: Vec<([V; 3], [[f64; 3]; 3], [u32; 2], Region)>,
+    tris: Vec<Triangle>,
     stitched_cells: usize,
 }
 
@@ -107,21 +109,40 @@ impl<'a> MultiResOracle<'a> {
                 if !leaf.resident {
                     return Err(leaf.id);
                 }
-                Region { rows: leaf.rows, cols: leaf.cols, stride: leaf.stride, level: leaf.level }
+                Region {
+                    rows: leaf.rows,
+                    cols: leaf.cols,
+                    stride: leaf.stride,
+                    level: leaf.level,
+                }
             } else {
-                let m = path.iter().position(|n| n.level >= min_level).expect("the leaf itself");
+                let m = path
+                    .iter()
+                    .position(|n| n.level >= min_level)
+                    .expect("the leaf itself");
                 match path[m..].iter().position(|n| !n.resident).map(|k| k + m) {
-                    None => Region { rows: leaf.rows, cols: leaf.cols, stride: leaf.stride, level: leaf.level },
+                    None => Region {
+                        rows: leaf.rows,
+                        cols: leaf.cols,
+                        stride: leaf.stride,
+                        level: leaf.level,
+                    },
                     Some(j) if j == m => return Err(path[j].id),
                     Some(j) => {
                         let (pj, src) = (path[j], path[j - 1]);
                         let on = |r: [u32; 2], last: usize| {
-                            r[0] % src.stride == 0 && (r[1] % src.stride == 0 || r[1] as usize == last)
+                            r[0] % src.stride == 0
+                                && (r[1] % src.stride == 0 || r[1] as usize == last)
                         };
                         if !(on(pj.rows, cr) && on(pj.cols, cc)) {
                             return Err(pj.id);
                         }
-                        Region { rows: pj.rows, cols: pj.cols, stride: src.stride, level: src.level }
+                        Region {
+                            rows: pj.rows,
+                            cols: pj.cols,
+                            stride: src.stride,
+                            level: src.level,
+                        }
                     }
                 }
             };
@@ -170,12 +191,20 @@ impl<'a> MultiResOracle<'a> {
                         let Some(a) = acr else { continue };
                         let (row_side, _, from, to, pts) = side;
                         for k in *from..*to {
-                            let nb = if *row_side { region_at(a, k as i64) } else { region_at(k as i64, a) };
+                            let nb = if *row_side {
+                                region_at(a, k as i64)
+                            } else {
+                                region_at(k as i64, a)
+                            };
                             let Some(nb) = nb else { continue };
                             if nb.stride >= s {
                                 continue;
                             }
-                            let (lo, hi) = if *row_side { (nb.cols[0], nb.cols[1]) } else { (nb.rows[0], nb.rows[1]) };
+                            let (lo, hi) = if *row_side {
+                                (nb.cols[0], nb.cols[1])
+                            } else {
+                                (nb.rows[0], nb.rows[1])
+                            };
                             let mut p = lo.max(*from).div_ceil(nb.stride) * nb.stride;
                             while p <= hi.min(*to) {
                                 if p > *from && p < *to {
@@ -186,7 +215,9 @@ impl<'a> MultiResOracle<'a> {
                         }
                     }
                     let (iu, ju, i1u, j1u) = (i as usize, j as usize, i1 as usize, j1 as usize);
-                    let stitched = sides.iter().any(|s| !s.4.is_empty()) && present(iu, ju) && present(i1u, j1u);
+                    let stitched = sides.iter().any(|s| !s.4.is_empty())
+                        && present(iu, ju)
+                        && present(i1u, j1u);
                     let mut add = |v: [V; 3]| {
                         let ok = v.iter().all(|x| match *x {
                             V::Grid(a, b) => present(a, b),
@@ -202,7 +233,11 @@ impl<'a> MultiResOracle<'a> {
                         let m = V::Mid(iu, ju, i1u, j1u);
                         for (row_side, fixed, from, to, pts) in &sides {
                             let at = |p: u32| {
-                                if *row_side { V::Grid(*fixed as usize, p as usize) } else { V::Grid(p as usize, *fixed as usize) }
+                                if *row_side {
+                                    V::Grid(*fixed as usize, p as usize)
+                                } else {
+                                    V::Grid(p as usize, *fixed as usize)
+                                }
                             };
                             let mut prev = at(*from);
                             for &p in pts.iter().chain(std::iter::once(to)) {
@@ -219,7 +254,12 @@ impl<'a> MultiResOracle<'a> {
                 i = i1;
             }
         }
-        Ok(MultiResOracle { dem, exact: Exact::new(dem), tris, stitched_cells })
+        Ok(MultiResOracle {
+            dem,
+            exact: Exact::new(dem),
+            tris,
+            stitched_cells,
+        })
     }
 
     /// The number of triangles of the surface.
@@ -250,7 +290,9 @@ impl<'a> MultiResOracle<'a> {
         let (o, d) = (ray.origin, ray.dir);
         let (t0, t1) = (ray.t_min, ray.t_max_or_inf());
         let dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-        if !(dd > 0.0) || !(t0 <= t1) {
+        if dd.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+            || t0.partial_cmp(&t1).is_none_or(|c| c.is_gt())
+        {
             return None;
         }
         let mut cands: Vec<(f64, usize)> = self
@@ -274,7 +316,10 @@ impl<'a> MultiResOracle<'a> {
             let Some(t) = intersect_exact(&ob, &db, &v, &t0b, t1b.as_ref()) else {
                 continue;
             };
-            if best.as_ref().is_none_or(|(bt, ..)| t.cmp(bt).is_some_and(|c| c < 0)) {
+            if best
+                .as_ref()
+                .is_none_or(|(bt, ..)| t.cmp(bt).is_some_and(|c| c < 0))
+            {
                 let tf = to_f64(&t);
                 best = Some((t, tf, k));
             }

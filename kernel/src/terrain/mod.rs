@@ -61,6 +61,50 @@
 //! the triangle test itself). Overlapping inflated volumes only cost extra tests, never a miss. CesiumJS's picking
 //! returns the first tile with a hit (its issue #3423); this traversal cannot.
 //!
+//! # Multi-resolution (§5–§6)
+//!
+//! A storage may give every node a *block*: the DEM's vertices at a spacing of
+//! [`TerrainStorage::block_stride`] grid steps within the node (coarser nodes subsample the finest data; a
+//! vertex has one height), resident or not ([`TerrainStorage::is_resident`]). Branches may end at different
+//! depths. The defaults (stride 1, always resident) give the single-resolution surface above.
+//!
+//! **Which blocks are traced.** The traversal descends from the zones. A node shallower than the picker's
+//! `min_level` ([`Picker::with_min_level`]) is only passed through, unless it is a leaf: then its own block is
+//! traced, or [`TerrainError::NeedsBlock`] is reported if it is missing. From `min_level` on, a resident node
+//! is the *source* for its subtree and the traversal goes on into its children; a resident leaf traces its own
+//! block; the first node on a path whose block is missing is traced whole with its source's block — the part of
+//! the source's block over the node, cells `(r − r_A)/s_A` of the source `A` (the §5 block subset; for the leaf
+//! `k` levels below `A` it is [`subset::BlockSubset`]'s rectangle after `k` steps). If that node is at
+//! `min_level` (no source) or its ranges do not fall on the source's sample lattice, its own block is needed.
+//! This is the paper's ancestor fallback when blocks are paged top-down (parents before children, §5); a
+//! resident block below a missing one is not used. That rule keeps the traced regions disjoint: a coarse cell
+//! never overlaps finer data, so the surface is one sheet.
+//!
+//! **`NeedsBlock`.** A missing block is reported only if the ray reaches its node before the nearest hit found
+//! elsewhere: the answer depends on it. The caller pages the block in and asks again.
+//!
+//! **Continuity (§6).** Where a region traced with coarse cells borders a finer one, the finer side's vertices
+//! on the shared border are T-junctions of the coarse edge, and a ray could pass through the crack between the
+//! coarse chord and the finer polyline. The coarse border cell is therefore re-triangulated (the "artificial
+//! polygons between blocks" option of §6, as a fan): from the middle `M` of its diagonal `V00–V11` to its
+//! corners and to every vertex that a finer neighbouring region has on its sides, side by side. Both sides then
+//! share every edge exactly (same vertices, same rounding), so the watertight triangle test lets no ray
+//! through. A cell without such vertices keeps its two triangles. The surface intersected is thus: every traced
+//! cell's two triangles, except stitched cells, which are their fans. The host's multi-resolution oracle builds
+//! exactly this surface with logic of its own. The neighbours' regions come from the same rules, followed down
+//! the one path to a neighbouring cell (O(depth) per side of a coarse border cell that the ray crosses).
+//! Limitation: a global grid's closing meridian (its last column repeating the first) is treated as an edge of
+//! the DEM, with no stitching across it.
+//!
+//! **Bounds.** A node's volume bounds the coarsest cells traced under it: its own block's (a resident node's
+//! descendants are finer), or its source's when it falls back. A stitched cell's vertices on a latitude side
+//! lie on the latitude cone, which bulges across the cell's chord plane on one side (the southern side for
+//! ψ > 0, the northern for ψ < 0); there a border cell of a coarse region uses the cone's tangent plane along
+//! its middle meridian instead. Coarse and stitched hits are refined like full-resolution ones, without the
+//! containment walk (a refined point beyond an edge keeps the traversal's hit), and the walk of a
+//! full-resolution hit steps only into cells traced at full resolution. [`Hit::level`] and [`Hit::stride`]
+//! say which block answered.
+//!
 //! # Cost
 //!
 //! Per child of a visited quad, only along the part of the ray inside the parent and only against the child's
@@ -657,8 +701,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 };
                 // The volume bounds the coarsest cells traced under the child: its own block's, or the source's
                 // when the child falls back to it.
-                let falls_back =
-                    child.level >= self.min_level && !self.storage.is_resident(*cid);
+                let falls_back = child.level >= self.min_level && !self.storage.is_resident(*cid);
                 let vol = match src {
                     Some(s) if falls_back => s.stride,
                     _ => stride,
@@ -898,7 +941,13 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             // West wall: n_w·P ≥ 0, n_w = (−sin λ_w, cos λ_w, 0); east wall: n_e·P ≤ 0.
             let mag = (o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * (lo.abs().max(hi.abs()));
             let tol = tau * mag;
-            clip_half_space(&mut lo, &mut hi, cw * o.y - sw * o.x, cw * d.y - sw * d.x, tol);
+            clip_half_space(
+                &mut lo,
+                &mut hi,
+                cw * o.y - sw * o.x,
+                cw * d.y - sw * d.x,
+                tol,
+            );
             clip_half_space(
                 &mut lo,
                 &mut hi,
@@ -1007,7 +1056,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                         ])
                     }
                 };
-                for (tri, which) in [([v00, v01, v11], refs(true)), ([v00, v11, v10], refs(false))] {
+                for (tri, which) in [
+                    ([v00, v01, v11], refs(true)),
+                    ([v00, v11, v10], refs(false)),
+                ] {
                     if let [Some(a), Some(b), Some(c)] = tri {
                         self.test_triangle(w, [a, b, c], [row_i, j], which, u);
                     }
@@ -1077,10 +1129,34 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let mid = Vtx::Mid([i, j, i1, j1]);
         // The four sides from corner to corner, each with its extra vertices in increasing order.
         let all = [
-            SideAt { along_cols: true, fixed: i, from: j, to: j1, across: None },
-            SideAt { along_cols: true, fixed: i1, from: j, to: j1, across: None },
-            SideAt { along_cols: false, fixed: j, from: i, to: i1, across: None },
-            SideAt { along_cols: false, fixed: j1, from: i, to: i1, across: None },
+            SideAt {
+                along_cols: true,
+                fixed: i,
+                from: j,
+                to: j1,
+                across: None,
+            },
+            SideAt {
+                along_cols: true,
+                fixed: i1,
+                from: j,
+                to: j1,
+                across: None,
+            },
+            SideAt {
+                along_cols: false,
+                fixed: j,
+                from: i,
+                to: i1,
+                across: None,
+            },
+            SideAt {
+                along_cols: false,
+                fixed: j1,
+                from: i,
+                to: i1,
+                across: None,
+            },
         ];
         for (k, plain) in all.iter().enumerate() {
             let side = sides.get(k).copied().flatten().unwrap_or(*plain);
@@ -1095,11 +1171,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             let mut fan = |p: u32| {
                 let cur = at(p);
                 if let (Some(a), Some(b)) = (vtx(prev.0, prev.1), vtx(cur.0, cur.1)) {
-                    let refs = TriRef::Vertices([
-                        mid,
-                        Vtx::Grid(prev.0, prev.1),
-                        Vtx::Grid(cur.0, cur.1),
-                    ]);
+                    let refs =
+                        TriRef::Vertices([mid, Vtx::Grid(prev.0, prev.1), Vtx::Grid(cur.0, cur.1)]);
                     self.test_triangle(w, [m, a, b], [i, j], refs, u);
                 }
                 prev = cur;
@@ -1251,8 +1324,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 let fine = |[i, j]: [u32; 2]| {
                     let inside = (c.unit.rows[0]..c.unit.rows[1]).contains(&i)
                         && (c.unit.cols[0]..c.unit.cols[1]).contains(&j);
-                    inside
-                        || matches!(self.unit_at(i, j), Ok(Lookup::Unit(u)) if u.stride == 1)
+                    inside || matches!(self.unit_at(i, j), Ok(Lookup::Unit(u)) if u.stride == 1)
                 };
                 refine::refine(e, g, &self.steps, ray, c.t, c.cell, tri, &height, &fine)
             }

@@ -1,0 +1,700 @@
+//! Fuzz target for multi-resolution terrain picking (seed 000 §5–§6): small random DEMs (3–17 × 3–17 vertices,
+//! anywhere on the globe, poles and the antimeridian included, nodata vertices and nodata patches), one or two
+//! zones, each a small quadtree (up to level 3) whose nodes carry blocks of power-of-two strides (aligned to the
+//! node ranges by construction, a child's stride at most its parent's), random residency, a random `min_level`
+//! and a random ray.
+//!
+//! The target builds, in `f64` and with logic of its own, the surface that the tree, the residency and
+//! `min_level` select (the kernel's module docs, "Multi-resolution"):
+//!
+//! 1. per leaf, walking its path from the zone: a leaf below `min_level` is traced with its own block (which must
+//!    be resident); otherwise, from the first node `P_m` at or below `min_level`, the first non-resident node
+//!    `P_j` is traced whole with the block of `P_{j−1}` when its ranges fall on that block's lattice (`j = m`, or
+//!    off the lattice: `P_j`'s block is needed); without one, the leaf's own block;
+//! 2. the traced regions are painted on a per-cell map;
+//! 3. a region's border cell whose side has vertices of a finer region across it (strictly inside the side) is
+//!    the fan from the middle of its diagonal through its corners and those vertices; other cells are their two
+//!    triangles; triangles with a nodata vertex are absent.
+//!
+//! Checked on every input: nothing panics; the kernel returns `Ok` or `NeedsBlock(id)` with `id` a non-resident
+//! node whose block the construction needs. When the construction needs no block, the kernel must answer, and
+//! agree with an `f64` brute force over that surface by `pick`'s geometric criteria:
+//!
+//! * no false hit: a kernel hit point must lie within 1 mm (plus rounding of the point itself) of some triangle;
+//! * no miss: if the brute force finds a hit at a non-grazing angle whose point lies at least 1 mm inside a
+//!   triangle (from every edge), the kernel must return a hit no farther than it (within 1 mm).
+#![no_main]
+
+use arbitrary::Arbitrary;
+use curvicast::Ray;
+use curvicast::geodesy::Ellipsoid;
+use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainError, TerrainStorage};
+use libfuzzer_sys::fuzz_target;
+use std::collections::BTreeSet;
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
+static C: [AtomicU64; 8] = [const { AtomicU64::new(0) }; 8];
+fn bump(k: usize) { C[k].fetch_add(1, Relaxed); let n = C[0].load(Relaxed); if k == 0 && n % 20000 == 0 { eprintln!("STATS {:?}", C.iter().map(|c| c.load(Relaxed)).collect::<Vec<_>>()); } }
+
+/// The most vertices along a side of the grid.
+const MAX_SIDE: usize = 17;
+/// The deepest level of the trees (zones are level 0).
+const MAX_LEVEL: u8 = 3;
+
+#[derive(Debug, Arbitrary)]
+struct Input {
+    lat0: u16,
+    lon0: i16,
+    dlat: i16,
+    dlon: u16,
+    /// Divides both spacings by `2^(fine % 8)`.
+    fine: u8,
+    rows: u8,
+    cols: u8,
+    /// Height unit, in quarter metres.
+    hstep: u8,
+    heights: [i8; MAX_SIDE * MAX_SIDE],
+    /// Single nodata vertices (indices past the grid are ignored).
+    holes: [u16; 6],
+    /// A nodata rectangle of vertices `[i0, j0, di, dj]` (it may empty whole nodes).
+    hole_rect: Option<[u8; 4]>,
+    /// 0: one zone; 1: two zones side by side; 2: two zones one above the other.
+    zones: u8,
+    /// The tree's shape, strides and split points, read in turn.
+    tree: [u8; 48],
+    /// Non-resident nodes: bit `id % 128`; with `sparse`, only where `absent_and` has the bit too.
+    absent: u128,
+    absent_and: u128,
+    sparse: bool,
+    all_resident: bool,
+    min_level: u8,
+    /// Origin above the grid (else anywhere on the globe).
+    above: bool,
+    origin_lat: i16,
+    origin_lon: i16,
+    origin_h: i32,
+    target: [u8; 2],
+    target_h: i16,
+    jitter: [i16; 3],
+    t_max: Option<u16>,
+}
+
+/// The storage: one grid, heights, and the nodes of all zones with their strides, parents and residency.
+struct Tiny {
+    grid: Grid<f64>,
+    h: Vec<Option<f64>>,
+    nodes: Vec<Node<f64>>,
+    stride: Vec<u32>,
+    parent: Vec<Option<usize>>,
+    resident: Vec<bool>,
+    zones: Vec<NodeId>,
+}
+
+/// The tree bytes, read in turn (cycling).
+struct Bytes<'a> {
+    b: &'a [u8],
+    k: usize,
+}
+
+impl Bytes<'_> {
+    fn next(&mut self) -> u8 {
+        let v = self
+            .b
+            .get(self.k % self.b.len().max(1))
+            .copied()
+            .unwrap_or(0);
+        self.k += 1;
+        v
+    }
+}
+
+/// Multiples of `s` strictly inside `(a, b)`.
+fn lattice_inside(a: u32, b: u32, s: u32) -> Vec<u32> {
+    (a / s + 1..)
+        .map(|k| k * s)
+        .take_while(|&p| p < b)
+        .collect()
+}
+
+impl Tiny {
+    fn range(&self, r: [u32; 2], c: [u32; 2]) -> Option<[f64; 2]> {
+        let mut out: Option<[f64; 2]> = None;
+        for i in r[0]..=r[1] {
+            for j in c[0]..=c[1] {
+                if let Some(h) = self.h[(i * self.grid.cols + j) as usize] {
+                    out = Some(out.map_or([h, h], |[a, b]| [a.min(h), b.max(h)]));
+                }
+            }
+        }
+        out
+    }
+
+    /// Adds the node (rows, cols) with block stride `stride` and, if the bytes say so, its subtree; `None` when
+    /// the node has no data (it is left out of its parent's children).
+    fn build(
+        &mut self,
+        rows: [u32; 2],
+        cols: [u32; 2],
+        stride: u32,
+        level: u8,
+        parent: Option<usize>,
+        bytes: &mut Bytes<'_>,
+    ) -> Option<usize> {
+        let heights = self.range(rows, cols)?;
+        let id = self.nodes.len();
+        self.nodes.push(Node {
+            rows,
+            cols,
+            heights: Some(heights),
+            children: [None; 4],
+            level,
+        });
+        self.stride.push(stride);
+        self.parent.push(parent);
+        if level >= MAX_LEVEL {
+            return Some(id);
+        }
+        let b = bytes.next();
+        if b & 3 == 0 {
+            return Some(id);
+        }
+        let cs = match (b >> 2) & 3 {
+            0 | 1 => stride / 2,
+            2 => stride,
+            _ => stride / 4,
+        }
+        .max(1);
+        let mut split = |[a, z]: [u32; 2]| {
+            let c = lattice_inside(a, z, cs);
+            let k = usize::from(bytes.next()) % (c.len() + 1);
+            c.get(k).copied()
+        };
+        let (rs, ks) = (split(rows), split(cols));
+        if rs.is_none() && ks.is_none() {
+            return Some(id);
+        }
+        let parts = |r: [u32; 2], m: Option<u32>| match m {
+            Some(m) => vec![[r[0], m], [m, r[1]]],
+            None => vec![r],
+        };
+        let mut kids = [None; 4];
+        let mut n = 0;
+        for rp in parts(rows, rs) {
+            for cp in parts(cols, ks) {
+                if let Some(c) = self.build(rp, cp, cs, level + 1, Some(id), bytes) {
+                    kids[n] = Some(NodeId(c as u32));
+                    n += 1;
+                }
+            }
+        }
+        self.nodes[id].children = kids;
+        Some(id)
+    }
+}
+
+impl TerrainStorage<f64> for Tiny {
+    fn ellipsoid(&self) -> Ellipsoid<f64> {
+        Ellipsoid::wgs84()
+    }
+    fn grid(&self) -> Grid<f64> {
+        self.grid
+    }
+    fn zone_count(&self) -> usize {
+        self.zones.len()
+    }
+    fn zone(&self, k: usize) -> Option<NodeId> {
+        self.zones.get(k).copied()
+    }
+    fn node(&self, id: NodeId) -> Option<Node<f64>> {
+        self.nodes.get(id.0 as usize).copied()
+    }
+    fn height(&self, i: u32, j: u32) -> Option<f64> {
+        if i >= self.grid.rows || j >= self.grid.cols {
+            return None;
+        }
+        self.h
+            .get((i * self.grid.cols + j) as usize)
+            .copied()
+            .flatten()
+    }
+    fn is_resident(&self, id: NodeId) -> bool {
+        self.resident.get(id.0 as usize).copied().unwrap_or(false)
+    }
+    fn block_stride(&self, id: NodeId) -> u32 {
+        self.stride.get(id.0 as usize).copied().unwrap_or(1)
+    }
+}
+
+/// A traced region: cell ranges and the stride of the block that traces it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Region {
+    rows: [u32; 2],
+    cols: [u32; 2],
+    stride: u32,
+}
+
+/// Rule 1 for every leaf: the traced regions and the per-cell paint, or the ids of every block needed.
+fn regions(t: &Tiny, min_level: u8) -> Result<(Vec<Region>, Vec<Option<usize>>), BTreeSet<u32>> {
+    let cc = t.grid.cols - 1;
+    let cr = t.grid.rows - 1;
+    let mut paint = vec![None; (cr * cc) as usize];
+    let mut regs: Vec<Region> = Vec::new();
+    let mut needs = BTreeSet::new();
+    let own = |k: usize| Region {
+        rows: t.nodes[k].rows,
+        cols: t.nodes[k].cols,
+        stride: t.stride[k],
+    };
+    for (leaf, node) in t.nodes.iter().enumerate() {
+        if !node.children.iter().all(Option::is_none) {
+            continue;
+        }
+        let mut path = vec![leaf];
+        while let Some(p) = path.last().and_then(|&k| t.parent[k]) {
+            path.push(p);
+        }
+        path.reverse();
+        let reg = if node.level < min_level {
+            if !t.resident[leaf] {
+                needs.insert(leaf as u32);
+                continue;
+            }
+            own(leaf)
+        } else {
+            let m = path
+                .iter()
+                .position(|&k| t.nodes[k].level >= min_level)
+                .unwrap();
+            match path[m..]
+                .iter()
+                .position(|&k| !t.resident[k])
+                .map(|k| k + m)
+            {
+                None => own(leaf),
+                Some(j) if j == m => {
+                    needs.insert(path[j] as u32);
+                    continue;
+                }
+                Some(j) => {
+                    let (pj, s) = (&t.nodes[path[j]], t.stride[path[j - 1]]);
+                    let on =
+                        |r: [u32; 2], last: u32| r[0] % s == 0 && (r[1] % s == 0 || r[1] == last);
+                    if !(on(pj.rows, cr) && on(pj.cols, cc)) {
+                        needs.insert(path[j] as u32);
+                        continue;
+                    }
+                    Region {
+                        rows: pj.rows,
+                        cols: pj.cols,
+                        stride: s,
+                    }
+                }
+            }
+        };
+        let k = regs.iter().position(|r| *r == reg).unwrap_or_else(|| {
+            regs.push(reg);
+            regs.len() - 1
+        });
+        for i in node.rows[0]..node.rows[1] {
+            for j in node.cols[0]..node.cols[1] {
+                paint[(i * cc + j) as usize] = Some(k);
+            }
+        }
+    }
+    if needs.is_empty() {
+        Ok((regs, paint))
+    } else {
+        Err(needs)
+    }
+}
+
+type P3 = [f64; 3];
+
+/// One side of a traced cell: along a row (the points are columns) or a column, at row or column `fixed`, from
+/// corner `ends[0]` to corner `ends[1]`; `across` is the neighbouring cells' row or column; `extra` the vertices
+/// of finer regions strictly inside it.
+struct Side {
+    along_row: bool,
+    fixed: u32,
+    ends: [u32; 2],
+    across: i64,
+    extra: BTreeSet<u32>,
+}
+
+/// Rules 2–3: every triangle of the surface, in `f64`.
+fn triangles(
+    t: &Tiny,
+    regs: &[Region],
+    paint: &[Option<usize>],
+    vert: &impl Fn(u32, u32) -> Option<P3>,
+) -> Vec<[P3; 3]> {
+    let (cr, cc) = (t.grid.rows - 1, t.grid.cols - 1);
+    let region_at = |i: i64, j: i64| -> Option<Region> {
+        if i < 0 || j < 0 || i >= i64::from(cr) || j >= i64::from(cc) {
+            return None;
+        }
+        paint[(i * i64::from(cc) + j) as usize].map(|k| regs[k])
+    };
+    let mut out = Vec::new();
+    for reg in regs {
+        let s = reg.stride;
+        let mut i = reg.rows[0];
+        while i < reg.rows[1] {
+            let i1 = (i + s).min(reg.rows[1]);
+            let mut j = reg.cols[0];
+            while j < reg.cols[1] {
+                let j1 = (j + s).min(reg.cols[1]);
+                // The four sides, corner to corner; `across` only on the region's border.
+                let border = [
+                    i == reg.rows[0],
+                    i1 == reg.rows[1],
+                    j == reg.cols[0],
+                    j1 == reg.cols[1],
+                ];
+                let mut sides = [
+                    (true, i, [j, j1], i64::from(i) - 1),
+                    (true, i1, [j, j1], i64::from(i1)),
+                    (false, j, [i, i1], i64::from(j) - 1),
+                    (false, j1, [i, i1], i64::from(j1)),
+                ]
+                .map(|(along_row, fixed, ends, across)| Side {
+                    along_row,
+                    fixed,
+                    ends,
+                    across,
+                    extra: BTreeSet::new(),
+                });
+                for (side, _) in sides.iter_mut().zip(border).filter(|x| x.1) {
+                    let [from, to] = side.ends;
+                    for k in from..to {
+                        let nb = if side.along_row {
+                            region_at(side.across, i64::from(k))
+                        } else {
+                            region_at(i64::from(k), side.across)
+                        };
+                        let Some(nb) = nb.filter(|nb| nb.stride < s) else {
+                            continue;
+                        };
+                        let [lo, hi] = if side.along_row { nb.cols } else { nb.rows };
+                        let mut p = lo.div_ceil(nb.stride) * nb.stride;
+                        while p <= hi {
+                            if p > from && p < to {
+                                side.extra.insert(p);
+                            }
+                            p += nb.stride;
+                        }
+                    }
+                }
+                let (v00, v11) = (vert(i, j), vert(i1, j1));
+                let any = sides.iter().any(|x| !x.extra.is_empty());
+                match (v00, v11) {
+                    (Some(a), Some(b)) if any => {
+                        let m = [0, 1, 2].map(|k| (a[k] + b[k]) * 0.5);
+                        for side in &sides {
+                            let at = |p: u32| {
+                                if side.along_row {
+                                    vert(side.fixed, p)
+                                } else {
+                                    vert(p, side.fixed)
+                                }
+                            };
+                            let mut prev = at(side.ends[0]);
+                            for p in side.extra.iter().copied().chain([side.ends[1]]) {
+                                let cur = at(p);
+                                if let (Some(x), Some(y)) = (prev, cur) {
+                                    out.push([m, x, y]);
+                                }
+                                prev = cur;
+                            }
+                        }
+                    }
+                    _ => {
+                        let (v01, v10) = (vert(i, j1), vert(i1, j));
+                        for tri in [[v00, v01, v11], [v00, v11, v10]] {
+                            if let [Some(x), Some(y), Some(z)] = tri {
+                                out.push([x, y, z]);
+                            }
+                        }
+                    }
+                }
+                j = j1;
+            }
+            i = i1;
+        }
+    }
+    out
+}
+
+fn sub(a: P3, b: P3) -> P3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn cross(a: P3, b: P3) -> P3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn dot(a: P3, b: P3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn norm(a: P3) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// The ray's crossing of the triangle's plane: (t, sin of the angle between ray and plane), or `None` when
+/// the ray is parallel to it. The origin is taken relative to `v[0]` first.
+fn plane_crossing(o: P3, d: P3, v: [P3; 3]) -> Option<(f64, f64)> {
+    let n = cross(sub(v[1], v[0]), sub(v[2], v[0]));
+    let nd = dot(n, d);
+    if nd == 0.0 || !nd.is_finite() {
+        return None;
+    }
+    let t = -dot(n, sub(o, v[0])) / nd;
+    Some((t, nd.abs() / (norm(n) * norm(d))))
+}
+
+/// Signed in-plane distances of `p` from the triangle's three edge lines (positive inside).
+fn edge_distances(p: P3, v: [P3; 3]) -> [f64; 3] {
+    let n = cross(sub(v[1], v[0]), sub(v[2], v[0]));
+    let nn = norm(n);
+    let mut out = [0.0; 3];
+    for (k, slot) in out.iter_mut().enumerate() {
+        let (a, b) = (v[k], v[(k + 1) % 3]);
+        let e = sub(b, a);
+        *slot = dot(cross(e, sub(p, a)), n) / (nn * norm(e));
+    }
+    out
+}
+
+/// Distance from `p` to the (closed) triangle.
+fn distance_to_triangle(p: P3, v: [P3; 3]) -> f64 {
+    let n = cross(sub(v[1], v[0]), sub(v[2], v[0]));
+    let nn = norm(n);
+    let mut best = f64::INFINITY;
+    // The segments.
+    for k in 0..3 {
+        let (a, b) = (v[k], v[(k + 1) % 3]);
+        let e = sub(b, a);
+        let ee = dot(e, e);
+        let s = if ee > 0.0 {
+            (dot(sub(p, a), e) / ee).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let q = [a[0] + s * e[0], a[1] + s * e[1], a[2] + s * e[2]];
+        best = best.min(norm(sub(p, q)));
+    }
+    // The interior, when the projection falls inside.
+    if nn > 0.0 && edge_distances(p, v).iter().all(|&x| x >= 0.0) {
+        best = best.min((dot(sub(p, v[0]), n) / nn).abs());
+    }
+    best
+}
+
+fuzz_target!(|inp: Input| {
+    let rows = 3 + u32::from(inp.rows % 15);
+    let cols = 3 + u32::from(inp.cols % 15);
+    let fine = f64::from(1u32 << (inp.fine % 8));
+    // Up to ±2.7° and 5.5°: a zone spans less than 90° of longitude, and a cell of the coarsest blocks (8 grid
+    // steps) less than 45° of arc, within the kernel's bounds (a chord that long dips 1300 km).
+    let dlat = f64::from(inp.dlat) / 12000.0 / fine;
+    let dlon = (1e-4 + f64::from(inp.dlon) / 12000.0) / fine;
+    if dlat == 0.0 {
+        return;
+    }
+    // Row 0 placed so that every row lies within ±90° (the ends reach the poles).
+    let span = f64::from(rows - 1) * dlat;
+    let (lo, hi) = (-90.0 - span.min(0.0), 90.0 - span.max(0.0));
+    let lat0 = lo + f64::from(inp.lat0) / f64::from(u16::MAX) * (hi - lo);
+    let lon0 = f64::from(inp.lon0) / 90.0;
+    let grid = Grid {
+        lat0,
+        lon0,
+        dlat,
+        dlon,
+        rows,
+        cols,
+    };
+    if !grid.validate() {
+        return;
+    }
+    let n = (rows * cols) as usize;
+    let unit = f64::from(inp.hstep) / 4.0;
+    let mut h: Vec<Option<f64>> = (0..n)
+        .map(|k| Some(f64::from(inp.heights[k]) * unit))
+        .collect();
+    for k in inp.holes {
+        if let Some(x) = h.get_mut(usize::from(k)) {
+            *x = None;
+        }
+    }
+    if let Some([i0, j0, di, dj]) = inp.hole_rect {
+        let (i0, j0) = (u32::from(i0) % rows, u32::from(j0) % cols);
+        for i in i0..(i0 + 1 + u32::from(di) % rows).min(rows) {
+            for j in j0..(j0 + 1 + u32::from(dj) % cols).min(cols) {
+                h[(i * cols + j) as usize] = None;
+            }
+        }
+    }
+    let mut t = Tiny {
+        grid,
+        h,
+        nodes: Vec::new(),
+        stride: Vec::new(),
+        parent: Vec::new(),
+        resident: Vec::new(),
+        zones: Vec::new(),
+    };
+    let (cr, cc) = (rows - 1, cols - 1);
+    let mut bytes = Bytes { b: &inp.tree, k: 0 };
+    let mut zone_stride = || 1u32 << (bytes.next() % 4);
+    let (s0, s1) = (zone_stride(), zone_stride());
+    // The zones: the whole grid, or two halves split on a multiple of both zones' strides.
+    let whole = ([0, cr], [0, cc]);
+    let mut zones = vec![(whole, s0)];
+    let by_cols = inp.zones % 3 == 1;
+    if inp.zones % 3 != 0 {
+        let (a, z) = if by_cols { (0, cc) } else { (0, cr) };
+        let c = lattice_inside(a, z, s0.max(s1));
+        if !c.is_empty() {
+            let m = c[usize::from(bytes.next()) % c.len()];
+            zones = if by_cols {
+                vec![(([0, cr], [0, m]), s0), (([0, cr], [m, cc]), s1)]
+            } else {
+                vec![(([0, m], [0, cc]), s0), (([m, cr], [0, cc]), s1)]
+            };
+        }
+    }
+    for ((r, c), s) in zones {
+        if let Some(z) = t.build(r, c, s, 0, None, &mut bytes) {
+            t.zones.push(NodeId(z as u32));
+        }
+    }
+    t.resident = (0..t.nodes.len())
+        .map(|k| {
+            let bit = |m: u128| (m >> (k % 128)) & 1 == 1;
+            inp.all_resident || !(bit(inp.absent) && (!inp.sparse || bit(inp.absent_and)))
+        })
+        .collect();
+    let depth = t.nodes.iter().map(|n| n.level).max().unwrap_or(0);
+    let min_level = inp.min_level % (depth + 1);
+
+    let e = Ellipsoid::<f64>::wgs84();
+    let picker = match Picker::<'_, f64, Tiny>::new(&t) {
+        Ok(p) => p.with_min_level(min_level),
+        Err(err) => panic!("a valid storage was rejected: {err:?}"),
+    };
+
+    // The ray: from anywhere on the globe, or from above the grid, towards a point of the grid.
+    let o = if inp.above {
+        let oi = f64::from(inp.origin_lat as u16) / f64::from(u16::MAX) * f64::from(cr);
+        let oj = f64::from(inp.origin_lon as u16) / f64::from(u16::MAX) * f64::from(cc);
+        e.geodetic_deg_to_ecef(
+            (lat0 + oi * dlat).clamp(-90.0, 90.0),
+            lon0 + oj * dlon,
+            f64::from(inp.origin_h % 100_000),
+        )
+    } else {
+        let olat = (f64::from(inp.origin_lat) / 360.0).clamp(-90.0, 90.0);
+        e.geodetic_deg_to_ecef(
+            olat,
+            f64::from(inp.origin_lon) / 90.0,
+            f64::from(inp.origin_h) * 4.0,
+        )
+    };
+    let ti = f64::from(inp.target[0]) / 255.0 * f64::from(cr);
+    let tj = f64::from(inp.target[1]) / 255.0 * f64::from(cc);
+    let tp = e.geodetic_deg_to_ecef(
+        (lat0 + ti * dlat).clamp(-90.0, 90.0),
+        lon0 + tj * dlon,
+        f64::from(inp.target_h),
+    );
+    let o = [o.x, o.y, o.z];
+    let mut d = [tp.x - o[0], tp.y - o[1], tp.z - o[2]];
+    for (c, j) in d.iter_mut().zip(inp.jitter) {
+        *c += f64::from(j) * unit / 8.0;
+    }
+    let t_max = inp.t_max.map_or(f64::INFINITY, |m| f64::from(m) / 1000.0);
+    let Ok(ray) = Ray::new(o, d).and_then(|r| r.with_interval(0.0, t_max)) else {
+        return;
+    };
+    bump(0);
+    let res = picker.pick(&ray);
+    if matches!(res, Err(TerrainError::NeedsBlock(_))) { bump(1); }
+
+    let (regs, paint) = match regions(&t, min_level) {
+        Ok(x) => x,
+        Err(needs) => {
+            match res {
+                Ok(_) => {}
+                Err(TerrainError::NeedsBlock(id)) => assert!(
+                    needs.contains(&id.0) && !t.resident[id.0 as usize],
+                    "NeedsBlock({}) is not a needed block: {needs:?}",
+                    id.0
+                ),
+                Err(err) => panic!("unexpected error {err:?}"),
+            }
+            return;
+        }
+    };
+    let hit = match res {
+        Ok(h) => h,
+        Err(err) => panic!("the surface needs no block, yet the kernel says {err:?}"),
+    };
+
+    let vert = |i: u32, j: u32| {
+        let hh = t.height(i, j)?;
+        let p = e.geodetic_deg_to_ecef(grid.lat_deg(i), grid.lon_deg(j), hh);
+        Some([p.x, p.y, p.z])
+    };
+    let tris = triangles(&t, &regs, &paint, &vert);
+    bump(2);
+    if hit.is_some() { bump(3); }
+    if hit.is_some_and(|h| h.stride > 1) { bump(4); }
+    if regs.iter().any(|r| r.stride > 1) && regs.len() > 1 { bump(5); }
+    if tris.len() > 2 * ((cr*cc) as usize) / 2 && regs.len() > 1 { bump(6); }
+
+    // Brute force over every triangle of the surface. Lengths are in metres; `slack` covers the rounding of a
+    // point of the ray, which grows with the distance of the origin.
+    let dl = norm(d);
+    let slack = 1e-3 + 1e-12 * norm(o);
+    let at = |tt: f64| [o[0] + tt * d[0], o[1] + tt * d[1], o[2] + tt * d[2]];
+    let mut nearest_to_hit = f64::INFINITY;
+    let mut strict: Option<f64> = None;
+    for &v in &tris {
+        if let Some(h) = &hit {
+            nearest_to_hit = nearest_to_hit.min(distance_to_triangle(at(h.t), v));
+        }
+        let Some((tt, sin)) = plane_crossing(o, d, v) else {
+            continue;
+        };
+        let tol_t = (slack + 1e-12 * tt.abs() * dl) / dl;
+        if sin > 1e-3
+            && tt > tol_t
+            && tt < t_max - tol_t
+            && edge_distances(at(tt), v).iter().all(|&x| x >= 1e-3 + slack)
+        {
+            strict = Some(strict.map_or(tt, |s: f64| s.min(tt)));
+            bump(7);
+        }
+    }
+    if let Some(h) = &hit {
+        let tol = slack + 1e-12 * h.t.abs() * dl;
+        assert!(
+            nearest_to_hit <= tol,
+            "false hit at t = {} (stride {}, level {}, cell {:?}): the nearest triangle is {nearest_to_hit} m away",
+            h.t,
+            h.stride,
+            h.level,
+            h.cell
+        );
+    }
+    if let Some(tb) = strict {
+        let tk = hit.map(|h| h.t);
+        let tol_t = (slack + 1e-12 * tb.abs() * dl) / dl;
+        assert!(
+            tk.is_some_and(|tk| tk <= tb + tol_t),
+            "miss: brute force hits at t = {tb}, kernel {tk:?}"
+        );
+    }
+});
