@@ -18,9 +18,9 @@
 
 use super::io::{UsageError, error_line, read_rays};
 use crate::scenes::spec::RaySpec;
-use crate::scenes::terrain::{DemStorage, MultiRes, load_terrain};
+use crate::scenes::terrain::{DemStorage, MultiRes, load_terrain, pick_paging_in};
 use curvicast::Ray;
-use curvicast::terrain::{NodeId, Picker, TerrainError, TerrainStorage};
+use curvicast::terrain::{NodeId, Picker};
 use rayon::prelude::*;
 use std::io::Write;
 use std::path::PathBuf;
@@ -88,45 +88,6 @@ fn parse_box(flag: &str, v: &str) -> Result<[f64; 4], UsageError> {
     }
 }
 
-/// A storage whose blocks are the base's plus those paged in while answering one ray.
-struct Paged<'b, 'd> {
-    base: &'b DemStorage<'d>,
-    paged: std::cell::RefCell<Vec<NodeId>>,
-}
-
-impl TerrainStorage<f64> for Paged<'_, '_> {
-    fn ellipsoid(&self) -> curvicast::geodesy::Ellipsoid<f64> {
-        self.base.ellipsoid()
-    }
-    fn grid(&self) -> curvicast::terrain::Grid<f64> {
-        self.base.grid()
-    }
-    fn zone_count(&self) -> usize {
-        TerrainStorage::<f64>::zone_count(self.base)
-    }
-    fn zone(&self, k: usize) -> Option<NodeId> {
-        TerrainStorage::<f64>::zone(self.base, k)
-    }
-    fn node(&self, id: NodeId) -> Option<curvicast::terrain::Node<f64>> {
-        self.base.node(id)
-    }
-    fn height(&self, i: u32, j: u32) -> Option<f64> {
-        self.base.height(i, j)
-    }
-    fn is_resident(&self, id: NodeId) -> bool {
-        TerrainStorage::<f64>::is_resident(self.base, id) || self.paged.borrow().contains(&id)
-    }
-    fn block_stride(&self, id: NodeId) -> u32 {
-        TerrainStorage::<f64>::block_stride(self.base, id)
-    }
-    fn row_sin_cos(&self, i: u32) -> (f64, f64) {
-        self.base.row_sin_cos(i)
-    }
-    fn col_sin_cos(&self, j: u32) -> (f64, f64) {
-        self.base.col_sin_cos(j)
-    }
-}
-
 /// The output line for one answered ray.
 pub fn hit_line(ray: usize, hit: Option<&curvicast::terrain::Hit<f64>>) -> String {
     match hit {
@@ -152,29 +113,11 @@ pub fn answer(
             Ok(x) => x,
             Err(e) => return error_line(k, &format!("invalid ray: {e}")),
         };
-    let mut result = picker.pick(&ray);
-    if paging {
-        if let Err(TerrainError::NeedsBlock(first)) = result {
-            let paged = Paged {
-                base: storage,
-                paged: std::cell::RefCell::new(vec![first]),
-            };
-            match Picker::<f64, Paged<'_, '_>>::new(&paged) {
-                Err(e) => result = Err(e),
-                Ok(p) => {
-                    let p = p.with_min_level(picker.min_level());
-                    // Every retry pages in one more node, so this ends within the tree's size.
-                    for _ in 0..=storage.node_count() {
-                        result = p.pick(&ray);
-                        let Err(TerrainError::NeedsBlock(id)) = result else {
-                            break;
-                        };
-                        paged.paged.borrow_mut().push(id);
-                    }
-                }
-            }
-        }
-    }
+    let result = if paging {
+        pick_paging_in(picker, storage, &ray).map(|(h, _)| h)
+    } else {
+        picker.pick(&ray)
+    };
     match result {
         Ok(h) => hit_line(k, h.as_ref()),
         Err(e) => error_line(k, &format!("pick failed: {e}")),

@@ -5,6 +5,7 @@
 pub mod march;
 pub mod surfaces;
 pub mod terrain;
+pub mod terrain_multires;
 pub mod tessellate;
 
 use std::path::Path;
@@ -35,6 +36,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
         surfaces::section,
         march::section,
         terrain::section,
+        terrain_multires::section,
         tessellate::section,
     ];
     let mut done = Vec::new();

@@ -1122,3 +1122,71 @@ impl<T: curvicast::Real> curvicast::terrain::TerrainStorage<T> for DemStorage<'_
         }
     }
 }
+
+/// A storage whose blocks are the base's plus those paged in while answering one ray ([`pick_paging_in`]).
+pub struct Paged<'b, 'd> {
+    base: &'b DemStorage<'d>,
+    paged: std::cell::RefCell<Vec<curvicast::terrain::NodeId>>,
+}
+
+impl curvicast::terrain::TerrainStorage<f64> for Paged<'_, '_> {
+    fn ellipsoid(&self) -> curvicast::geodesy::Ellipsoid<f64> {
+        self.base.ellipsoid()
+    }
+    fn grid(&self) -> curvicast::terrain::Grid<f64> {
+        self.base.grid()
+    }
+    fn zone_count(&self) -> usize {
+        curvicast::terrain::TerrainStorage::<f64>::zone_count(self.base)
+    }
+    fn zone(&self, k: usize) -> Option<curvicast::terrain::NodeId> {
+        curvicast::terrain::TerrainStorage::<f64>::zone(self.base, k)
+    }
+    fn node(&self, id: curvicast::terrain::NodeId) -> Option<curvicast::terrain::Node<f64>> {
+        self.base.node(id)
+    }
+    fn height(&self, i: u32, j: u32) -> Option<f64> {
+        self.base.height(i, j)
+    }
+    fn is_resident(&self, id: curvicast::terrain::NodeId) -> bool {
+        curvicast::terrain::TerrainStorage::<f64>::is_resident(self.base, id)
+            || self.paged.borrow().contains(&id)
+    }
+    fn block_stride(&self, id: curvicast::terrain::NodeId) -> u32 {
+        curvicast::terrain::TerrainStorage::<f64>::block_stride(self.base, id)
+    }
+    fn row_sin_cos(&self, i: u32) -> (f64, f64) {
+        self.base.row_sin_cos(i)
+    }
+    fn col_sin_cos(&self, j: u32) -> (f64, f64) {
+        self.base.col_sin_cos(j)
+    }
+}
+
+/// Picks `ray` as a caller of a paging storage does (seed 000 §5): on `NeedsBlock` the node's block is paged in
+/// (for this ray only: a [`Paged`] overlay of `storage`) and the ray asked again, until it is answered. Returns
+/// the answer and the number of blocks paged in.
+pub fn pick_paging_in(
+    picker: &curvicast::terrain::Picker<'_, f64, DemStorage<'_>>,
+    storage: &DemStorage<'_>,
+    ray: &curvicast::Ray<f64>,
+) -> Result<(Option<curvicast::terrain::Hit<f64>>, usize), curvicast::terrain::TerrainError> {
+    use curvicast::terrain::{Picker, TerrainError};
+    let first = match picker.pick(ray) {
+        Err(TerrainError::NeedsBlock(id)) => id,
+        other => return other.map(|h| (h, 0)),
+    };
+    let paged = Paged {
+        base: storage,
+        paged: std::cell::RefCell::new(vec![first]),
+    };
+    let p = Picker::<f64, Paged<'_, '_>>::new(&paged)?.with_min_level(picker.min_level());
+    // Every retry pages in one more node, so this ends within the tree's size.
+    for _ in 0..=storage.node_count() {
+        match p.pick(ray) {
+            Err(TerrainError::NeedsBlock(id)) => paged.paged.borrow_mut().push(id),
+            other => return other.map(|h| (h, paged.paged.borrow().len())),
+        }
+    }
+    Err(TerrainError::TraversalBound)
+}
