@@ -873,3 +873,139 @@ fn ray_almost_in_the_meridian_plane_of_polar_sliver_triangles() {
     );
     same_hit(&ray, Some((hit.t, hit.cell)), dem.brute(&ray), "sliver fan");
 }
+
+/// Multi-resolution (module docs, "Multi-resolution"): a 9 × 9-vertex DEM whose zone (8 × 8 cells) has a block of
+/// stride 2 and four children of 4 × 4 cells at stride 1, with residency and `min_level` chosen per test.
+mod multires {
+    use super::*;
+    use std::vec;
+
+    struct Paged<'a> {
+        dem: &'a TestDem,
+        resident: Vec<bool>,
+    }
+
+    impl TerrainStorage<f64> for Paged<'_> {
+        fn ellipsoid(&self) -> Ellipsoid<f64> {
+            self.dem.ellipsoid()
+        }
+        fn grid(&self) -> Grid<f64> {
+            self.dem.grid()
+        }
+        fn zone_count(&self) -> usize {
+            self.dem.zone_count()
+        }
+        fn zone(&self, k: usize) -> Option<NodeId> {
+            self.dem.zone(k)
+        }
+        fn node(&self, id: NodeId) -> Option<Node<f64>> {
+            self.dem.node(id)
+        }
+        fn height(&self, i: u32, j: u32) -> Option<f64> {
+            self.dem.height(i, j)
+        }
+        fn is_resident(&self, id: NodeId) -> bool {
+            self.resident.get(id.0 as usize).copied().unwrap_or(true)
+        }
+        fn block_stride(&self, id: NodeId) -> u32 {
+            if id == NodeId(0) { 2 } else { 1 }
+        }
+    }
+
+    /// Flat at 0 m except V(1, 4) at 300 m: on the border between the children of columns 0–3 and 4–7, a vertex
+    /// of the fine block that the zone's stride-2 block does not have.
+    fn dem() -> TestDem {
+        let mut h = vec![0.0; 81];
+        h[9 + 4] = 300.0;
+        let d = TestDem::new(grid(10.0, 20.0, 0.01, 0.01, 9, 9), h, 4, 1, 1);
+        assert_eq!(d.nodes.len(), 5);
+        d
+    }
+
+    fn down_at(e: &Ellipsoid<f64>, lat: f64, lon: f64) -> Ray<f64> {
+        radial_ray(e, lat, lon, 2000.0)
+    }
+
+    /// The child covering rows 0–3, columns 0–3.
+    fn west_child(d: &TestDem) -> NodeId {
+        let k = d
+            .nodes
+            .iter()
+            .position(|n| n.level == 1 && n.rows == [0, 4] && n.cols == [0, 4]);
+        NodeId(k.expect("child") as u32)
+    }
+
+    #[test]
+    fn missing_leaf_falls_back_to_the_zone_block_stitched_to_its_fine_neighbour() {
+        let d = dem();
+        let mut resident = vec![true; 5];
+        resident[west_child(&d).0 as usize] = false;
+        let s = Paged { dem: &d, resident };
+        let p: Picker<'_, f64, Paged<'_>> = Picker::new(&s).unwrap();
+        let e = d.e;
+        // West of the border, inside the zone's coarse cell (rows 0–2, columns 2–4): traced from the zone.
+        let west = p.pick(&down_at(&e, 10.01, 20.0399)).unwrap().unwrap();
+        assert_eq!((west.level, west.stride, west.cell), (0, 2, [0, 2]));
+        // Its fan reaches the fine vertex at 300 m: just west of V(1, 4) the surface is almost 300 m high (the
+        // coarse cell's own triangles are flat at 0 m there).
+        assert!(west.h > 290.0, "{west:?}");
+        // East of the border: the resident fine child.
+        let east = p.pick(&down_at(&e, 10.01, 20.0401)).unwrap().unwrap();
+        assert_eq!((east.level, east.stride), (1, 1));
+        assert!(east.h > 290.0, "{east:?}");
+        // No crack: rays swept across the border around the T-junction all hit, at heights that vary
+        // continuously.
+        let mut prev: Option<f64> = None;
+        for k in 0..=400 {
+            let lon = 20.0398 + f64::from(k) * 1e-6;
+            for lat in [10.0095, 10.01, 10.0105] {
+                let h = p.pick(&down_at(&e, lat, lon)).unwrap().expect("no crack").h;
+                if lat == 10.01 {
+                    if let Some(q) = prev {
+                        assert!((h - q).abs() < 5.0, "lon {lon}: {q} → {h}");
+                    }
+                    prev = Some(h);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn needs_block_below_min_level_and_full_resolution_when_all_resident() {
+        let d = dem();
+        let w = west_child(&d);
+        let mut resident = vec![true; 5];
+        resident[w.0 as usize] = false;
+        let s = Paged { dem: &d, resident };
+        let e = d.e;
+        let p: Picker<'_, f64, Paged<'_>> = Picker::new(&s).unwrap();
+        let p = p.with_min_level(1);
+        assert_eq!(
+            p.pick(&down_at(&e, 10.01, 20.01)),
+            Err(TerrainError::NeedsBlock(w))
+        );
+        // A ray that never reaches the missing child is answered.
+        let far = p.pick(&down_at(&e, 10.06, 20.06)).unwrap().unwrap();
+        assert_eq!((far.level, far.stride), (1, 1));
+        // Everything resident: the full-resolution surface, as the single-resolution storage gives it.
+        let all = Paged {
+            dem: &d,
+            resident: vec![true; 5],
+        };
+        let p: Picker<'_, f64, Paged<'_>> = Picker::new(&all).unwrap();
+        let single: Picker<'_, f64, TestDem> = Picker::new(&d).unwrap();
+        for (lat, lon) in [
+            (10.01, 20.04),
+            (10.013, 20.0399),
+            (10.055, 20.011),
+            (10.001, 20.079),
+        ] {
+            let r = down_at(&e, lat, lon);
+            let (a, b) = (
+                p.pick(&r).unwrap().unwrap(),
+                single.pick(&r).unwrap().unwrap(),
+            );
+            assert_eq!((a.t, a.cell, a.stride), (b.t, b.cell, 1));
+        }
+    }
+}
