@@ -932,7 +932,7 @@ mod multires {
             .nodes
             .iter()
             .position(|n| n.level == 1 && n.rows == [0, 4] && n.cols == [0, 4]);
-        NodeId(k.expect("child") as u32)
+        NodeId(k.unwrap() as u32)
     }
 
     #[test]
@@ -959,7 +959,7 @@ mod multires {
         for k in 0..=400 {
             let lon = 20.0398 + f64::from(k) * 1e-6;
             for lat in [10.0095, 10.01, 10.0105] {
-                let h = p.pick(&down_at(&e, lat, lon)).unwrap().expect("no crack").h;
+                let h = p.pick(&down_at(&e, lat, lon)).unwrap().unwrap().h; // no crack
                 if lat == 10.01 {
                     if let Some(q) = prev {
                         assert!((h - q).abs() < 5.0, "lon {lon}: {q} → {h}");
