@@ -1090,16 +1090,19 @@ impl<T: curvicast::Real> curvicast::terrain::TerrainStorage<T> for DemStorage<'_
     }
 
     fn is_resident(&self, id: curvicast::terrain::NodeId) -> bool {
-        self.resident
-            .get(id.0 as usize)
-            .is_none_or(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+        self.multires.is_none()
+            || self
+                .resident
+                .get(id.0 as usize)
+                .is_none_or(|f| f.load(std::sync::atomic::Ordering::Relaxed))
     }
 
     fn block_stride(&self, id: curvicast::terrain::NodeId) -> u32 {
-        match (self.multires, self.locate(id)) {
-            (Some(_), Some((level, _, _))) => 1 << level.min(31),
-            _ => 1,
+        if self.multires.is_none() {
+            return 1;
         }
+        self.locate(id)
+            .map_or(1, |(level, _, _)| 1 << level.min(31))
     }
 
     // The tables hold the `f64` values; other scalar types compute their own (the kernel requires exactly

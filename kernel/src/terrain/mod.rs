@@ -814,6 +814,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
 
     /// The unit if its ranges start on multiples of its stride and end on one or at the grid's last cell.
     fn aligned(&self, u: Unit) -> Option<Unit> {
+        if u.stride == 1 {
+            return Some(u);
+        }
         let fits = |r: [u32; 2], last: u32| {
             let [a, b] = r;
             a.checked_rem(u.stride) == Some(0) && (b.checked_rem(u.stride) == Some(0) || b == last)
@@ -909,13 +912,20 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 i = step(i, r1);
             }
         }
+        // Strides are powers of two: lattice row k·s is entry k, the last row entry n_rows.
+        let shift = s.trailing_zeros();
+        let mask = s.wrapping_sub(1);
         let row_at = |i: u32| -> (T, T, T, T) {
-            let k = i.saturating_sub(r0);
-            if cached && (k.checked_rem(s) == Some(0) || i == r1) {
-                if let Some(v) = usize::try_from(k.div_ceil(s))
-                    .ok()
-                    .and_then(|k| rows_cache.get(k))
-                {
+            let k = i.wrapping_sub(r0);
+            let entry = if k & mask == 0 {
+                k >> shift
+            } else if i == r1 {
+                n_rows
+            } else {
+                u32::MAX
+            };
+            if cached {
+                if let Some(v) = usize::try_from(entry).ok().and_then(|k| rows_cache.get(k)) {
                     return *v;
                 }
             }
@@ -1009,36 +1019,30 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     continue;
                 }
                 w.stats.triangle_pairs_visited = w.stats.triangle_pairs_visited.saturating_add(1);
-                let vtx = |ii: u32, jj: u32| -> Option<V3<T>> {
+                // Vertex (ii, jj) of this column's west (jj = j) or east (jj = j1) meridian.
+                let vtx = |ii: u32, jj: u32, (s_lon, c_lon): (T, T)| -> Option<V3<T>> {
                     let h = self.storage.height(ii, jj)?;
                     if !h.is_finite() {
                         return None;
                     }
                     let (sl, cl, _, n) = row_at(ii);
-                    let (s_lon, c_lon) = if jj == j {
-                        (sw, cw)
-                    } else if jj == j1 {
-                        (se, ce)
-                    } else {
-                        self.storage.col_sin_cos(jj)
-                    };
                     Some(e.ecef_from_parts(sl, cl, n, s_lon, c_lon, h))
                 };
                 let cell = CellAt {
                     rows: [row_i, row_i1],
                     cols: [j, j1],
                 };
-                let v00 = vtx(row_i, j);
-                let v11 = vtx(row_i1, j1);
+                let v00 = vtx(row_i, j, (sw, cw));
+                let v11 = vtx(row_i1, j1, (se, ce));
                 let border = row_i == r0 || row_i1 == r1 || j == c0 || j1 == c1;
                 if stitchable && border {
-                    match self.stitch(u, &cell, v00, v11, &vtx, w, clo)? {
+                    match self.stitch(u, &cell, v00, v11, w, clo)? {
                         Stitch::Done => continue,
                         Stitch::Plain => {}
                     }
                 }
-                let v01 = vtx(row_i, j1);
-                let v10 = vtx(row_i1, j);
+                let v01 = vtx(row_i, j1, (se, ce));
+                let v10 = vtx(row_i1, j, (sw, cw));
                 let refs = |first: bool| {
                     if s == 1 {
                         TriRef::Cell(if first { Tri::First } else { Tri::Second })
@@ -1070,6 +1074,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     }
 
     /// One watertight ray–triangle test; a nearer hit becomes the candidate.
+    #[inline]
     fn test_triangle(
         &self,
         w: &mut Walk<'_, '_, T>,
@@ -1105,7 +1110,6 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         cell: &CellAt,
         v00: Option<V3<T>>,
         v11: Option<V3<T>>,
-        vtx: &impl Fn(u32, u32) -> Option<V3<T>>,
         w: &mut Walk<'_, '_, T>,
         t_cell: T,
     ) -> Result<Stitch, TerrainError> {
@@ -1170,7 +1174,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             let mut prev = at(side.from);
             let mut fan = |p: u32| {
                 let cur = at(p);
-                if let (Some(a), Some(b)) = (vtx(prev.0, prev.1), vtx(cur.0, cur.1)) {
+                if let (Some(a), Some(b)) = (self.vertex(prev.0, prev.1), self.vertex(cur.0, cur.1))
+                {
                     let refs =
                         TriRef::Vertices([mid, Vtx::Grid(prev.0, prev.1), Vtx::Grid(cur.0, cur.1)]);
                     self.test_triangle(w, [m, a, b], [i, j], refs, u);
@@ -1184,6 +1189,16 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             fan(side.to);
         }
         Ok(Stitch::Done)
+    }
+
+    /// Grid vertex `V(i, j)` from the storage's trigonometry (the same arithmetic as the traced cells' vertices,
+    /// so that shared vertices are bit-identical); `None` for nodata.
+    fn vertex(&self, i: u32, j: u32) -> Option<V3<T>> {
+        let h = self.storage.height(i, j).filter(|h| h.is_finite())?;
+        let (sl, cl) = self.storage.row_sin_cos(i);
+        let (so, co) = self.storage.col_sin_cos(j);
+        let n = self.ellipsoid.prime_vertical_radius(sl);
+        Some(self.ellipsoid.ecef_from_parts(sl, cl, n, so, co, h))
     }
 
     /// The sides of a cell that lie on its unit's border and have a neighbouring cell row or column in the grid
