@@ -422,8 +422,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             return Err(TerrainError::TooManyZones);
         }
         let mut half_cells = [(T::ZERO, T::ONE); 32];
-        for (k, h) in half_cells.iter_mut().enumerate() {
-            *h = sin_cos_deg(grid.dlon.abs() * T::HALF * T::from_f64(f64::from(1u32 << k)));
+        let mut width = grid.dlon.abs() * T::HALF;
+        for h in &mut half_cells {
+            *h = sin_cos_deg(width);
+            width *= T::TWO;
         }
         let mut picker = Picker {
             storage,
@@ -895,7 +897,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         // Per-unit cache of the lattice rows' values (sin ψ, cos ψ, cone apex k, prime vertical radius N) for
         // units up to ROW_CACHE − 1 cells tall.
         let mut rows_cache: heapless::Vec<(T, T, T, T), ROW_CACHE> = heapless::Vec::new();
-        let n_rows = r1.saturating_sub(r0).div_ceil(s);
+        let n_rows = div_ceil_pow2(r1.saturating_sub(r0), s);
         let cached = usize::try_from(n_rows).is_ok_and(|n| n < ROW_CACHE);
         let row_vals = |i: u32| -> (T, T, T, T) {
             let (sp, cp) = self.storage.row_sin_cos(i);
@@ -918,7 +920,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let row_at = |i: u32| -> (T, T, T, T) {
             let k = i.wrapping_sub(r0);
             let entry = if k & mask == 0 {
-                k >> shift
+                k.checked_shr(shift).unwrap_or(u32::MAX)
             } else if i == r1 {
                 n_rows
             } else {
@@ -1267,7 +1269,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     let range = if side.along_cols { n.cols } else { n.rows };
                     let end = range[1].min(to);
                     if n.stride < stride {
-                        let mut p = k.div_ceil(n.stride).saturating_mul(n.stride);
+                        let mut p = div_ceil_pow2(k, n.stride).saturating_mul(n.stride);
                         while p <= end && p < to {
                             if p > last {
                                 emit(p);
@@ -1289,7 +1291,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// margin for rounding). Falls back to all columns when the unit spans 180° or more, the line meets the z
     /// axis, or the sweep wraps around.
     fn unit_columns(&self, u: &Unit, ray: &Ray<T>, t_in: T, t_out: T) -> (u32, u32) {
-        let n = u.cols[1].saturating_sub(u.cols[0]).div_ceil(u.stride);
+        let n = div_ceil_pow2(u.cols[1].saturating_sub(u.cols[0]), u.stride);
         let all = (0, n);
         let g = &self.grid;
         let span = T::from_f64(f64::from(u.cols[1].saturating_sub(u.cols[0])));
@@ -1360,6 +1362,12 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             stride: c.unit.stride,
         }
     }
+}
+
+/// `⌈n / s⌉` for a power of two `s`, by shifts (no division, so no panic path).
+fn div_ceil_pow2(n: u32, s: u32) -> u32 {
+    let q = n.checked_shr(s.trailing_zeros()).unwrap_or(0);
+    q.saturating_add(u32::from(n & s.wrapping_sub(1) != 0))
 }
 
 /// Rows of a leaf whose trigonometry is cached per leaf (leaves up to 64 cells tall).
