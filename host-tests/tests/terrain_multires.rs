@@ -276,7 +276,8 @@ fn run_suite(name: &str, dem: &Dem, coarse: usize, seeds: u64, rays_per: usize) 
     let mut total = Tally::default();
     for seed in 0..seeds {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let min_level = rng.random_range(0..=depth);
+        // Every min_level in turn.
+        let min_level = (seed % (u64::from(depth) + 1)) as u8;
         let p: f64 = rng.random_range(0.2..0.9);
         let salt: u64 = rng.random();
         // Random residency, independent per node (the kernel then uses a block only below resident ancestors).
@@ -551,4 +552,26 @@ fn min_level_at_full_depth_is_the_single_resolution_surface() {
             (a, b) => panic!("ray {k}: {a:?} vs {b:?}"),
         }
     }
+}
+
+/// The long run (`cargo test -p curvicast-host --release --test terrain_multires -- --include-ignored`): more
+/// residency patterns and rays on three terrains, every `min_level`.
+#[test]
+#[ignore = "long: about a minute"]
+fn random_residency_full() {
+    run_suite(
+        "full: mid-latitude",
+        &dem_at(47.0, 8.0, 129, 31),
+        2,
+        30,
+        400,
+    );
+    run_suite("full: polar", &dem_at(-87.5, -179.0, 97, 32), 2, 30, 400);
+    let spiky = synthetic(
+        TerrainKind::Spiky,
+        (60.0, -150.0, 0.003, 0.004),
+        (97, 97),
+        33,
+    );
+    run_suite("full: spiky", &spiky, 3, 30, 400);
 }
