@@ -575,3 +575,31 @@ fn random_residency_full() {
     );
     run_suite("full: spiky", &spiky, 3, 30, 400);
 }
+
+/// Near a pole, coarse cells far wider than tall (0.0001° × 2.7° at 89.4°): a latitude cone's arc between two
+/// meridians sags across even the opposite row's chord plane, so the stitched vertices of one row lie beyond
+/// the other row's wall (a fuzz finding). Border and grazing rays against the oracle, every block resident.
+#[test]
+fn wide_coarse_cells_near_the_pole_stitched_to_finer_ones() {
+    let dem = synthetic(
+        TerrainKind::Fractal,
+        (89.40, -0.01, -1.0e-4, 2.7),
+        (49, 17),
+        41,
+    );
+    let s = DemStorage::multi_resolution(
+        &dem,
+        4,
+        MultiRes {
+            fine_region: Some([89.399, 89.40, 10.0, 16.0]),
+            coarse_level: 2,
+        },
+    );
+    let tree = s.tree();
+    let oracle = MultiResOracle::new(&dem, &tree, 0).expect("all resident");
+    assert!(oracle.stitched_cells() > 0);
+    let mut rays = border_rays(&dem, &tree, 1500, 42);
+    rays.extend(grazing_border_rays(&dem, &tree, 300, 43));
+    let t = compare(&dem, &s, 0, &rays);
+    assert_clean("wide cells near the pole", &t);
+}

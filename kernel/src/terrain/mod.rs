@@ -97,10 +97,12 @@
 //! the DEM, with no stitching across it.
 //!
 //! **Bounds.** A node's volume bounds the coarsest cells traced under it: its own block's (a resident node's
-//! descendants are finer), or its source's when it falls back. A stitched cell's vertices on a latitude side
-//! lie on the latitude cone, which bulges across the cell's chord plane on one side (the southern side for
-//! ψ > 0, the northern for ψ < 0); there a border cell of a coarse region uses the cone's tangent plane along
-//! its middle meridian instead. Coarse and stitched hits are refined like full-resolution ones, without the
+//! descendants are finer), or its source's when it falls back. A stitched cell's vertices on its rows lie on
+//! the latitude cones between its meridians, and a cone's arc bulges across the cell's chord plane on one side
+//! (the southern side for ψ > 0, the northern for ψ < 0) — near a pole, where a coarse cell can be hundreds of
+//! times wider than tall, even across the opposite row's chord plane. So both row walls of a coarse region's
+//! border cells bound the whole latitude band in the cell's wedge: the cone's tangent plane along the middle
+//! meridian on the convex side, the chord plane on the other. Coarse and stitched hits are refined like full-resolution ones, without the
 //! containment walk (a refined point beyond an edge keeps the traversal's hit), and the walk of a
 //! full-resolution hit steps only into cells traced at full resolution. [`Hit::level`] and [`Hit::stride`]
 //! say which block answered.
@@ -988,9 +990,12 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     tau * (mag + qz.abs()),
                 )
             };
-            // A border row of a coarse unit may carry a finer neighbour's vertices, which lie on the latitude
-            // cone: where the cone's arc bulges out of the cell across the chord plane (a southern wall with
-            // ψ > 0, a northern one with ψ < 0) the tangent plane is the wall.
+            // A border cell of a coarse unit may be stitched: vertices of a finer neighbour on its rows lie on
+            // the latitude cones between its meridians, and near a pole a cell far wider than tall has cone arcs
+            // that sag across even the opposite row's chord plane. So both row walls of such a cell bound the
+            // whole latitude band in the wedge: the chord plane where the band lies on its concave side (a
+            // northern wall with ψ > 0, a southern one with ψ < 0), the tangent plane along the middle meridian
+            // where it lies on the convex side (a southern wall with ψ > 0, a northern one with ψ < 0).
             let border_plane = |i: u32, low: bool| -> (T, T, T) {
                 let south = low == north_up;
                 let sp = row_at(i).0;
@@ -1006,10 +1011,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 plane_a = plane_b;
                 let (row_i, row_i1) = (i, i1);
                 i = i1;
-                if stitchable && row_i == r0 {
+                let border = row_i == r0 || row_i1 == r1 || j == c0 || j1 == c1;
+                if stitchable && border {
                     low = border_plane(row_i, true);
-                }
-                if stitchable && row_i1 == r1 {
                     high = border_plane(row_i1, false);
                 }
                 let (mut clo, mut chi) = (lo, hi.min(w.best_t()));
@@ -1036,7 +1040,6 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 };
                 let v00 = vtx(row_i, j, (sw, cw));
                 let v11 = vtx(row_i1, j1, (se, ce));
-                let border = row_i == r0 || row_i1 == r1 || j == c0 || j1 == c1;
                 if stitchable && border {
                     match self.stitch(u, &cell, v00, v11, w, clo)? {
                         Stitch::Done => continue,
