@@ -7,10 +7,11 @@
 //! The target builds, in `f64` and with logic of its own, the surface that the tree, the residency and
 //! `min_level` select (the kernel's module docs, "Multi-resolution"):
 //!
-//! 1. per leaf, walking its path from the zone: a leaf below `min_level` is traced with its own block (which must
-//!    be resident); otherwise, from the first node `P_m` at or below `min_level`, the first non-resident node
-//!    `P_j` is traced whole with the block of `P_{j−1}` when its ranges fall on that block's lattice (`j = m`, or
-//!    off the lattice: `P_j`'s block is needed); without one, the leaf's own block;
+//! 1. per leaf, walking its path from the zone: a node shallower than `min_level` is passed, and if it is the
+//!    leaf its own block answers (it must be resident); from `min_level` on, a resident node becomes the source
+//!    and a resident leaf answers with its own block; a missing node without a source needs its own block; a
+//!    missing node with a source is passed if it has children and all of them lie on the source's lattice,
+//!    and is otherwise traced whole with the source's block (its own block is needed if it is off the lattice);
 //! 2. the traced regions are painted on a per-cell map;
 //! 3. a region's border cell whose side has vertices of a finer region across it (strictly inside the side) is
 //!    the fan from the middle of its diagonal through its corners and those vertices; other cells are their two
@@ -250,43 +251,63 @@ fn regions(t: &Tiny, min_level: u8) -> Result<(Vec<Region>, Vec<Option<usize>>),
             path.push(p);
         }
         path.reverse();
-        let reg = if node.level < min_level {
-            if !t.resident[leaf] {
-                needs.insert(leaf as u32);
+        let on = |m: &Node<f64>, s: u32| {
+            let fits = |r: [u32; 2], last: u32| r[0] % s == 0 && (r[1] % s == 0 || r[1] == last);
+            fits(m.rows, cr) && fits(m.cols, cc)
+        };
+        let mut src: Option<usize> = None;
+        let mut reg = None;
+        let mut need = None;
+        for &k in &path {
+            let n = &t.nodes[k];
+            let is_leaf = n.children.iter().all(Option::is_none);
+            if n.level < min_level {
+                if is_leaf {
+                    if t.resident[k] {
+                        reg = Some(own(k));
+                    } else {
+                        need = Some(k);
+                    }
+                }
                 continue;
             }
-            own(leaf)
-        } else {
-            let m = path
-                .iter()
-                .position(|&k| t.nodes[k].level >= min_level)
-                .unwrap();
-            match path[m..]
-                .iter()
-                .position(|&k| !t.resident[k])
-                .map(|k| k + m)
-            {
-                None => own(leaf),
-                Some(j) if j == m => {
-                    needs.insert(path[j] as u32);
-                    continue;
+            if t.resident[k] {
+                if is_leaf {
+                    reg = Some(own(k));
+                    break;
                 }
-                Some(j) => {
-                    let (pj, s) = (&t.nodes[path[j]], t.stride[path[j - 1]]);
-                    let on =
-                        |r: [u32; 2], last: u32| r[0] % s == 0 && (r[1] % s == 0 || r[1] == last);
-                    if !(on(pj.rows, cr) && on(pj.cols, cc)) {
-                        needs.insert(path[j] as u32);
-                        continue;
-                    }
-                    Region {
-                        rows: pj.rows,
-                        cols: pj.cols,
-                        stride: s,
-                    }
-                }
+                src = Some(k);
+                continue;
             }
-        };
+            let Some(a) = src else {
+                need = Some(k);
+                break;
+            };
+            let s = t.stride[a];
+            if !is_leaf
+                && n.children
+                    .iter()
+                    .flatten()
+                    .all(|c| on(&t.nodes[c.0 as usize], s))
+            {
+                continue;
+            }
+            if on(n, s) {
+                reg = Some(Region {
+                    rows: n.rows,
+                    cols: n.cols,
+                    stride: s,
+                });
+            } else {
+                need = Some(k);
+            }
+            break;
+        }
+        if let Some(k) = need {
+            needs.insert(k as u32);
+            continue;
+        }
+        let Some(reg) = reg else { continue };
         let k = regs.iter().position(|r| *r == reg).unwrap_or_else(|| {
             regs.push(reg);
             regs.len() - 1

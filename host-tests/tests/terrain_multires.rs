@@ -245,7 +245,7 @@ fn grazing_border_rays(dem: &Dem, tree: &[TreeNode], n: usize, seed: u64) -> Vec
 
 /// A multi-resolution storage: 8-cell blocks, full resolution only in the box around the DEM's center, leaves
 /// at pyramid level `coarse` elsewhere.
-fn shaped(dem: &Dem, coarse: usize) -> DemStorage<'_> {
+fn shaped(dem: &Dem, coarse: usize, block: usize) -> DemStorage<'_> {
     let (ci, cj) = ((dem.rows / 2) as f64, (dem.cols / 2) as f64);
     let q = |x: f64| x * 0.3;
     let region = [
@@ -262,7 +262,7 @@ fn shaped(dem: &Dem, coarse: usize) -> DemStorage<'_> {
     ];
     DemStorage::multi_resolution(
         dem,
-        8,
+        block,
         MultiRes {
             fine_region: Some(region),
             coarse_level: coarse,
@@ -270,8 +270,8 @@ fn shaped(dem: &Dem, coarse: usize) -> DemStorage<'_> {
     )
 }
 
-fn run_suite(name: &str, dem: &Dem, coarse: usize, seeds: u64, rays_per: usize) {
-    let s = shaped(dem, coarse);
+fn run_suite(name: &str, dem: &Dem, coarse: usize, block: usize, seeds: u64, rays_per: usize) {
+    let s = shaped(dem, coarse, block);
     let depth = s.tree().iter().map(|n| n.level).max().unwrap_or(0);
     let mut total = Tally::default();
     for seed in 0..seeds {
@@ -312,19 +312,26 @@ fn run_suite(name: &str, dem: &Dem, coarse: usize, seeds: u64, rays_per: usize) 
 #[test]
 fn random_residency_and_every_min_level_mid_latitude() {
     let dem = dem_at(36.0, -118.0, 97, 1);
-    run_suite("mid-latitude", &dem, 2, 12, 160);
+    run_suite("mid-latitude", &dem, 2, 8, 12, 160);
 }
 
 #[test]
 fn random_residency_high_latitude_across_the_antimeridian() {
     let dem = dem_at(71.9, 179.9, 97, 2);
-    run_suite("high latitude, antimeridian", &dem, 2, 12, 160);
+    run_suite("high latitude, antimeridian", &dem, 2, 8, 12, 160);
+}
+
+/// 4-cell blocks: sources whose cells are larger than the leaves below them.
+#[test]
+fn random_residency_small_blocks_coarse_cells_larger_than_leaves() {
+    let dem = dem_at(-33.0, 151.0, 97, 4);
+    run_suite("4-cell blocks", &dem, 2, 4, 12, 160);
 }
 
 #[test]
 fn random_residency_southern_hemisphere_negative_latitudes() {
     let dem = synthetic(TerrainKind::Spiky, (-48.0, 10.0, 0.003, 0.003), (81, 81), 3);
-    run_suite("southern, spiky", &dem, 3, 10, 160);
+    run_suite("southern, spiky", &dem, 3, 8, 10, 160);
 }
 
 /// Every downward ray aimed at a resolution border of gap-free terrain hits, and where the oracle's surface
@@ -333,7 +340,7 @@ fn random_residency_southern_hemisphere_negative_latitudes() {
 fn rays_along_resolution_borders_find_no_crack() {
     for (lat, seed) in [(36.0, 5), (-63.0, 6), (84.0, 7)] {
         let dem = dem_at(lat, 20.0, 97, seed);
-        let s = shaped(&dem, 2);
+        let s = shaped(&dem, 2, 8);
         let tree = s.tree();
         let oracle = MultiResOracle::new(&dem, &tree, 0).expect("all resident");
         assert!(
@@ -489,6 +496,62 @@ mod ancestor_loop {
     }
 
     #[test]
+    fn resident_block_below_a_missing_one_answers_for_its_region() {
+        let dem = dem_at(45.0, 7.0, 97, 11);
+        let s = setup(&dem);
+        let tree = s.tree();
+        let leaf = a_deep_leaf(&tree);
+        let p = path(&tree, &leaf);
+        // The zone and the leaf resident, everything between missing.
+        for n in &tree {
+            s.set_resident(NodeId(n.id), n.parent.is_none() || n.id == leaf.id);
+        }
+        let r = down_onto(&dem, &leaf);
+        let hit = pick(&s, 0, &r).expect("answer").expect("hit");
+        assert_eq!((hit.level, hit.stride), (leaf.level, 1));
+        check_against_oracle(&dem, &s, 0, &r, &hit);
+        // A sibling leaf under the same missing parent falls back to the zone.
+        let sibling = *tree
+            .iter()
+            .find(|n| n.leaf && n.parent == leaf.parent && n.id != leaf.id)
+            .expect("a sibling");
+        let r = down_onto(&dem, &sibling);
+        let hit = pick(&s, 0, &r).expect("answer").expect("hit");
+        assert_eq!((hit.level, hit.stride), (0, p[0].stride));
+        check_against_oracle(&dem, &s, 0, &r, &hit);
+    }
+
+    /// 4-cell blocks: the zone's cells (8 grid steps) are larger than the leaves (4 cells), so with the zone as
+    /// the source a leaf's parent is traced whole from the zone and a resident leaf inside it is not used (a
+    /// source cell is never split).
+    #[test]
+    fn source_cells_larger_than_the_leaves_are_not_split() {
+        let dem = dem_at(45.0, 7.0, 97, 11);
+        let s = DemStorage::multi_resolution(
+            &dem,
+            4,
+            MultiRes {
+                fine_region: None,
+                coarse_level: 0,
+            },
+        );
+        let tree = s.tree();
+        let leaf = a_deep_leaf(&tree);
+        let p = path(&tree, &leaf);
+        assert!(
+            p[0].stride > leaf.rows[1] - leaf.rows[0],
+            "zone cells larger than a leaf"
+        );
+        for n in &tree {
+            s.set_resident(NodeId(n.id), n.parent.is_none() || n.id == leaf.id);
+        }
+        let r = down_onto(&dem, &leaf);
+        let hit = pick(&s, 0, &r).expect("answer").expect("hit");
+        assert_eq!((hit.level, hit.stride), (0, p[0].stride));
+        check_against_oracle(&dem, &s, 0, &r, &hit);
+    }
+
+    #[test]
     fn leaf_shallower_than_min_level_uses_its_own_block() {
         let dem = dem_at(45.0, 7.0, 97, 11);
         // Leaves at pyramid level 2 (kernel level 1) outside a small box.
@@ -555,7 +618,7 @@ fn min_level_at_full_depth_is_the_single_resolution_surface() {
 }
 
 /// The long run (`cargo test -p curvicast-host --release --test terrain_multires -- --include-ignored`): more
-/// residency patterns and rays on three terrains, every `min_level`.
+/// residency patterns and rays on four terrains, every `min_level`.
 #[test]
 #[ignore = "long: about a minute"]
 fn random_residency_full() {
@@ -563,17 +626,26 @@ fn random_residency_full() {
         "full: mid-latitude",
         &dem_at(47.0, 8.0, 129, 31),
         2,
+        8,
         30,
         400,
     );
-    run_suite("full: polar", &dem_at(-87.5, -179.0, 97, 32), 2, 30, 400);
+    run_suite(
+        "full: 4-cell blocks",
+        &dem_at(12.0, -70.0, 129, 34),
+        3,
+        4,
+        30,
+        400,
+    );
+    run_suite("full: polar", &dem_at(-87.5, -179.0, 97, 32), 2, 8, 30, 400);
     let spiky = synthetic(
         TerrainKind::Spiky,
         (60.0, -150.0, 0.003, 0.004),
         (97, 97),
         33,
     );
-    run_suite("full: spiky", &spiky, 3, 30, 400);
+    run_suite("full: spiky", &spiky, 3, 8, 30, 400);
 }
 
 /// Near a pole, coarse cells far wider than tall (0.0001° × 2.7° at 89.4°): a latitude cone's arc between two

@@ -5,12 +5,13 @@
 //! The surface (the kernel's module docs, "Multi-resolution", state the same rules; this module derives it
 //! with logic of its own, from plain tree data and the DEM):
 //!
-//! 1. **Per leaf, walking its path from the zone down.** A leaf shallower than `min_level` is traced with its
-//!    own block, which must be resident. Otherwise, let `P_m` be the first node of the path at level
-//!    `≥ min_level` and `P_j` the first non-resident node from `P_m` on. No such node: the leaf's own block.
-//!    `j = m`: the answer needs `P_m`'s block. Otherwise the region of `P_j` is traced with the block of
-//!    `P_{j−1}` (its cells, `stride(P_{j−1})` grid steps wide), provided `P_j`'s ranges fall on that block's
-//!    sample lattice; if not, `P_j`'s block is needed.
+//! 1. **Per leaf, walking its path from the zone down.** A node shallower than `min_level` is passed; if it
+//!    is the leaf, its own block answers (it must be resident). From `min_level` on, a resident node becomes the
+//!    source, and a resident leaf answers with its own block. A missing node without a source needs its own
+//!    block. A missing node with a source `A` is passed when it has children and all of them have ranges on
+//!    `A`'s sample lattice; otherwise (a leaf, or children smaller than `A`'s cells) its whole region is traced
+//!    with `A`'s block (cells `stride(A)` grid steps wide) if its own ranges are on that lattice, and its block
+//!    is needed if not.
 //! 2. **Painting.** Each traced region is painted onto a full-resolution cell map; a region is a set of
 //!    `stride × stride` cells (fewer at the grid's last row and column).
 //! 3. **Stitching.** For each cell on the border of its region, each side is compared, fine cell by fine cell,
@@ -94,6 +95,12 @@ impl<'a> MultiResOracle<'a> {
     /// Builds the surface, or returns the id of a node whose block the surface needs (rule 1).
     pub fn new(dem: &'a Dem, nodes: &[TreeNode], min_level: u8) -> Result<MultiResOracle<'a>, u32> {
         let by_id: HashMap<u32, &TreeNode> = nodes.iter().map(|n| (n.id, n)).collect();
+        let mut children: HashMap<u32, Vec<TreeNode>> = HashMap::new();
+        for n in nodes {
+            if let Some(p) = n.parent {
+                children.entry(p).or_default().push(*n);
+            }
+        }
         let (cr, cc) = (dem.rows - 1, dem.cols - 1);
         let mut paint: Vec<Option<usize>> = vec![None; cr * cc];
         let mut regions: Vec<Region> = Vec::new();
@@ -105,47 +112,7 @@ impl<'a> MultiResOracle<'a> {
                 path.push(**by_id.get(&p).expect("parent in the tree"));
             }
             path.reverse();
-            let region = if leaf.level < min_level {
-                if !leaf.resident {
-                    return Err(leaf.id);
-                }
-                Region {
-                    rows: leaf.rows,
-                    cols: leaf.cols,
-                    stride: leaf.stride,
-                    level: leaf.level,
-                }
-            } else {
-                let m = path
-                    .iter()
-                    .position(|n| n.level >= min_level)
-                    .expect("the leaf itself");
-                match path[m..].iter().position(|n| !n.resident).map(|k| k + m) {
-                    None => Region {
-                        rows: leaf.rows,
-                        cols: leaf.cols,
-                        stride: leaf.stride,
-                        level: leaf.level,
-                    },
-                    Some(j) if j == m => return Err(path[j].id),
-                    Some(j) => {
-                        let (pj, src) = (path[j], path[j - 1]);
-                        let on = |r: [u32; 2], last: usize| {
-                            r[0] % src.stride == 0
-                                && (r[1] % src.stride == 0 || r[1] as usize == last)
-                        };
-                        if !(on(pj.rows, cr) && on(pj.cols, cc)) {
-                            return Err(pj.id);
-                        }
-                        Region {
-                            rows: pj.rows,
-                            cols: pj.cols,
-                            stride: src.stride,
-                            level: src.level,
-                        }
-                    }
-                }
-            };
+            let region = leaf_region(&path, &children, min_level, (cr, cc))?;
             let k = *index.entry(region).or_insert_with(|| {
                 regions.push(region);
                 regions.len() - 1
@@ -335,6 +302,58 @@ impl<'a> MultiResOracle<'a> {
             }
         })
     }
+}
+
+/// Rule 1 for one leaf, walking its `path` from the zone: the region that answers for it, or the node whose
+/// block is needed.
+fn leaf_region(
+    path: &[TreeNode],
+    children: &HashMap<u32, Vec<TreeNode>>,
+    min_level: u8,
+    (cr, cc): (usize, usize),
+) -> Result<Region, u32> {
+    let own = |n: &TreeNode| Region {
+        rows: n.rows,
+        cols: n.cols,
+        stride: n.stride,
+        level: n.level,
+    };
+    let on = |n: &TreeNode, s: u32| {
+        let fits =
+            |r: [u32; 2], last: usize| r[0] % s == 0 && (r[1] % s == 0 || r[1] as usize == last);
+        fits(n.rows, cr) && fits(n.cols, cc)
+    };
+    let mut src: Option<TreeNode> = None;
+    for n in path {
+        if n.level < min_level {
+            if n.leaf {
+                return if n.resident { Ok(own(n)) } else { Err(n.id) };
+            }
+            continue;
+        }
+        if n.resident {
+            if n.leaf {
+                return Ok(own(n));
+            }
+            src = Some(*n);
+            continue;
+        }
+        let Some(a) = src else { return Err(n.id) };
+        let kids = children.get(&n.id).map_or(&[][..], |v| &v[..]);
+        if !n.leaf && kids.iter().all(|c| on(c, a.stride)) {
+            continue;
+        }
+        if !on(n, a.stride) {
+            return Err(n.id);
+        }
+        return Ok(Region {
+            rows: n.rows,
+            cols: n.cols,
+            stride: a.stride,
+            level: a.level,
+        });
+    }
+    unreachable!("a path ends at its leaf")
 }
 
 /// A vertex in `f64` (for the filter only).

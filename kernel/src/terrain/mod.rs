@@ -71,14 +71,17 @@
 //! **Which blocks are traced.** The traversal descends from the zones. A node shallower than the picker's
 //! `min_level` ([`Picker::with_min_level`]) is only passed through, unless it is a leaf: then its own block is
 //! traced, or [`TerrainError::NeedsBlock`] is reported if it is missing. From `min_level` on, a resident node
-//! is the *source* for its subtree and the traversal goes on into its children; a resident leaf traces its own
-//! block; the first node on a path whose block is missing is traced whole with its source's block — the part of
-//! the source's block over the node, cells `(r − r_A)/s_A` of the source `A` (the §5 block subset; for the leaf
-//! `k` levels below `A` it is [`subset::BlockSubset`]'s rectangle after `k` steps). If that node is at
-//! `min_level` (no source) or its ranges do not fall on the source's sample lattice, its own block is needed.
-//! This is the paper's ancestor fallback when blocks are paged top-down (parents before children, §5); a
-//! resident block below a missing one is not used. That rule keeps the traced regions disjoint: a coarse cell
-//! never overlaps finer data, so the surface is one sheet.
+//! becomes the *source*: the nearest resident ancestor of everything below it (§5). A resident leaf traces its
+//! own block. Below a missing block the traversal goes on down as long as the source's cells fit inside the
+//! children (their ranges fall on the source's sample lattice), so that a deeper resident block still answers
+//! for its own region; a missing leaf, or a missing node whose children are smaller than the source's cells, is
+//! traced whole with the source's block — the part of the source's block over the node, cells `(r − r_A)/s_A`
+//! of the source `A` (the §5 block subset: for a leaf `k` levels below `A`, [`subset::BlockSubset`]'s
+//! rectangle after `k` steps, `B >> k` cells wide). So a source cell is never split: where it is larger than
+//! the leaves below it (the paper's "at least one cell"), it answers for all of them, and resident blocks
+//! inside it are not used. That keeps the traced regions disjoint — a coarse cell never overlaps finer data —
+//! so the surface is one sheet. A missing node without a source (at `min_level`), or off its source's lattice,
+//! needs its own block.
 //!
 //! **`NeedsBlock`.** A missing block is reported only if the ray reaches its node before the nearest hit found
 //! elsewhere: the answer depends on it. The caller pages the block in and asks again.
@@ -803,17 +806,42 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 }))
             });
         }
-        // Not resident: the subset of the source's block that covers the node (§5), when the node's ranges fall
-        // on the source's sample lattice; otherwise (or without a source) the node's own block is needed.
-        Ok(src
-            .and_then(|s| {
-                self.aligned(Unit {
-                    stride: s.stride,
-                    level: s.level,
-                    ..own
-                })
+        // Not resident. Without a source its own block is needed. With one, the traversal goes on down while the
+        // source's cells fit inside the children (a deeper resident block may answer there); otherwise the node
+        // is traced whole with the source's block: the subset that covers it (§5), on the source's lattice
+        // (if not, its own block is needed).
+        let Some(s) = src else {
+            return Ok(Step::Needs);
+        };
+        if !node.is_leaf() && self.children_on_lattice(node, s.stride)? {
+            return Ok(Step::Descend(src));
+        }
+        Ok(self
+            .aligned(Unit {
+                stride: s.stride,
+                level: s.level,
+                ..own
             })
             .map_or(Step::Needs, Step::Trace))
+    }
+
+    /// Whether every child with data of `node` has ranges on the lattice of `stride`.
+    fn children_on_lattice(&self, node: &Node<T>, stride: u32) -> Result<bool, TerrainError> {
+        for cid in node.children.iter().flatten() {
+            let c = self.storage.node(*cid).ok_or(TerrainError::MalformedTree)?;
+            let on = self
+                .aligned(Unit {
+                    rows: c.rows,
+                    cols: c.cols,
+                    stride,
+                    level: c.level,
+                })
+                .is_some();
+            if c.heights.is_some() && !on {
+                return Ok(false);
+            }
+        }
+        Ok(true)
     }
 
     /// The unit if its ranges start on multiples of its stride and end on one or at the grid's last cell.
