@@ -675,3 +675,69 @@ fn wide_coarse_cells_near_the_pole_stitched_to_finer_ones() {
     let t = compare(&dem, &s, 0, &rays);
     assert_clean("wide cells near the pole", &t);
 }
+
+/// The rectangle the kernel traces for a node that falls back to an ancestor `A` — the node's own ranges, when
+/// they lie on `A`'s sample lattice — is the §5 block subset computed the paper's incremental integer way
+/// ([`BlockSubset`]), for every node and every ancestor of two trees; and where the subset is a single cell
+/// larger than the node (`B >> k = 0`), the node is off `A`'s lattice, so the kernel traces that whole cell
+/// from a shallower node instead of splitting it.
+#[test]
+fn traced_rectangles_are_the_papers_block_subsets() {
+    use curvicast::terrain::subset::BlockSubset;
+    let dem = dem_at(10.0, 10.0, 129, 51);
+    let mut checked = (0, 0);
+    for block in [4usize, 8] {
+        let s = DemStorage::multi_resolution(
+            &dem,
+            block,
+            MultiRes {
+                fine_region: None,
+                coarse_level: 0,
+            },
+        );
+        let tree = s.tree();
+        let get = |id: u32| *tree.iter().find(|n| n.id == id).expect("node");
+        for n in &tree {
+            let mut a = *n;
+            let mut k = 0u32;
+            while let Some(p) = a.parent {
+                a = get(p);
+                k += 1;
+                let span = a.rows[1] - a.rows[0];
+                assert_eq!(span, a.cols[1] - a.cols[0], "square nodes in this tree");
+                let b = span / a.stride;
+                let unit = span >> k;
+                let (y, x) = (
+                    (n.rows[0] - a.rows[0]) / unit,
+                    (n.cols[0] - a.cols[0]) / unit,
+                );
+                let sub =
+                    BlockSubset::of_descendant(b, k, u64::from(x), u64::from(y)).expect("subset");
+                let grid = |r: [u32; 2], o: u32| [o + r[0] * a.stride, o + r[1] * a.stride];
+                let (rows, cols) = (grid(sub.rows(), a.rows[0]), grid(sub.cols(), a.cols[0]));
+                let on = n.rows[0] % a.stride == 0
+                    && n.rows[1] % a.stride == 0
+                    && n.cols[0] % a.stride == 0
+                    && n.cols[1] % a.stride == 0;
+                if b >> k >= 1 {
+                    assert_eq!((rows, cols), (n.rows, n.cols), "node {n:?}, ancestor {a:?}");
+                    assert!(on);
+                    checked.0 += 1;
+                } else {
+                    assert!(
+                        rows[0] <= n.rows[0]
+                            && n.rows[1] <= rows[1]
+                            && cols[0] <= n.cols[0]
+                            && n.cols[1] <= cols[1]
+                    );
+                    assert!(
+                        !on,
+                        "a node smaller than the ancestor's cell is off its lattice"
+                    );
+                    checked.1 += 1;
+                }
+            }
+        }
+    }
+    assert!(checked.0 > 100 && checked.1 > 100, "{checked:?}");
+}
