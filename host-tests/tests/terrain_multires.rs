@@ -739,5 +739,9 @@ fn traced_rectangles_are_the_papers_block_subsets() {
             }
         }
     }
+    eprintln!(
+        "node–ancestor pairs: {} with B >> k ≥ 1, {} with B >> k = 0",
+        checked.0, checked.1
+    );
     assert!(checked.0 > 100 && checked.1 > 100, "{checked:?}");
 }
