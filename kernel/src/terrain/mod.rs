@@ -105,10 +105,11 @@
 //! (the southern side for ψ > 0, the northern for ψ < 0) — near a pole, where a coarse cell can be hundreds of
 //! times wider than tall, even across the opposite row's chord plane. So both row walls of a coarse region's
 //! border cells bound the whole latitude band in the cell's wedge: the cone's tangent plane along the middle
-//! meridian on the convex side, the chord plane on the other. Coarse and stitched hits are refined like full-resolution ones, without the
-//! containment walk (a refined point beyond an edge keeps the traversal's hit), and the walk of a
-//! full-resolution hit steps only into cells traced at full resolution. [`Hit::level`] and [`Hit::stride`]
-//! say which block answered.
+//! meridian on the convex side, the chord plane on the other.
+//!
+//! **Refinement.** Coarse and stitched hits are refined like full-resolution ones, without the containment walk
+//! (a refined point beyond an edge keeps the traversal's hit), and the walk of a full-resolution hit steps only
+//! into cells traced at full resolution. [`Hit::level`] and [`Hit::stride`] say which block answered.
 //!
 //! # Cost
 //!
@@ -293,8 +294,7 @@ struct Unit {
     level: u8,
 }
 
-/// The resident block a subtree falls back to (§5): the deepest resident node at or below `min_level` on the
-/// path from the zone, when every node between it and `min_level` is resident.
+/// The resident block a subtree falls back to (§5): the nearest resident ancestor at or below `min_level`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Source {
     stride: u32,
