@@ -948,15 +948,15 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let shift = s.trailing_zeros();
         let mask = s.wrapping_sub(1);
         let row_at = |i: u32| -> (T, T, T, T) {
-            let k = i.wrapping_sub(r0);
-            let entry = if k & mask == 0 {
-                k.checked_shr(shift).unwrap_or(u32::MAX)
-            } else if i == r1 {
-                n_rows
-            } else {
-                u32::MAX
-            };
             if cached {
+                let k = i.wrapping_sub(r0);
+                let entry = if k & mask == 0 {
+                    k.wrapping_shr(shift)
+                } else if i == r1 {
+                    n_rows
+                } else {
+                    u32::MAX
+                };
                 if let Some(v) = usize::try_from(entry).ok().and_then(|k| rows_cache.get(k)) {
                     return *v;
                 }
