@@ -32,9 +32,9 @@ pub struct PickArgs {
     pub terrain: PathBuf,
     /// The rays file (JSON Lines); standard input when `None`.
     pub rays: Option<PathBuf>,
-    /// The coarsest quadtree level whose blocks may answer (multi-resolution terrain). The trees built here are
-    /// single-resolution — every leaf holds the full-resolution cells — so any valid level gives the same answer;
-    /// values deeper than the tree are rejected.
+    /// The coarsest quadtree level whose blocks may stand in for missing finer ones (seed 000 §5). Without the
+    /// multi-resolution options every block is resident and full resolution, so it does not change the
+    /// answers; values deeper than the tree are rejected.
     pub min_level: u32,
     /// Cells per leaf-block side (default 16), 1 to 1024.
     pub block: usize,
