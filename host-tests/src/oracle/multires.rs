@@ -229,11 +229,6 @@ impl<'a> MultiResOracle<'a> {
         })
     }
 
-    /// The number of triangles of the surface.
-    pub fn triangle_count(&self) -> usize {
-        self.tris.len()
-    }
-
     /// The number of stitched cells (coarse cells fanned to finer neighbours).
     pub fn stitched_cells(&self) -> usize {
         self.stitched_cells

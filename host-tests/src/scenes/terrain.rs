@@ -936,11 +936,6 @@ impl<'a> DemStorage<'a> {
         la.min(lb) <= lat_n && la.max(lb) >= lat_s && lo_a <= lon_e && lo_b >= lon_w
     }
 
-    /// Whether this is a multi-resolution storage.
-    pub fn is_multi_resolution(&self) -> bool {
-        self.multires.is_some()
-    }
-
     /// Marks node `id`'s block resident or not (multi-resolution mode; a single-resolution storage keeps every
     /// block resident and ignores this).
     pub fn set_resident(&self, id: curvicast::terrain::NodeId, resident: bool) {

@@ -1151,7 +1151,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         };
         let sides = self.cell_sides(u, cell);
         let mut any = false;
-        for side in sides.iter().flatten() {
+        for side in &sides {
             if let Some(id) = self.side_extras(u.stride, side, &mut |_| any = true)? {
                 w.need(t_cell, id);
                 return Ok(Stitch::Done);
@@ -1165,38 +1165,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let [j, j1] = cell.cols;
         let mid = Vtx::Mid([i, j, i1, j1]);
         // The four sides from corner to corner, each with its extra vertices in increasing order.
-        let all = [
-            SideAt {
-                along_cols: true,
-                fixed: i,
-                from: j,
-                to: j1,
-                across: None,
-            },
-            SideAt {
-                along_cols: true,
-                fixed: i1,
-                from: j,
-                to: j1,
-                across: None,
-            },
-            SideAt {
-                along_cols: false,
-                fixed: j,
-                from: i,
-                to: i1,
-                across: None,
-            },
-            SideAt {
-                along_cols: false,
-                fixed: j1,
-                from: i,
-                to: i1,
-                across: None,
-            },
-        ];
-        for (k, plain) in all.iter().enumerate() {
-            let side = sides.get(k).copied().flatten().unwrap_or(*plain);
+        for side in sides {
             let at = |p: u32| {
                 if side.along_cols {
                     (side.fixed, p)
@@ -1215,10 +1184,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 }
                 prev = cur;
             };
-            if side.across.is_some() {
-                // Needs were ruled out by the first pass.
-                let _ = self.side_extras(u.stride, &side, &mut fan)?;
-            }
+            // Needs were ruled out by the first pass; a side without `across` has no extra vertices.
+            let _ = self.side_extras(u.stride, &side, &mut fan)?;
             fan(side.to);
         }
         Ok(Stitch::Done)
@@ -1234,41 +1201,31 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         Some(self.ellipsoid.ecef_from_parts(sl, cl, n, so, co, h))
     }
 
-    /// The sides of a cell that lie on its unit's border and have a neighbouring cell row or column in the grid
-    /// (low row, high row, low column, high column).
-    fn cell_sides(&self, u: &Unit, c: &CellAt) -> [Option<SideAt>; 4] {
+    /// The four sides of a cell, from corner to corner (low row, high row, low column, high column); `across` is
+    /// set on the sides that lie on the unit's border and have a neighbouring cell row or column in the grid.
+    fn cell_sides(&self, u: &Unit, c: &CellAt) -> [SideAt; 4] {
         let [i, i1] = c.rows;
         let [j, j1] = c.cols;
         let g = &self.grid;
+        let row = |fixed: u32, across: Option<u32>| SideAt {
+            along_cols: true,
+            fixed,
+            from: j,
+            to: j1,
+            across,
+        };
+        let col = |fixed: u32, across: Option<u32>| SideAt {
+            along_cols: false,
+            fixed,
+            from: i,
+            to: i1,
+            across,
+        };
         [
-            (i == u.rows[0] && i > 0).then(|| SideAt {
-                along_cols: true,
-                fixed: i,
-                from: j,
-                to: j1,
-                across: Some(i.saturating_sub(1)),
-            }),
-            (i1 == u.rows[1] && i1 < g.cell_rows()).then_some(SideAt {
-                along_cols: true,
-                fixed: i1,
-                from: j,
-                to: j1,
-                across: Some(i1),
-            }),
-            (j == u.cols[0] && j > 0).then(|| SideAt {
-                along_cols: false,
-                fixed: j,
-                from: i,
-                to: i1,
-                across: Some(j.saturating_sub(1)),
-            }),
-            (j1 == u.cols[1] && j1 < g.cell_cols()).then_some(SideAt {
-                along_cols: false,
-                fixed: j1,
-                from: i,
-                to: i1,
-                across: Some(j1),
-            }),
+            row(i, (i == u.rows[0]).then(|| i.checked_sub(1)).flatten()),
+            row(i1, (i1 == u.rows[1] && i1 < g.cell_rows()).then_some(i1)),
+            col(j, (j == u.cols[0]).then(|| j.checked_sub(1)).flatten()),
+            col(j1, (j1 == u.cols[1] && j1 < g.cell_cols()).then_some(j1)),
         ]
     }
 
