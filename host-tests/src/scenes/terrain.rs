@@ -786,7 +786,7 @@ pub struct DemStorage<'a> {
 }
 
 /// One node of a [`DemStorage`]: cell ranges, vertex height range (`[min, max]`, min > max when the node has
-/// no data), child ids (`u32::MAX`: none) and level (zones are 0): 44 bytes.
+/// no data), child ids (`u32::MAX`: none), level (zones are 0) and the node's box in its local frame: 72 bytes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct NodeRecord {
     rows: [u32; 2],
@@ -794,6 +794,8 @@ struct NodeRecord {
     heights: [f32; 2],
     kids: [u32; 4],
     level: u8,
+    /// The node's box in its local frame ([`curvicast::terrain::boxes`]), `None` without data.
+    bbox: Option<curvicast::terrain::boxes::NodeBox>,
 }
 
 /// How [`DemStorage::multi_resolution`] shapes a multi-resolution tree (seed 000 §5, Fig. 11): every node has a
@@ -893,6 +895,7 @@ impl<'a> DemStorage<'a> {
                     heights: [lo, hi],
                     kids,
                     level: (zone_level - level).min(255) as u8,
+                    bbox: None,
                 }
             })
             .collect();
@@ -903,6 +906,7 @@ impl<'a> DemStorage<'a> {
         s.col_trig = (0..g.cols)
             .map(|j| curvicast::geodesy::sin_cos_deg(g.lon_deg(j)))
             .collect();
+        s.build_boxes();
         let (zr, zc) = s.pyramid.dims[zone_level];
         for r in 0..zr {
             for c in 0..zc {
@@ -915,6 +919,54 @@ impl<'a> DemStorage<'a> {
         s.pyramid.min = Vec::new();
         s.pyramid.max = Vec::new();
         s
+    }
+
+    /// Every node's box in its local frame ([`curvicast::terrain::boxes`]), in one bottom-up pass: a leaf's from
+    /// its vertices, a parent's from the corners of its children's boxes (children have smaller ids). The
+    /// parent's box contains its children's, so it contains all of its vertices too (the children cover every
+    /// cell with data).
+    fn build_boxes(&mut self) {
+        use curvicast::terrain::TerrainStorage;
+        use curvicast::terrain::boxes::{BoxBuilder, LocalFrame};
+        use curvicast::vec3::V3;
+        let e: curvicast::geodesy::Ellipsoid<f64> = self.ellipsoid();
+        let a = e.a();
+        let l1 = |p: V3<f64>| p.x.abs() + p.y.abs() + p.z.abs() + a;
+        for k in 0..self.records.len() {
+            let id = curvicast::terrain::NodeId(k as u32);
+            let Some(node) = TerrainStorage::<f64>::node(self, id) else {
+                continue;
+            };
+            if node.heights.is_none() {
+                continue;
+            }
+            let frame = LocalFrame::of(self, &e, &node);
+            let mut b = BoxBuilder::default();
+            if node.is_leaf() {
+                for i in node.rows[0]..=node.rows[1] {
+                    for j in node.cols[0]..=node.cols[1] {
+                        if let Some(p) = curvicast::terrain::vertex_ecef(self, &e, i, j) {
+                            b.add(frame.coords(p), l1(p));
+                        }
+                    }
+                }
+            } else {
+                for cid in node.children.iter().flatten() {
+                    let (Some(child), Some(cb)) = (
+                        TerrainStorage::<f64>::node(self, *cid),
+                        self.records[cid.0 as usize].bbox,
+                    ) else {
+                        continue;
+                    };
+                    let cf = LocalFrame::of(self, &e, &child);
+                    for q in cb.corners() {
+                        let p = cf.point(q);
+                        b.add(frame.coords(p), l1(p));
+                    }
+                }
+            }
+            self.records[k].bbox = b.finish();
+        }
     }
 
     /// The DEM.
@@ -1118,6 +1170,13 @@ impl<T: curvicast::Real> curvicast::terrain::TerrainStorage<T> for DemStorage<'_
             .map(|h| T::from_f64(f64::from(h)))
     }
 
+    fn node_box(
+        &self,
+        id: curvicast::terrain::NodeId,
+    ) -> Option<curvicast::terrain::boxes::NodeBox> {
+        self.records.get(id.0 as usize)?.bbox
+    }
+
     fn is_resident(&self, id: curvicast::terrain::NodeId) -> bool {
         self.multires.is_none()
             || self
@@ -1192,6 +1251,12 @@ impl curvicast::terrain::TerrainStorage<f64> for Paged<'_, '_> {
     }
     fn col_sin_cos(&self, j: u32) -> (f64, f64) {
         self.base.col_sin_cos(j)
+    }
+    fn node_box(
+        &self,
+        id: curvicast::terrain::NodeId,
+    ) -> Option<curvicast::terrain::boxes::NodeBox> {
+        curvicast::terrain::TerrainStorage::<f64>::node_box(self.base, id)
     }
 }
 

@@ -158,13 +158,14 @@
 //! # Ok::<(), Box<dyn core::error::Error>>(())
 //! ```
 
+pub mod boxes;
 mod refine;
 mod storage;
 pub mod subset;
 pub mod triangle;
 
 pub use storage::{
-    DEFAULT_ZONE_COLS, DEFAULT_ZONE_ROWS, Grid, Node, NodeId, TerrainStorage, zone_cells,
+    DEFAULT_ZONE_COLS, DEFAULT_ZONE_ROWS, Grid, Node, NodeId, TerrainStorage, vertex_ecef, zone_cells,
 };
 
 use crate::geodesy::{
@@ -713,9 +714,13 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     Some(s) if falls_back => s.stride,
                     _ => stride,
                 };
-                let interval = match self.storage.cached_bounds(*cid).filter(|_| vol == 1) {
-                    Some(b) => b.ray_interval(&sub),
-                    None => relaxed_interval(
+                let interval = match (
+                    self.storage.node_box(*cid),
+                    self.storage.cached_bounds(*cid).filter(|_| vol == 1),
+                ) {
+                    (Some(b), _) => boxes::box_interval(self.storage, &self.ellipsoid, &child, &b, &sub),
+                    (None, Some(b)) => b.ray_interval(&sub),
+                    (None, None) => relaxed_interval(
                         &self.ellipsoid,
                         &node_trig(
                             &self.grid,
@@ -1194,11 +1199,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// Grid vertex `V(i, j)` from the storage's trigonometry (the same arithmetic as the traced cells' vertices,
     /// so that shared vertices are bit-identical); `None` for nodata.
     fn vertex(&self, i: u32, j: u32) -> Option<V3<T>> {
-        let h = self.storage.height(i, j).filter(|h| h.is_finite())?;
-        let (sl, cl) = self.storage.row_sin_cos(i);
-        let (so, co) = self.storage.col_sin_cos(j);
-        let n = self.ellipsoid.prime_vertical_radius(sl);
-        Some(self.ellipsoid.ecef_from_parts(sl, cl, n, so, co, h))
+        vertex_ecef(self.storage, &self.ellipsoid, i, j)
     }
 
     /// The four sides of a cell, from corner to corner (low row, high row, low column, high column); `across` is

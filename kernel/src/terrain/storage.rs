@@ -165,6 +165,29 @@ pub trait TerrainStorage<T: Real> {
     fn cached_bounds(&self, _id: NodeId) -> Option<HeightQuadBounds<T>> {
         None
     }
+    /// Optional box of the node in its own local frame (beyond the paper; [`super::boxes`]): a box that
+    /// contains every vertex of the node with data, as [`super::boxes::BoxBuilder`] forms it from
+    /// [`super::vertex_ecef`] in `f64` and [`super::boxes::LocalFrame::of`]. The traversal then tests the node
+    /// against its box instead of its spheroidal volume, which is about ten times cheaper. It **must** contain
+    /// those vertices (or be `None`): a smaller box voids the no-miss guarantee.
+    fn node_box(&self, _id: NodeId) -> Option<super::boxes::NodeBox> {
+        None
+    }
+}
+
+/// Grid vertex `V(i, j)` in ECEF from the storage's trigonometry, `None` for nodata: the arithmetic of every
+/// vertex the kernel traces (and of the vertices a storage bounds with [`TerrainStorage::node_box`]).
+pub fn vertex_ecef<T: Real, S: TerrainStorage<T> + ?Sized>(
+    storage: &S,
+    ellipsoid: &Ellipsoid<T>,
+    i: u32,
+    j: u32,
+) -> Option<crate::vec3::V3<T>> {
+    let h = storage.height(i, j).filter(|h| h.is_finite())?;
+    let (sl, cl) = storage.row_sin_cos(i);
+    let (so, co) = storage.col_sin_cos(j);
+    let n = ellipsoid.prime_vertical_radius(sl);
+    Some(ellipsoid.ecef_from_parts(sl, cl, n, so, co, h))
 }
 
 /// The default number of zone rows (parallels) of [`zone_cells`]: 4 bands of 45° on a global grid.

@@ -1,0 +1,210 @@
+//! Node boxes (beyond the paper): a storage may give every node a box in the node's own local frame that
+//! contains all of the node's vertices. Triangles are the convex hulls of their vertices, so the box contains every
+//! triangle the traversal can trace under the node — at any block stride and with the stitching fans of §6,
+//! whose vertices are the node's grid vertices and midpoints of its cells' diagonals — with no sagitta or bulge
+//! bound needed. The traversal tests a child against its box (a slab test, about a tenth of the cost of the
+//! spheroidal volume's relaxed test of [`crate::geodesy::relaxed_interval`]); for a node a few kilometres
+//! across the box is also the tighter of the two (its faces follow the local horizon; the volume's lower wall is a
+//! sphere). The no-miss argument of the module docs holds unchanged with the box as the node's volume.
+//!
+//! The frame is east, north, up at the node's middle vertex ([`LocalFrame::of`]); the box is stored in `f32`,
+//! rounded outwards, and the kernel inflates it by the rounding of the ray's transformation and of the frame and
+//! vertices in the picker's scalar type (`f32` pickers included).
+
+use super::storage::{Node, TerrainStorage};
+use crate::geodesy::Ellipsoid;
+use crate::ray::Ray;
+use crate::real::Real;
+use crate::vec3::V3;
+
+/// A node's local frame: unit vectors east `e`, north `n` and up `u` (the geodetic normal) at the node's middle
+/// vertex, with origin `a·u`. Coordinates of a point `P` are `(e·P, n·P, u·P − a)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalFrame<T> {
+    e: V3<T>,
+    n: V3<T>,
+    u: V3<T>,
+    a: T,
+}
+
+impl<T: Real> LocalFrame<T> {
+    /// The frame of `node`: at vertex row `⌊(r₀ + r₁)/2⌋`, column `⌊(c₀ + c₁)/2⌋`, from the storage's cached
+    /// trigonometry ([`TerrainStorage::row_sin_cos`], [`TerrainStorage::col_sin_cos`]).
+    pub fn of<S: TerrainStorage<T> + ?Sized>(
+        storage: &S,
+        ellipsoid: &Ellipsoid<T>,
+        node: &Node<T>,
+    ) -> Self {
+        let mid = |[a, b]: [u32; 2]| a.wrapping_add(b.wrapping_sub(a).wrapping_shr(1));
+        let (sp, cp) = storage.row_sin_cos(mid(node.rows));
+        let (sl, cl) = storage.col_sin_cos(mid(node.cols));
+        LocalFrame {
+            e: V3::new(-sl, cl, T::ZERO),
+            n: V3::new(-sp * cl, -sp * sl, cp),
+            u: V3::new(cp * cl, cp * sl, sp),
+            a: ellipsoid.a(),
+        }
+    }
+
+    /// The coordinates `(e·P, n·P, u·P − a)` of an ECEF point.
+    #[inline]
+    pub fn coords(&self, p: V3<T>) -> V3<T> {
+        V3::new(self.e.dot(p), self.n.dot(p), self.u.dot(p) - self.a)
+    }
+
+    /// The ECEF point of frame coordinates `q` (the inverse of [`LocalFrame::coords`], up to rounding).
+    #[inline]
+    pub fn point(&self, q: V3<T>) -> V3<T> {
+        self.e
+            .scaled(q.x)
+            .plus(self.n.scaled(q.y))
+            .plus(self.u.scaled(q.z + self.a))
+    }
+}
+
+/// A node's box in its [`LocalFrame`]: `lo ≤ coords(V) ≤ hi` for every vertex `V` of the node with data
+/// (rows `rows[0] ..= rows[1]`, columns `cols[0] ..= cols[1]`), the vertices as
+/// [`super::vertex_ecef`] forms them in `f64`. Build it with [`BoxBuilder`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NodeBox {
+    /// Lower corner (east, north, up), metres.
+    pub lo: [f32; 3],
+    /// Upper corner.
+    pub hi: [f32; 3],
+}
+
+impl NodeBox {
+    /// The eight corners, in frame coordinates.
+    pub fn corners(&self) -> [V3<f64>; 8] {
+        let mut out = [V3::new(0.0, 0.0, 0.0); 8];
+        for (k, c) in out.iter_mut().enumerate() {
+            let pick = |axis: usize| {
+                let (lo, hi) = (self.lo.get(axis), self.hi.get(axis));
+                f64::from(*if (k >> axis) & 1 == 0 { lo } else { hi }.unwrap_or(&0.0))
+            };
+            *c = V3::new(pick(0), pick(1), pick(2));
+        }
+        out
+    }
+}
+
+/// Accumulates frame coordinates (computed in `f64`) into a [`NodeBox`], rounded outwards with a margin for
+/// the rounding of the coordinates themselves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoxBuilder {
+    lo: [f64; 3],
+    hi: [f64; 3],
+    /// Largest `|P|₁ + a` seen, for the margin.
+    mag: f64,
+}
+
+impl Default for BoxBuilder {
+    fn default() -> Self {
+        BoxBuilder {
+            lo: [f64::INFINITY; 3],
+            hi: [f64::NEG_INFINITY; 3],
+            mag: 0.0,
+        }
+    }
+}
+
+impl BoxBuilder {
+    /// Adds the frame coordinates `q` of a point of magnitude `|P|₁ + a` (for the margin); non-finite points are
+    /// ignored.
+    pub fn add(&mut self, q: V3<f64>, magnitude: f64) {
+        if !(q.is_finite() && magnitude.is_finite()) {
+            return;
+        }
+        for (k, v) in [q.x, q.y, q.z].into_iter().enumerate() {
+            if let (Some(lo), Some(hi)) = (self.lo.get_mut(k), self.hi.get_mut(k)) {
+                *lo = lo.min(v);
+                *hi = hi.max(v);
+            }
+        }
+        self.mag = self.mag.max(magnitude);
+    }
+
+    /// The box of the points added, or `None` if there were none.
+    pub fn finish(&self) -> Option<NodeBox> {
+        if !self.lo.iter().zip(&self.hi).all(|(l, h)| l <= h) {
+            return None;
+        }
+        let margin = 64.0 * f64::EPSILON * self.mag;
+        let round = |v: f64, up: bool| {
+            // The nearest f32, moved outwards by at least one ulp if it fell on the wrong side.
+            #[allow(clippy::cast_possible_truncation)]
+            let f = v as f32;
+            let step = (f.abs() * f32::EPSILON).max(f32::MIN_POSITIVE);
+            match (up, f64::from(f) < v, f64::from(f) > v) {
+                (true, true, _) => f + step,
+                (false, _, true) => f - step,
+                _ => f,
+            }
+        };
+        let mut b = NodeBox {
+            lo: [0.0; 3],
+            hi: [0.0; 3],
+        };
+        for k in 0..3 {
+            if let (Some(o), Some(&l)) = (b.lo.get_mut(k), self.lo.get(k)) {
+                *o = round(l - margin, false);
+            }
+            if let (Some(o), Some(&h)) = (b.hi.get_mut(k), self.hi.get(k)) {
+                *o = round(h + margin, true);
+            }
+        }
+        b.lo.iter()
+            .chain(&b.hi)
+            .all(|v| v.is_finite())
+            .then_some(b)
+    }
+}
+
+/// The hull of the ray's parameters within `[ray.t_min(), ray.t_max()]` inside `node`'s box, or `None`. The box is
+/// inflated by `32 ε (|o|₁ + |t|·|d|₁ + a)` (ε of `T`), which covers the rounding of the ray's frame coordinates,
+/// of the frame itself and of the vertices in `T`, and the rounding of the slab parameters.
+pub(crate) fn box_interval<T: Real, S: TerrainStorage<T> + ?Sized>(
+    storage: &S,
+    ellipsoid: &Ellipsoid<T>,
+    node: &Node<T>,
+    b: &NodeBox,
+    ray: &Ray<T>,
+) -> Option<(T, T)> {
+    let f = LocalFrame::of(storage, ellipsoid, node);
+    let (o, d) = (ray.origin(), ray.dir());
+    let (mut lo, mut hi) = (ray.t_min(), ray.t_max());
+    let t_abs = lo.abs().max(hi.abs());
+    let mag = (o.x.abs() + o.y.abs() + o.z.abs())
+        + t_abs * (d.x.abs() + d.y.abs() + d.z.abs())
+        + f.a;
+    let tol = T::from_f64(32.0) * T::EPSILON * mag;
+    if !tol.is_finite() {
+        return Some((lo, hi)); // no finite bound on the rounding: keep the whole interval
+    }
+    let q0 = f.coords(o);
+    let qd = V3::new(f.e.dot(d), f.n.dot(d), f.u.dot(d));
+    for ((q, dq), (&bl, &bh)) in [(q0.x, qd.x), (q0.y, qd.y), (q0.z, qd.z)]
+        .into_iter()
+        .zip(b.lo.iter().zip(&b.hi))
+    {
+        let (bl, bh) = (
+            T::from_f64(f64::from(bl)) - tol,
+            T::from_f64(f64::from(bh)) + tol,
+        );
+        if dq == T::ZERO {
+            if q < bl || q > bh {
+                return None;
+            }
+            continue;
+        }
+        let inv = T::ONE / dq;
+        let (t1, t2) = ((bl - q) * inv, (bh - q) * inv);
+        let (a, c) = if t1 <= t2 { (t1, t2) } else { (t2, t1) };
+        lo = lo.max(a);
+        hi = hi.min(c);
+        if !(lo <= hi) {
+            return None;
+        }
+    }
+    Some((lo, hi))
+}
