@@ -775,6 +775,10 @@ pub struct DemStorage<'a> {
     /// kernel's `row_sin_cos` / `col_sin_cos` cache (16 bytes per row and per column).
     row_trig: Vec<(f64, f64)>,
     col_trig: Vec<(f64, f64)>,
+    /// The kernel's `row_parallel` / `col_sin_cos_dd` per row and column, in `f64` pairs (for the refinement of
+    /// the nearest hit: 64 bytes per row, 32 per column).
+    row_dd: Vec<curvicast::dd::Parallel<f64>>,
+    col_dd: Vec<(curvicast::dd::Dd<f64>, curvicast::dd::Dd<f64>)>,
     /// Every node as the kernel asks for it, by id, formed once at build time (the kernel asks for a node at
     /// every quad it visits).
     records: Vec<NodeRecord>,
@@ -849,6 +853,8 @@ impl<'a> DemStorage<'a> {
             zones: Vec::new(),
             row_trig: Vec::new(),
             col_trig: Vec::new(),
+            row_dd: Vec::new(),
+            col_dd: Vec::new(),
             records: Vec::new(),
             multires,
             resident: Vec::new(),
@@ -905,6 +911,13 @@ impl<'a> DemStorage<'a> {
             .collect();
         s.col_trig = (0..g.cols)
             .map(|j| curvicast::geodesy::sin_cos_deg(g.lon_deg(j)))
+            .collect();
+        let e = curvicast::terrain::TerrainStorage::<f64>::ellipsoid(&s);
+        s.row_dd = (0..g.rows)
+            .map(|i| curvicast::terrain::row_parallel(&e, &g, i))
+            .collect();
+        s.col_dd = (0..g.cols)
+            .map(|j| curvicast::terrain::col_sin_cos_dd(&g, j))
             .collect();
         s.build_boxes();
         let (zr, zc) = s.pyramid.dims[zone_level];
@@ -1052,6 +1065,8 @@ impl<'a> DemStorage<'a> {
             + self.zones.len() * std::mem::size_of::<curvicast::terrain::NodeId>()
             + self.offsets.len() * std::mem::size_of::<usize>()
             + (self.row_trig.len() + self.col_trig.len()) * std::mem::size_of::<(f64, f64)>()
+            + self.row_dd.len() * std::mem::size_of::<curvicast::dd::Parallel<f64>>()
+            + self.col_dd.len() * std::mem::size_of::<(curvicast::dd::Dd<f64>, curvicast::dd::Dd<f64>)>()
     }
 
     /// The memory of the heights themselves (`f32` per vertex), for comparison.
@@ -1212,6 +1227,41 @@ impl<T: curvicast::Real> curvicast::terrain::TerrainStorage<T> for DemStorage<'_
             ),
         }
     }
+
+    fn row_parallel(&self, i: u32) -> curvicast::dd::Parallel<T> {
+        use curvicast::terrain::TerrainStorage;
+        match self.row_dd.get(i as usize) {
+            Some(p) if T::MANTISSA_DIGITS == 53 => curvicast::dd::Parallel {
+                n_cos: dd_as(p.n_cos),
+                nb_sin: dd_as(p.nb_sin),
+                cos: dd_as(p.cos),
+                sin: dd_as(p.sin),
+            },
+            _ => curvicast::terrain::row_parallel(
+                &TerrainStorage::<T>::ellipsoid(self),
+                &TerrainStorage::<T>::grid(self),
+                i,
+            ),
+        }
+    }
+
+    fn col_sin_cos_dd(&self, j: u32) -> (curvicast::dd::Dd<T>, curvicast::dd::Dd<T>) {
+        match self.col_dd.get(j as usize) {
+            Some(&(s, c)) if T::MANTISSA_DIGITS == 53 => (dd_as(s), dd_as(c)),
+            _ => curvicast::terrain::col_sin_cos_dd(
+                &<Self as curvicast::terrain::TerrainStorage<T>>::grid(self),
+                j,
+            ),
+        }
+    }
+}
+
+/// An `f64` pair as a pair of `T` (used only when `T` is `f64`, so the conversion is exact).
+fn dd_as<T: curvicast::Real>(x: curvicast::dd::Dd<f64>) -> curvicast::dd::Dd<T> {
+    curvicast::dd::Dd {
+        hi: T::from_f64(x.hi),
+        lo: T::from_f64(x.lo),
+    }
 }
 
 /// A storage whose blocks are the base's plus those paged in while answering one ray ([`pick_paging_in`]).
@@ -1257,6 +1307,12 @@ impl curvicast::terrain::TerrainStorage<f64> for Paged<'_, '_> {
         id: curvicast::terrain::NodeId,
     ) -> Option<curvicast::terrain::boxes::NodeBox> {
         curvicast::terrain::TerrainStorage::<f64>::node_box(self.base, id)
+    }
+    fn row_parallel(&self, i: u32) -> curvicast::dd::Parallel<f64> {
+        self.base.row_parallel(i)
+    }
+    fn col_sin_cos_dd(&self, j: u32) -> (curvicast::dd::Dd<f64>, curvicast::dd::Dd<f64>) {
+        self.base.col_sin_cos_dd(j)
     }
 }
 

@@ -160,51 +160,47 @@ impl BoxBuilder {
     }
 }
 
-/// The hull of the ray's parameters within `[ray.t_min(), ray.t_max()]` inside `node`'s box, or `None`. The box is
-/// inflated by `32 ε (|o|₁ + |t|·|d|₁ + a)` (ε of `T`), which covers the rounding of the ray's frame coordinates,
-/// of the frame itself and of the vertices in `T`, and the rounding of the slab parameters.
-pub(crate) fn box_interval<T: Real, S: TerrainStorage<T> + ?Sized>(
-    storage: &S,
-    ellipsoid: &Ellipsoid<T>,
-    node: &Node<T>,
-    b: &NodeBox,
-    ray: &Ray<T>,
-) -> Option<(T, T)> {
-    let f = LocalFrame::of(storage, ellipsoid, node);
-    let (o, d) = (ray.origin(), ray.dir());
-    let (mut lo, mut hi) = (ray.t_min(), ray.t_max());
-    let t_abs = lo.abs().max(hi.abs());
-    let mag = (o.x.abs() + o.y.abs() + o.z.abs())
-        + t_abs * (d.x.abs() + d.y.abs() + d.z.abs())
-        + f.a;
-    let tol = T::from_f64(32.0) * T::EPSILON * mag;
-    if !tol.is_finite() {
-        return Some((lo, hi)); // no finite bound on the rounding: keep the whole interval
-    }
-    let q0 = f.coords(o);
-    let qd = V3::new(f.e.dot(d), f.n.dot(d), f.u.dot(d));
-    for ((q, dq), (&bl, &bh)) in [(q0.x, qd.x), (q0.y, qd.y), (q0.z, qd.z)]
-        .into_iter()
-        .zip(b.lo.iter().zip(&b.hi))
-    {
-        let (bl, bh) = (
-            T::from_f64(f64::from(bl)) - tol,
-            T::from_f64(f64::from(bh)) + tol,
-        );
-        if dq == T::ZERO {
-            if q < bl || q > bh {
-                return None;
-            }
-            continue;
+impl<T: Real> LocalFrame<T> {
+    /// The hull of the ray's parameters within `[ray.t_min(), ray.t_max()]` inside box `b` of this frame, or
+    /// `None`. The box is inflated by `32 ε (|o|₁ + |t|·|d|₁ + a)` (ε of `T`), which covers the rounding of the
+    /// ray's frame coordinates, of the frame itself and of the vertices in `T`, and of the slab parameters.
+    pub fn box_interval(&self, b: &NodeBox, ray: &Ray<T>) -> Option<(T, T)> {
+        let (o, d) = (ray.origin(), ray.dir());
+        let (mut lo, mut hi) = (ray.t_min(), ray.t_max());
+        let t_abs = lo.abs().max(hi.abs());
+        let mag = (o.x.abs() + o.y.abs() + o.z.abs())
+            + t_abs * (d.x.abs() + d.y.abs() + d.z.abs())
+            + self.a;
+        let tol = T::from_f64(32.0) * T::EPSILON * mag;
+        if !tol.is_finite() {
+            return Some((lo, hi)); // no finite bound on the rounding: keep the whole interval
         }
-        let inv = T::ONE / dq;
-        let (t1, t2) = ((bl - q) * inv, (bh - q) * inv);
-        let (a, c) = if t1 <= t2 { (t1, t2) } else { (t2, t1) };
-        lo = lo.max(a);
-        hi = hi.min(c);
-        if !(lo <= hi) {
-            return None;
-        }
+        let q0 = self.coords(o);
+        let qd = V3::new(self.e.dot(d), self.n.dot(d), self.u.dot(d));
+        let widen = |v: f32, s: T| T::from_f64(f64::from(v)) + s;
+        let [bx, by, bz] = b.lo;
+        let [cx, cy, cz] = b.hi;
+        let ok = slab(&mut lo, &mut hi, q0.x, qd.x, widen(bx, -tol), widen(cx, tol))
+            && slab(&mut lo, &mut hi, q0.y, qd.y, widen(by, -tol), widen(cy, tol))
+            && slab(&mut lo, &mut hi, q0.z, qd.z, widen(bz, -tol), widen(cz, tol));
+        ok.then_some((lo, hi))
     }
-    Some((lo, hi))
+}
+
+/// Clips `[lo, hi]` to `bl ≤ q + t·dq ≤ bh`; false when empty.
+#[inline]
+fn slab<T: Real>(lo: &mut T, hi: &mut T, q: T, dq: T, bl: T, bh: T) -> bool {
+    if dq == T::ZERO {
+        return bl <= q && q <= bh && *lo <= *hi;
+    }
+    let inv = T::ONE / dq;
+    let (t1, t2) = ((bl - q) * inv, (bh - q) * inv);
+    let (a, c) = if dq > T::ZERO { (t1, t2) } else { (t2, t1) };
+    if a > *lo {
+        *lo = a;
+    }
+    if c < *hi {
+        *hi = c;
+    }
+    *lo <= *hi
 }

@@ -164,6 +164,7 @@ mod storage;
 pub mod subset;
 pub mod triangle;
 
+pub use refine::{col_sin_cos_dd, row_parallel};
 pub use storage::{
     DEFAULT_ZONE_COLS, DEFAULT_ZONE_ROWS, Grid, Node, NodeId, TerrainStorage, vertex_ecef, zone_cells,
 };
@@ -174,6 +175,7 @@ use crate::geodesy::{
 };
 use crate::ray::{Ray, RayError};
 use crate::real::Real;
+use boxes::{LocalFrame, NodeBox};
 use crate::surface::{Side, Surface};
 use crate::vec3::V3;
 use refine::{Tri, Vtx};
@@ -369,9 +371,9 @@ impl<T: Real> Walk<'_, '_, T> {
     }
 }
 
-/// A zone: its root, and how its volume is tested (the storage's cached volume, or the relaxed test of
-/// [`relaxed_interval`] from the zone's trigonometry).
-type Zone<T> = (NodeId, Node<T>, ZoneVolume<T>);
+/// A zone: its root, how its volume is tested (the storage's cached volume, or the relaxed test of
+/// [`relaxed_interval`] from the zone's trigonometry), and its box if the storage has one.
+type Zone<T> = (NodeId, Node<T>, ZoneVolume<T>, Option<(LocalFrame<T>, NodeBox)>);
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum ZoneVolume<T> {
@@ -408,8 +410,6 @@ pub struct Picker<'s, T, S, const STACK: usize = 64, const ZONES: usize = 64> {
     min_level: u8,
     zones: [Option<Zone<T>>; ZONES],
     zone_count: usize,
-    /// The grid steps' sines and cosines in double-double, for the hit refinement.
-    steps: refine::Steps<T>,
 }
 
 impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
@@ -436,7 +436,6 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let mut picker = Picker {
             storage,
             ellipsoid,
-            steps: refine::Steps::new(&grid),
             grid,
             h_max: T::NEG_INFINITY,
             half_cells,
@@ -464,8 +463,11 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 )?),
             };
             picker.h_max = picker.h_max.max(hi);
+            let bbox = storage
+                .node_box(id)
+                .map(|b| (LocalFrame::of(storage, &ellipsoid, &node), b));
             if let Some(slot) = picker.zones.get_mut(picker.zone_count) {
-                *slot = Some((id, node, b));
+                *slot = Some((id, node, b, bbox));
                 picker.zone_count = picker.zone_count.saturating_add(1);
             }
         }
@@ -601,11 +603,18 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let mut order = [(0usize, T::ZERO, T::ZERO); ZONES];
         let mut n_order = 0usize;
         for (k, z) in self.zones.iter().enumerate().take(self.zone_count) {
-            if let Some((_, _, v)) = z {
-                let interval = match v {
-                    ZoneVolume::Cached(b) => b.ray_interval(&clipped),
-                    ZoneVolume::Relaxed(r) => r.interval(&clipped),
+            if let Some((_, _, v, bbox)) = z {
+                // The zone's box first (cheap), then its volume on what is left (tighter for a large zone).
+                let within = match bbox {
+                    Some((f, b)) => f
+                        .box_interval(b, &clipped)
+                        .and_then(|(a, c)| clipped.with_interval(a, c).ok()),
+                    None => Some(clipped),
                 };
+                let interval = within.and_then(|r| match v {
+                    ZoneVolume::Cached(b) => b.ray_interval(&r),
+                    ZoneVolume::Relaxed(v) => v.interval(&r),
+                });
                 if let Some((a, c)) = interval {
                     if let Some(slot) = order.get_mut(n_order) {
                         *slot = (k, a, c);
@@ -626,7 +635,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     break;
                 }
             }
-            let Some(Some((id, node, _))) = self.zones.get(k) else {
+            let Some(Some((id, node, _, _))) = self.zones.get(k) else {
                 continue;
             };
             let root = Entry {
@@ -718,7 +727,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     self.storage.node_box(*cid),
                     self.storage.cached_bounds(*cid).filter(|_| vol == 1),
                 ) {
-                    (Some(b), _) => boxes::box_interval(self.storage, &self.ellipsoid, &child, &b, &sub),
+                    (Some(b), _) => {
+                        LocalFrame::of(self.storage, &self.ellipsoid, &child).box_interval(&b, &sub)
+                    }
                     (None, Some(b)) => b.ray_interval(&sub),
                     (None, None) => relaxed_interval(
                         &self.ellipsoid,
@@ -872,8 +883,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             .iter()
             .take(self.zone_count)
             .flatten()
-            .find(|(_, n, _)| holds(n))
-            .map(|(id, n, _)| (*id, *n))
+            .find(|(_, n, _, _)| holds(n))
+            .map(|(id, n, _, _)| (*id, *n))
         else {
             return Ok(Lookup::Empty);
         };
@@ -1034,9 +1045,16 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 let sp = row_at(i).0;
                 row_plane(i, (south && sp > T::ZERO) || (!south && sp < T::ZERO))
             };
-            let mut plane_a = row_plane(r0, false);
-            let mut i = r0;
-            while i < r1 {
+            // At full resolution only the rows between those of the column segment's two ends are crossed
+            // (`crossed_rows`); coarse units, whose border cells have band walls, trace every row.
+            let (first_row, end_row) = if stitchable {
+                (r0, r1)
+            } else {
+                self.crossed_rows(u, [lo, hi], (radial_o, radial_d), &|i| row_plane(i, false))
+            };
+            let mut plane_a = row_plane(first_row, false);
+            let mut i = first_row;
+            while i < end_row {
                 let i1 = step(i, r1);
                 let plane_b = row_plane(i1, false);
                 let mut low = plane_a;
@@ -1109,6 +1127,62 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             }
         }
         Ok(())
+    }
+
+    /// The cell rows `[first, end)` of a full-resolution unit that the ray can cross within one column on
+    /// `[lo, hi]` (beyond the paper: the row loop skips the rest). The column's row planes all contain the
+    /// direction perpendicular to its middle meridian, so each is a line `z = k + r tan ψ / cos(w/2)` in the
+    /// `(r, z)` half-plane, `r` the distance from the axis along the middle meridian. Two such lines meet at
+    /// `r* = Δk / Δ(tan ψ / cos(w/2))`; since `dk/dψ = −e² cos ψ (N + N' tan ψ)`, `r*` is at most
+    /// `e² N cos³ψ (1 + e² N² sin²ψ / a²) ≤ e² (a²/b)(1 + e² a²/b²)` (43 km on WGS84). Beyond twice that the
+    /// planes are ordered, so along a segment that stays there (`r` is linear in `t`: both ends are checked)
+    /// the ray crosses each plane at most once and in order: the crossed cells are those between the cells of
+    /// its two ends. Each end's cell comes from a binary search over the planes' sides; a side decided wrongly by
+    /// rounding puts the end within a rounding distance of that plane, so one row of margin on each side
+    /// covers it. Elsewhere (near the axis) every row is returned.
+    fn crossed_rows(
+        &self,
+        u: &Unit,
+        [lo, hi]: [T; 2],
+        (radial_o, radial_d): (T, T),
+        plane: &impl Fn(u32) -> (T, T, T),
+    ) -> (u32, u32) {
+        let [r0, r1] = u.rows;
+        let e = &self.ellipsoid;
+        let (e2, q) = (e.e2(), e.a() / e.b());
+        let r_order = T::TWO * e2 * e.a() * q * (T::ONE + e2 * q * q);
+        let ordered = radial_o + lo * radial_d > r_order && radial_o + hi * radial_d > r_order;
+        if !ordered || !(lo.is_finite() && hi.is_finite()) {
+            return (r0, r1);
+        }
+        // The cell containing the point at `t`: the last plane i in [r0, r1] that the point lies on the
+        // increasing-row side of (rows increase northwards when dlat > 0), or r0 − 1 (before the unit).
+        let north_up = self.grid.dlat > T::ZERO;
+        let cell_of = |t: T| -> i64 {
+            let after = |i: u32| {
+                let (s0, sd, _) = plane(i);
+                let north = s0 + t * sd >= T::ZERO;
+                north == north_up
+            };
+            let (mut a, mut b) = (i64::from(r0) - 1, i64::from(r1));
+            // Invariant: after(a) (or a = r0 − 1), !after(b + 1) (or b = r1); answer in [a, b].
+            while a < b {
+                let m = a + (b - a + 1) / 2;
+                if after(u32::try_from(m).unwrap_or(r1)) {
+                    a = m;
+                } else {
+                    b = m - 1;
+                }
+            }
+            a
+        };
+        let (ca, cb) = (cell_of(lo), cell_of(hi));
+        let first = ca.min(cb).saturating_sub(1).max(i64::from(r0));
+        let end = ca.max(cb).saturating_add(2).min(i64::from(r1));
+        match (u32::try_from(first), u32::try_from(end)) {
+            (Ok(f), Ok(e)) if f <= e => (f, e),
+            _ => (r0, r0),
+        }
     }
 
     /// One watertight ray–triangle test; a nearer hit becomes the candidate.
@@ -1322,8 +1396,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// (see `refine`'s docs: the vertices recomputed far below an ulp, `t` from the triangle's plane; the
     /// unrefined values are kept when the refinement's guard rejects it).
     fn make_hit(&self, ray: &Ray<T>, c: Candidate<T>) -> Hit<T> {
-        let height = |i: u32, j: u32| self.storage.height(i, j).filter(|h| h.is_finite());
-        let (e, g) = (&self.ellipsoid, &self.grid);
+        let g = &self.grid;
         let refined = match c.tri {
             TriRef::Cell(tri) => {
                 // The walk may leave the unit only into cells traced at full resolution.
@@ -1332,9 +1405,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                         && (c.unit.cols[0]..c.unit.cols[1]).contains(&j);
                     inside || matches!(self.unit_at(i, j), Ok(Lookup::Unit(u)) if u.stride == 1)
                 };
-                refine::refine(e, g, &self.steps, ray, c.t, c.cell, tri, &height, &fine)
+                refine::refine(self.storage, g, ray, c.t, c.cell, tri, &fine)
             }
-            TriRef::Vertices(v) => refine::refine_vertices(e, g, ray, c.t, v, &height),
+            TriRef::Vertices(v) => refine::refine_vertices(self.storage, g, ray, c.t, v),
         };
         let (t, p) = refined.unwrap_or((c.t, ray.at(c.t)));
         let (cell, level) = (c.cell, c.unit.level);

@@ -52,8 +52,8 @@
 //! normal-direction measure is the right one because along the plane a grazing ray legitimately moves by
 //! `1 / sin ε` times more.
 
-use super::Grid;
-use crate::dd::{Dd, Parallel, rotate, sin_cos_deg, two_prod};
+use super::{Grid, TerrainStorage};
+use crate::dd::{Dd, Parallel, sin_cos_deg, two_prod};
 use crate::geodesy::Ellipsoid;
 use crate::ray::Ray;
 use crate::real::Real;
@@ -116,21 +116,30 @@ fn diff<T: Real>(a: &[Dd<T>; 3], b: &[Dd<T>; 3]) -> V3<T> {
     )
 }
 
-/// The sines and cosines of the grid's steps `dlat` and `dlon`, as pairs (computed once per picker): row `i+1`
-/// and column `j+1` of a cell follow from row `i` and column `j` by angle addition.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Steps<T> {
-    lat: (Dd<T>, Dd<T>),
-    lon: (Dd<T>, Dd<T>),
+/// The parallel of vertex row `i` in pairs ([`TerrainStorage::row_parallel`]): latitude `lat0 + i·dlat` as an
+/// exact pair, its sine and cosine and the ECEF factors to a few `ε²`.
+pub fn row_parallel<T: Real>(e: &Ellipsoid<T>, g: &Grid<T>, i: u32) -> Parallel<T> {
+    Parallel::new(e, lat_dd(g, i))
 }
 
-impl<T: Real> Steps<T> {
-    pub(super) fn new(g: &Grid<T>) -> Self {
-        Steps {
-            lat: sin_cos_deg(Dd::from(g.dlat)),
-            lon: sin_cos_deg(Dd::from(g.dlon)),
-        }
+/// `(sin, cos)` of the longitude of vertex column `j` in pairs ([`TerrainStorage::col_sin_cos_dd`]).
+pub fn col_sin_cos_dd<T: Real>(g: &Grid<T>, j: u32) -> (Dd<T>, Dd<T>) {
+    sin_cos_deg(lon_dd(g, j))
+}
+
+/// Grid vertex `V(i, j)` in pairs from the storage's parallels and meridians; `None` for nodata or outside the
+/// grid.
+fn vertex_dd<T: Real, S: TerrainStorage<T> + ?Sized>(
+    s: &S,
+    g: &Grid<T>,
+    (i, j): (u32, u32),
+) -> Option<[Dd<T>; 3]> {
+    if i >= g.rows || j >= g.cols {
+        return None;
     }
+    let h = s.height(i, j).filter(|h| h.is_finite())?;
+    let (so, co) = s.col_sin_cos_dd(j);
+    Some(s.row_parallel(i).ecef(so, co, h))
 }
 
 /// The intersection of the ray with the plane of one triangle, in pairs.
@@ -147,39 +156,20 @@ struct PlaneHit<T> {
 
 /// The refined intersection with triangle `tri` of cell `[i, j]` (module docs); `None` if a corner is nodata or
 /// outside the grid, or the result is not finite.
-fn plane_hit<T: Real>(
-    e: &Ellipsoid<T>,
+fn plane_hit<T: Real, S: TerrainStorage<T> + ?Sized>(
+    s: &S,
     g: &Grid<T>,
-    steps: &Steps<T>,
     ray: &Ray<T>,
     [i, j]: [u32; 2],
     tri: Tri,
-    height: &impl Fn(u32, u32) -> Option<T>,
 ) -> Option<PlaneHit<T>> {
     let (i1, j1) = (i.checked_add(1)?, j.checked_add(1)?);
     if i1 >= g.rows || j1 >= g.cols {
         return None;
     }
-    // Row i+1 and column j+1 by angle addition from row i and column j when they are exactly one step apart
-    // (not where a pole row was clamped or the closing column of a global grid is `lon0 + 360°`), and a pole row
-    // directly, so that it stays exactly on the axis.
-    let (lat0, lat1) = (lat_dd(g, i), lat_dd(g, i1));
-    let (lon0, lon1) = (lon_dd(g, j), lon_dd(g, j1));
-    let sc_lat0 = sin_cos_deg(lat0);
-    let one_step = lat1.minus(lat0) == Dd::from(g.dlat) && lat1.hi.abs() != T::from_f64(90.0);
-    let sc_lat1 = if one_step {
-        rotate(sc_lat0, steps.lat)
-    } else {
-        sin_cos_deg(lat1)
-    };
-    let (sw, cw) = sin_cos_deg(lon0);
-    let (se, ce) = if lon1.minus(lon0) == Dd::from(g.dlon) {
-        rotate((sw, cw), steps.lon)
-    } else {
-        sin_cos_deg(lon1)
-    };
-    let row0 = Parallel::from_sin_cos(e, sc_lat0.0, sc_lat0.1);
-    let row1 = Parallel::from_sin_cos(e, sc_lat1.0, sc_lat1.1);
+    let (row0, row1) = (s.row_parallel(i), s.row_parallel(i1));
+    let ((sw, cw), (se, ce)) = (s.col_sin_cos_dd(j), s.col_sin_cos_dd(j1));
+    let height = |i: u32, j: u32| s.height(i, j).filter(|h| h.is_finite());
     let v0 = row0.ecef(sw, cw, height(i, j)?);
     let v11 = row1.ecef(se, ce, height(i1, j1)?);
     let (v1, v2) = match tri {
@@ -189,34 +179,17 @@ fn plane_hit<T: Real>(
     plane_through(ray, &v0, &v1, &v2)
 }
 
-/// The grid vertex `V(i, j)` in pairs (directly from its latitude and longitude); `None` for nodata or outside
-/// the grid.
-fn vertex_dd<T: Real>(
-    e: &Ellipsoid<T>,
-    g: &Grid<T>,
-    (i, j): (u32, u32),
-    height: &impl Fn(u32, u32) -> Option<T>,
-) -> Option<[Dd<T>; 3]> {
-    if i >= g.rows || j >= g.cols {
-        return None;
-    }
-    let (sl, cl) = sin_cos_deg(lat_dd(g, i));
-    let (so, co) = sin_cos_deg(lon_dd(g, j));
-    Some(Parallel::from_sin_cos(e, sl, cl).ecef(so, co, height(i, j)?))
-}
-
 /// A [`Vtx`] in pairs.
-fn vtx_dd<T: Real>(
-    e: &Ellipsoid<T>,
+fn vtx_dd<T: Real, S: TerrainStorage<T> + ?Sized>(
+    s: &S,
     g: &Grid<T>,
     v: Vtx,
-    height: &impl Fn(u32, u32) -> Option<T>,
 ) -> Option<[Dd<T>; 3]> {
     match v {
-        Vtx::Grid(i, j) => vertex_dd(e, g, (i, j), height),
+        Vtx::Grid(i, j) => vertex_dd(s, g, (i, j)),
         Vtx::Mid([i, j, i1, j1]) => {
-            let a = vertex_dd(e, g, (i, j), height)?;
-            let b = vertex_dd(e, g, (i1, j1), height)?;
+            let a = vertex_dd(s, g, (i, j))?;
+            let b = vertex_dd(s, g, (i1, j1))?;
             let [a0, a1, a2] = a;
             let [b0, b1, b2] = b;
             let half = |x: Dd<T>, y: Dd<T>| x.plus(y).times_t(T::HALF);
@@ -297,18 +270,16 @@ const MAX_WALK: usize = 7;
 /// `full_resolution` tells whether a cell is traced at the DEM's own resolution (the walk steps only into such
 /// cells: elsewhere a multi-resolution surface has other triangles).
 #[allow(clippy::too_many_arguments)]
-pub(super) fn refine<T: Real>(
-    e: &Ellipsoid<T>,
+pub(super) fn refine<T: Real, S: TerrainStorage<T> + ?Sized>(
+    s: &S,
     g: &Grid<T>,
-    steps: &Steps<T>,
     ray: &Ray<T>,
     t0: T,
     cell: [u32; 2],
     tri: Tri,
-    height: &impl Fn(u32, u32) -> Option<T>,
     full_resolution: &impl Fn([u32; 2]) -> bool,
 ) -> Option<(T, [T; 3])> {
-    let first = plane_hit(e, g, steps, ray, cell, tri, height)?;
+    let first = plane_hit(s, g, ray, cell, tri)?;
     // Containment walk (module docs): at a tie the traversal may have chosen a triangle that the exact ray only
     // grazes past; step across the edge that the refined point lies beyond, to the triangle that contains it.
     let tol = T::from_f64(16.0) * T::EPSILON * V3::from(first.p).max_abs();
@@ -331,7 +302,7 @@ pub(super) fn refine<T: Real>(
         let Some((nc, nt)) = across(g, c, tr, k).filter(|(nc, _)| full_resolution(*nc)) else {
             break;
         };
-        let Some(nh) = plane_hit(e, g, steps, ray, nc, nt, height) else {
+        let Some(nh) = plane_hit(s, g, ray, nc, nt) else {
             break;
         };
         cur = (nh, nc, nt);
@@ -357,20 +328,19 @@ fn guard<T: Real>(ray: &Ray<T>, t0: T, chosen: &PlaneHit<T>) -> Option<(T, [T; 3
 
 /// The refined hit for a triangle given by its vertices (coarse cells and stitched fans, §5): the same plane
 /// and guard as [`refine`], without the containment walk — a point beyond an edge keeps the traversal's hit.
-pub(super) fn refine_vertices<T: Real>(
-    e: &Ellipsoid<T>,
+pub(super) fn refine_vertices<T: Real, S: TerrainStorage<T> + ?Sized>(
+    s: &S,
     g: &Grid<T>,
     ray: &Ray<T>,
     t0: T,
     tri: [Vtx; 3],
-    height: &impl Fn(u32, u32) -> Option<T>,
 ) -> Option<(T, [T; 3])> {
     let [a, b, c] = tri;
     let h = plane_through(
         ray,
-        &vtx_dd(e, g, a, height)?,
-        &vtx_dd(e, g, b, height)?,
-        &vtx_dd(e, g, c, height)?,
+        &vtx_dd(s, g, a)?,
+        &vtx_dd(s, g, b)?,
+        &vtx_dd(s, g, c)?,
     )?;
     let tol = T::from_f64(16.0) * T::EPSILON * V3::from(h.p).max_abs();
     if h.inside.iter().any(|&x| x < -tol) {

@@ -1,6 +1,7 @@
 //! The storage trait: the kernel does not own terrain (seed 000 §3, §5). A storage gives the kernel the DEM's
 //! regular latitude/longitude grid, its vertex heights, and a height-augmented quadtree over the grid's cells.
 
+use crate::dd::{Dd, Parallel};
 use crate::geodesy::{Ellipsoid, HeightQuadBounds, sin_cos_deg};
 use crate::real::Real;
 
@@ -164,6 +165,18 @@ pub trait TerrainStorage<T: Real> {
     /// volume voids the no-miss guarantee.
     fn cached_bounds(&self, _id: NodeId) -> Option<HeightQuadBounds<T>> {
         None
+    }
+    /// The parallel of vertex row `i` in double-double, for the refinement of the nearest hit:
+    /// [`super::row_parallel`]`(&ellipsoid, &grid, i)`. May be cached per row (64 bytes per row in `f64`) like
+    /// [`TerrainStorage::row_sin_cos`], which spares the refinement two double-double sines per ray; it **must**
+    /// return exactly that value.
+    fn row_parallel(&self, i: u32) -> Parallel<T> {
+        super::row_parallel(&self.ellipsoid(), &self.grid(), i)
+    }
+    /// `(sin, cos)` of the longitude of vertex column `j` in double-double: [`super::col_sin_cos_dd`]`(&grid,
+    /// j)`; may be cached per column, with the same requirement.
+    fn col_sin_cos_dd(&self, j: u32) -> (Dd<T>, Dd<T>) {
+        super::col_sin_cos_dd(&self.grid(), j)
     }
     /// Optional box of the node in its own local frame (beyond the paper; [`super::boxes`]): a box that
     /// contains every vertex of the node with data, as [`super::boxes::BoxBuilder`] forms it from
