@@ -17,13 +17,16 @@ use crate::ray::Ray;
 use crate::real::Real;
 use crate::vec3::V3;
 
-/// A node's local frame: unit vectors east `e`, north `n` and up `u` (the geodetic normal) at the node's middle
-/// vertex, with origin `a·u`. Coordinates of a point `P` are `(e·P, n·P, u·P − a)`.
+/// A node's local frame: unit vectors east `e = (−sin λ, cos λ, 0)`, north `n = (−sin φ cos λ, −sin φ sin λ,
+/// cos φ)` and up `u = (cos φ cos λ, cos φ sin λ, sin φ)` (the geodetic normal) at the node's middle vertex
+/// `(φ, λ)`, with origin `a·u`. Coordinates of a point `P` are `(e·P, n·P, u·P − a)`, formed through the
+/// horizontal radial component `r = x cos λ + y sin λ`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LocalFrame<T> {
-    e: V3<T>,
-    n: V3<T>,
-    u: V3<T>,
+    sin_lat: T,
+    cos_lat: T,
+    sin_lon: T,
+    cos_lon: T,
     a: T,
 }
 
@@ -35,30 +38,68 @@ impl<T: Real> LocalFrame<T> {
         ellipsoid: &Ellipsoid<T>,
         node: &Node<T>,
     ) -> Self {
+        Self::of_ranges(storage, ellipsoid, node.rows, node.cols)
+    }
+
+    /// [`LocalFrame::of`] for a node's ranges.
+    pub fn of_ranges<S: TerrainStorage<T> + ?Sized>(
+        storage: &S,
+        ellipsoid: &Ellipsoid<T>,
+        rows: [u32; 2],
+        cols: [u32; 2],
+    ) -> Self {
         let mid = |[a, b]: [u32; 2]| a.wrapping_add(b.wrapping_sub(a).wrapping_shr(1));
-        let (sp, cp) = storage.row_sin_cos(mid(node.rows));
-        let (sl, cl) = storage.col_sin_cos(mid(node.cols));
+        let (sp, cp) = storage.row_sin_cos(mid(rows));
+        let (sl, cl) = storage.col_sin_cos(mid(cols));
         LocalFrame {
-            e: V3::new(-sl, cl, T::ZERO),
-            n: V3::new(-sp * cl, -sp * sl, cp),
-            u: V3::new(cp * cl, cp * sl, sp),
+            sin_lat: sp,
+            cos_lat: cp,
+            sin_lon: sl,
+            cos_lon: cl,
             a: ellipsoid.a(),
         }
+    }
+
+    /// `(e·v, n·v, u·v)` of a vector.
+    #[inline]
+    fn rotate(&self, v: V3<T>) -> V3<T> {
+        let r = self.cos_lon * v.x + self.sin_lon * v.y;
+        V3::new(
+            self.cos_lon * v.y - self.sin_lon * v.x,
+            self.cos_lat * v.z - self.sin_lat * r,
+            self.cos_lat * r + self.sin_lat * v.z,
+        )
+    }
+
+    /// The up coordinate `u·P − a` of a point.
+    #[inline]
+    pub fn up(&self, p: V3<T>) -> T {
+        self.up_dir(p) - self.a
+    }
+
+    /// The up component `u·d` of a direction.
+    #[inline]
+    pub fn up_dir(&self, d: V3<T>) -> T {
+        self.cos_lat * (self.cos_lon * d.x + self.sin_lon * d.y) + self.sin_lat * d.z
     }
 
     /// The coordinates `(e·P, n·P, u·P − a)` of an ECEF point.
     #[inline]
     pub fn coords(&self, p: V3<T>) -> V3<T> {
-        V3::new(self.e.dot(p), self.n.dot(p), self.u.dot(p) - self.a)
+        let q = self.rotate(p);
+        V3::new(q.x, q.y, q.z - self.a)
     }
 
     /// The ECEF point of frame coordinates `q` (the inverse of [`LocalFrame::coords`], up to rounding).
     #[inline]
     pub fn point(&self, q: V3<T>) -> V3<T> {
-        self.e
-            .scaled(q.x)
-            .plus(self.n.scaled(q.y))
-            .plus(self.u.scaled(q.z + self.a))
+        let (up, north) = (q.z + self.a, q.y);
+        let r = self.cos_lat * up - self.sin_lat * north;
+        V3::new(
+            self.cos_lon * r - self.sin_lon * q.x,
+            self.sin_lon * r + self.cos_lon * q.x,
+            self.sin_lat * up + self.cos_lat * north,
+        )
     }
 }
 
@@ -176,7 +217,7 @@ impl<T: Real> LocalFrame<T> {
             return Some((lo, hi)); // no finite bound on the rounding: keep the whole interval
         }
         let q0 = self.coords(o);
-        let qd = V3::new(self.e.dot(d), self.n.dot(d), self.u.dot(d));
+        let qd = self.rotate(d);
         let widen = |v: f32, s: T| T::from_f64(f64::from(v)) + s;
         let [bx, by, bz] = b.lo;
         let [cx, cy, cz] = b.hi;

@@ -676,6 +676,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     }
 
     /// Depth-first, nearest-child-first traversal of one zone with an explicit stack.
+    #[inline(never)]
     fn traverse(
         &self,
         root: Entry<T>,
@@ -922,6 +923,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// planes, per cell against its two row planes (planes through the spheroid normals at the cell's corner
     /// vertices), then the watertight test. A coarse cell on the unit's border whose neighbour is finer is
     /// stitched to it (module docs, "Multi-resolution").
+    #[inline(never)]
     fn trace_unit(
         &self,
         u: &Unit,
@@ -980,7 +982,21 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             row_vals(i)
         };
         let stitchable = s > 1;
+        // Height cull (beyond the paper): in the unit's local frame, a cell whose part of the ray lies wholly
+        // above (or below) its four corners' up coordinates cannot meet its triangles, the convex hulls of those
+        // corners. The tolerance covers the rounding of both sides' up coordinates, like the node boxes'.
+        let frame = LocalFrame::of_ranges(self.storage, e, u.rows, u.cols);
+        let (z0, zd) = (frame.up(o), frame.up_dir(d));
+        let z_tol = T::from_f64(32.0)
+            * T::EPSILON
+            * ((o.x.abs() + o.y.abs() + o.z.abs())
+                + t_in.abs().max(t_out.abs()) * (d.x.abs() + d.y.abs() + d.z.abs())
+                + e.a());
         let (k_first, k_end) = self.unit_columns(u, ray, t_in, t_out);
+        // The cell row last located by `crossed_rows` in this unit, and the sign of the azimuth's rate along the
+        // ray, (o × d)_z.
+        let mut row_hint = None;
+        let az_rate = o.x * d.y - o.y * d.x;
         for k in k_first..k_end {
             let j = c0.saturating_add(k.saturating_mul(s));
             let j1 = step(j, c1);
@@ -1050,9 +1066,22 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             let (first_row, end_row) = if stitchable {
                 (r0, r1)
             } else {
-                self.crossed_rows(u, [lo, hi], (radial_o, radial_d), &|i| row_plane(i, false))
+                self.crossed_rows(
+                    u,
+                    [lo, hi],
+                    (radial_o, radial_d),
+                    az_rate,
+                    &|i, t| {
+                        let (sp, cp, kz, _) = row_at(i);
+                        cp * c_half * (o.z - kz) - sp * radial_o + t * (cp * c_half * d.z - sp * radial_d)
+                    },
+                    &mut row_hint,
+                )
             };
             let mut plane_a = row_plane(first_row, false);
+            // The northern (higher-row) corners of the last cell traced in this column, reused as the next
+            // cell's southern ones.
+            let mut shared: Option<(u32, Option<V3<T>>, Option<V3<T>>)> = None;
             let mut i = first_row;
             while i < end_row {
                 let i1 = step(i, r1);
@@ -1089,7 +1118,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     rows: [row_i, row_i1],
                     cols: [j, j1],
                 };
-                let v00 = vtx(row_i, j, (sw, cw));
+                let reuse = shared.filter(|(r, _, _)| *r == row_i);
+                let v00 = reuse.map_or_else(|| vtx(row_i, j, (sw, cw)), |(_, a, _)| a);
                 let v11 = vtx(row_i1, j1, (se, ce));
                 if stitchable && border {
                     match self.stitch(u, &cell, v00, v11, w, clo)? {
@@ -1097,8 +1127,19 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                         Stitch::Plain => {}
                     }
                 }
-                let v01 = vtx(row_i, j1, (se, ce));
+                let v01 = reuse.map_or_else(|| vtx(row_i, j1, (se, ce)), |(_, _, b)| b);
                 let v10 = vtx(row_i1, j, (sw, cw));
+                shared = Some((row_i1, v10, v11));
+                let (mut z_min, mut z_max) = (T::INFINITY, T::NEG_INFINITY);
+                for v in [v00, v01, v10, v11].iter().flatten() {
+                    let z = frame.up(*v);
+                    z_min = z_min.min(z);
+                    z_max = z_max.max(z);
+                }
+                let (za, zb) = (z0 + clo * zd, z0 + chi * zd);
+                if za.min(zb) > z_max + z_tol || za.max(zb) < z_min - z_tol {
+                    continue;
+                }
                 let refs = |first: bool| {
                     if s == 1 {
                         TriRef::Cell(if first { Tri::First } else { Tri::Second })
@@ -1140,12 +1181,15 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// its two ends. Each end's cell comes from a binary search over the planes' sides; a side decided wrongly by
     /// rounding puts the end within a rounding distance of that plane, so one row of margin on each side
     /// covers it. Elsewhere (near the axis) every row is returned.
+    #[inline(never)]
     fn crossed_rows(
         &self,
         u: &Unit,
         [lo, hi]: [T; 2],
         (radial_o, radial_d): (T, T),
-        plane: &impl Fn(u32) -> (T, T, T),
+        radial_sign: T,
+        plane: &impl Fn(u32, T) -> T,
+        hint: &mut Option<i64>,
     ) -> (u32, u32) {
         let [r0, r1] = u.rows;
         let e = &self.ellipsoid;
@@ -1158,17 +1202,37 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         // The cell containing the point at `t`: the last plane i in [r0, r1] that the point lies on the
         // increasing-row side of (rows increase northwards when dlat > 0), or r0 − 1 (before the unit).
         let north_up = self.grid.dlat > T::ZERO;
-        let cell_of = |t: T| -> i64 {
-            let after = |i: u32| {
-                let (s0, sd, _) = plane(i);
-                let north = s0 + t * sd >= T::ZERO;
+        let (first_plane, last_plane) = (i64::from(r0), i64::from(r1));
+        let cell_of = |t: T, hint: Option<i64>| -> i64 {
+            // Whether the point lies past plane i (true before the unit's first plane, false after its last).
+            let after = |i: i64| {
+                if i < first_plane {
+                    return true;
+                }
+                let Some(i) = u32::try_from(i).ok().filter(|&i| i <= r1) else {
+                    return false;
+                };
+                let north = plane(i, t) >= T::ZERO;
                 north == north_up
             };
-            let (mut a, mut b) = (i64::from(r0) - 1, i64::from(r1));
-            // Invariant: after(a) (or a = r0 − 1), !after(b + 1) (or b = r1); answer in [a, b].
+            // From the hint (the cell found last in this unit: the ray crosses few rows per column), a few
+            // steps; else a binary search. The answer a: after(a), !after(a + 1), a in [r0 − 1, r1].
+            if let Some(h) = hint {
+                let mut a = h.clamp(first_plane - 1, last_plane);
+                for _ in 0..4 {
+                    if !after(a) {
+                        a -= 1;
+                    } else if after(a + 1) {
+                        a += 1;
+                    } else {
+                        return a;
+                    }
+                }
+            }
+            let (mut a, mut b) = (first_plane - 1, last_plane);
             while a < b {
                 let m = a + (b - a + 1) / 2;
-                if after(u32::try_from(m).unwrap_or(r1)) {
+                if after(m) {
                     a = m;
                 } else {
                     b = m - 1;
@@ -1176,7 +1240,13 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             }
             a
         };
-        let (ca, cb) = (cell_of(lo), cell_of(hi));
+        // The end on the column's western meridian first: it is shared with the previous column, whose eastern
+        // end is the hint (longitude grows along the ray when (o × d)_z > 0).
+        let east_at_hi = radial_sign > T::ZERO;
+        let (t_west, t_east) = if east_at_hi { (lo, hi) } else { (hi, lo) };
+        let ca = cell_of(t_west, *hint);
+        let cb = cell_of(t_east, Some(ca));
+        *hint = Some(cb);
         let first = ca.min(cb).saturating_sub(1).max(i64::from(r0));
         let end = ca.max(cb).saturating_add(2).min(i64::from(r1));
         match (u32::try_from(first), u32::try_from(end)) {
