@@ -605,16 +605,13 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         for (k, z) in self.zones.iter().enumerate().take(self.zone_count) {
             if let Some((_, _, v, bbox)) = z {
                 // The zone's box first (cheap), then its volume on what is left (tighter for a large zone).
-                let within = match bbox {
-                    Some((f, b)) => f
-                        .box_interval(b, &clipped)
-                        .and_then(|(a, c)| clipped.with_interval(a, c).ok()),
-                    None => Some(clipped),
+                let interval = match bbox {
+                    Some((f, b)) => f.box_interval(b, &clipped),
+                    None => match v {
+                        ZoneVolume::Cached(b) => b.ray_interval(&clipped),
+                        ZoneVolume::Relaxed(v) => v.interval(&clipped),
+                    },
                 };
-                let interval = within.and_then(|r| match v {
-                    ZoneVolume::Cached(b) => b.ray_interval(&r),
-                    ZoneVolume::Relaxed(v) => v.interval(&r),
-                });
                 if let Some((a, c)) = interval {
                     if let Some(slot) = order.get_mut(n_order) {
                         *slot = (k, a, c);
@@ -717,36 +714,12 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 let Some([lo, hi]) = child.heights else {
                     continue;
                 };
-                // The volume bounds the coarsest cells traced under the child: its own block's, or the source's
-                // when the child falls back to it.
-                let falls_back = child.level >= self.min_level && !self.storage.is_resident(*cid);
-                let vol = match src {
-                    Some(s) if falls_back => s.stride,
-                    _ => stride,
-                };
-                let interval = match (
-                    self.storage.node_box(*cid),
-                    self.storage.cached_bounds(*cid).filter(|_| vol == 1),
-                ) {
-                    (Some(b), _) => {
+                let interval = match self.storage.node_box(*cid) {
+                    // The box holds all of the child's vertices, so every triangle traced under it.
+                    Some(b) => {
                         LocalFrame::of(self.storage, &self.ellipsoid, &child).box_interval(&b, &sub)
                     }
-                    (None, Some(b)) => b.ray_interval(&sub),
-                    (None, None) => relaxed_interval(
-                        &self.ellipsoid,
-                        &node_trig(
-                            &self.grid,
-                            self.storage,
-                            &child,
-                            Some(&e.node),
-                            self.half_cell(vol).1,
-                        ),
-                        lo,
-                        hi,
-                        self.grid.dlat * self.scale(vol),
-                        self.grid.dlon * self.scale(vol),
-                        &sub,
-                    )?,
+                    None => self.volume_interval(*cid, &child, &e.node, stride, src, lo, hi, &sub)?,
                 };
                 if let Some((a, c)) = interval {
                     if let Some(slot) = kids.get_mut(nk) {
@@ -787,6 +760,46 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             }
         }
         Ok(())
+    }
+
+    /// The hull of `sub` in a child's spheroidal volume (a storage without node boxes): the storage's cached
+    /// volume or the relaxed test, from its walls on the parent's partition. The volume bounds the coarsest
+    /// cells traced under the child: its own block's, or the source's when the child falls back to it.
+    #[allow(clippy::too_many_arguments)]
+    fn volume_interval(
+        &self,
+        id: NodeId,
+        child: &Node<T>,
+        parent: &Node<T>,
+        stride: u32,
+        src: Option<Source>,
+        lo: T,
+        hi: T,
+        sub: &Ray<T>,
+    ) -> Result<Option<(T, T)>, TerrainError> {
+        let falls_back = child.level >= self.min_level && !self.storage.is_resident(id);
+        let vol = match src {
+            Some(s) if falls_back => s.stride,
+            _ => stride,
+        };
+        if let Some(b) = self.storage.cached_bounds(id).filter(|_| vol == 1) {
+            return Ok(b.ray_interval(sub));
+        }
+        Ok(relaxed_interval(
+            &self.ellipsoid,
+            &node_trig(
+                &self.grid,
+                self.storage,
+                child,
+                Some(parent),
+                self.half_cell(vol).1,
+            ),
+            lo,
+            hi,
+            self.grid.dlat * self.scale(vol),
+            self.grid.dlon * self.scale(vol),
+            sub,
+        )?)
     }
 
     /// What to do at a node (module docs, "Multi-resolution"): `stride` is its block stride, `src` the source
