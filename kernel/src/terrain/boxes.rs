@@ -245,3 +245,55 @@ fn slab<T: Real>(lo: &mut T, hi: &mut T, q: T, dq: T, bl: T, bh: T) -> bool {
     }
     *lo <= *hi
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builder_rounds_outwards_to_f32_with_a_margin() {
+        let mut b = BoxBuilder::default();
+        assert_eq!(b.finish(), None);
+        let pts = [
+            V3::new(0.1, -1234.567_890_123, 1e-9),
+            V3::new(-0.3, 98_765.432_1, -7.000_000_1),
+            V3::new(f64::NAN, 0.0, 0.0), // ignored
+        ];
+        for p in pts {
+            b.add(p, 1.3e7);
+        }
+        let bx = b.finish().unwrap();
+        let margin = 64.0 * f64::EPSILON * 1.3e7;
+        for p in &pts[..2] {
+            for (k, v) in [p.x, p.y, p.z].into_iter().enumerate() {
+                assert!(f64::from(bx.lo[k]) <= v - margin, "{k}");
+                assert!(f64::from(bx.hi[k]) >= v + margin, "{k}");
+            }
+        }
+        // Not loose by more than an f32 ulp or two beyond the margin.
+        assert!(f64::from(bx.hi[1]) - (98_765.432_1 + margin) < 0.02);
+    }
+
+    #[test]
+    fn frame_point_inverts_coords_and_up_is_the_normal() {
+        let e = Ellipsoid::<f64>::wgs84();
+        for (lat, lon) in [(0.0, 0.0), (36.5, -118.25), (-89.9, 179.95), (89.999, -45.0)] {
+            let (sp, cp) = crate::geodesy::sin_cos_deg(lat);
+            let (sl, cl) = crate::geodesy::sin_cos_deg(lon);
+            let f = LocalFrame {
+                sin_lat: sp,
+                cos_lat: cp,
+                sin_lon: sl,
+                cos_lon: cl,
+                a: e.a(),
+            };
+            let p = e.geodetic_deg_to_ecef(lat + 0.01, lon - 0.02, 1234.0);
+            let q = f.coords(p);
+            assert!(f.point(q).minus(p).max_abs() < 1e-8, "{lat} {lon}");
+            // Up along the normal: a point 100 m above another moves 100 m in `up` only.
+            let n = e.normal(lat.to_radians(), lon.to_radians());
+            let d = f.coords(p.add_scaled(100.0, n)).minus(q);
+            assert!((d.z - 100.0).abs() < 1e-8 && d.x.abs() < 1e-8 && d.y.abs() < 1e-8);
+        }
+    }
+}

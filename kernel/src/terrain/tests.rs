@@ -34,6 +34,7 @@ struct TestDem {
     nodes: Vec<Node<f64>>,
     zones: Vec<NodeId>,
     cache: Vec<Option<HeightQuadBounds<f64>>>,
+    boxes: Vec<Option<boxes::NodeBox>>,
 }
 
 impl TestDem {
@@ -45,6 +46,7 @@ impl TestDem {
             nodes: Vec::new(),
             zones: Vec::new(),
             cache: Vec::new(),
+            boxes: Vec::new(),
         };
         let (cr, cc) = (grid.rows - 1, grid.cols - 1);
         for a in 0..zr {
@@ -58,6 +60,27 @@ impl TestDem {
             }
         }
         d
+    }
+
+    /// Gives every node its box ([`boxes`]), from all of its vertices.
+    fn with_boxes(mut self) -> Self {
+        self.boxes = self
+            .nodes
+            .iter()
+            .map(|n| {
+                let f = boxes::LocalFrame::of(&self, &self.e, n);
+                let mut b = boxes::BoxBuilder::default();
+                for i in n.rows[0]..=n.rows[1] {
+                    for j in n.cols[0]..=n.cols[1] {
+                        if let Some(p) = vertex_ecef(&self, &self.e, i, j) {
+                            b.add(f.coords(p), p.x.abs() + p.y.abs() + p.z.abs() + self.e.a());
+                        }
+                    }
+                }
+                b.finish()
+            })
+            .collect();
+        self
     }
 
     fn h(&self, i: u32, j: u32) -> Option<f64> {
@@ -164,6 +187,9 @@ impl TerrainStorage<f64> for TestDem {
     }
     fn cached_bounds(&self, id: NodeId) -> Option<HeightQuadBounds<f64>> {
         self.cache.get(id.0 as usize).copied().flatten()
+    }
+    fn node_box(&self, id: NodeId) -> Option<boxes::NodeBox> {
+        self.boxes.get(id.0 as usize).copied().flatten()
     }
 }
 
@@ -469,24 +495,53 @@ fn random_rays_agree_with_brute_force_on_rough_terrain() {
                 }
             })
             .collect();
-        let dem = TestDem::new(g, hs, 2, 2, 2);
-        let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
-        let e = dem.e;
-        for k in 0..300 {
-            let lat = lat0 + dlat * 11.0 * r.next();
-            let lon = lon0 + 0.5 * 13.0 * r.next();
-            let target = e.geodetic_deg_to_ecef(lat, lon, 3000.0 * r.next());
-            let dir = V3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5);
-            let dist = 100.0 + 3.0e5 * r.next() * r.next();
-            let ray = Ray::new(target.add_scaled(-dist, dir), dir).unwrap();
-            let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
-            same_hit(
-                &ray,
-                got,
-                dem.brute(&ray),
-                &std::format!("grid at {lat0}, ray {k}"),
-            );
+        // Spheroidal volumes, then node boxes, on the same rays.
+        let plain = TestDem::new(g, hs.clone(), 2, 2, 2);
+        let boxed = TestDem::new(g, hs, 2, 2, 2).with_boxes();
+        let e = plain.e;
+        let rays: Vec<Ray<f64>> = (0..300)
+            .map(|_| {
+                let lat = lat0 + dlat * 11.0 * r.next();
+                let lon = lon0 + 0.5 * 13.0 * r.next();
+                let target = e.geodetic_deg_to_ecef(lat, lon, 3000.0 * r.next());
+                let dir = V3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5);
+                let dist = 100.0 + 3.0e5 * r.next() * r.next();
+                Ray::new(target.add_scaled(-dist, dir), dir).unwrap()
+            })
+            .collect();
+        for dem in [&plain, &boxed] {
+            let p: Picker<'_, f64, TestDem> = Picker::new(dem).unwrap();
+            for (k, ray) in rays.iter().enumerate() {
+                let got = p.pick(ray).unwrap().map(|h| (h.t, h.cell));
+                let what = std::format!("grid at {lat0}, boxes {}, ray {k}", !dem.boxes.is_empty());
+                same_hit(ray, got, dem.brute(ray), &what);
+            }
         }
+    }
+}
+
+#[test]
+fn node_boxes_stand_in_for_the_volumes() {
+    // A light version of the test above (runs under Miri): a few rays at a ridge, boxes from all vertices.
+    let g = grid(-45.0, 30.0, 0.01, 0.01, 9, 9);
+    let hs: Vec<f64> = (0..81).map(|k| if k % 9 == 4 { 1500.0 } else { 200.0 }).collect();
+    let dem = TestDem::new(g, hs, 2, 1, 2).with_boxes();
+    assert!(dem.boxes.iter().all(Option::is_some));
+    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let e = dem.e;
+    for k in 0..6 {
+        let lat = -45.0 + 0.0125 * k as f64 + 0.001;
+        let ray = radial_ray(&e, lat, 30.04, 4000.0);
+        let mut stats = PickStats::default();
+        let got = p.pick_with_stats(&ray, &mut stats).unwrap().map(|h| (h.t, h.cell));
+        assert!(got.is_some() && stats.triangles_tested > 0, "ray {k}");
+        same_hit(&ray, got, dem.brute(&ray), &std::format!("ray {k}"));
+        // Grazing along the ridge from 50 km away.
+        let target = e.geodetic_deg_to_ecef(lat, 30.04, 1400.0);
+        let east = V3::new(-(30.0_f64.to_radians().sin()), 30.0_f64.to_radians().cos(), 0.0);
+        let ray = Ray::new(target.add_scaled(-5.0e4, east), east).unwrap();
+        let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
+        same_hit(&ray, got, dem.brute(&ray), &std::format!("grazing ray {k}"));
     }
 }
 
@@ -637,6 +692,62 @@ impl TerrainStorage<f32> for TinyF32 {
     }
     fn height(&self, i: u32, j: u32) -> Option<f32> {
         self.0.get((i * 3 + j) as usize).copied()
+    }
+}
+
+/// [`TinyF32`] with a box built from the same DEM's vertices in `f64`.
+struct TinyF32Boxed(TinyF32, boxes::NodeBox);
+impl TerrainStorage<f32> for TinyF32Boxed {
+    fn ellipsoid(&self) -> Ellipsoid<f32> {
+        self.0.ellipsoid()
+    }
+    fn grid(&self) -> Grid<f32> {
+        self.0.grid()
+    }
+    fn zone_count(&self) -> usize {
+        1
+    }
+    fn zone(&self, k: usize) -> Option<NodeId> {
+        self.0.zone(k)
+    }
+    fn node(&self, id: NodeId) -> Option<Node<f32>> {
+        self.0.node(id)
+    }
+    fn height(&self, i: u32, j: u32) -> Option<f32> {
+        self.0.height(i, j)
+    }
+    fn node_box(&self, _: NodeId) -> Option<boxes::NodeBox> {
+        Some(self.1)
+    }
+}
+
+#[test]
+fn f32_picker_with_a_box_built_in_f64_still_finds_the_peak() {
+    // The box is exact for the f64 vertices; the f32 picker's vertices and frame differ by f32 rounding (0.5 m
+    // at Earth scale), which the box test's tolerance covers.
+    let hs = [
+        400.0, 400.0, 400.0, 400.0, 2500.0, 400.0, 400.0, 400.0, 400.0,
+    ];
+    let g = grid(47.0, 8.0, 0.01, 0.01, 3, 3);
+    let f64_dem = TestDem::new(g, hs.to_vec(), 2, 1, 1).with_boxes();
+    let b = f64_dem.boxes[0].unwrap();
+    let dem = TinyF32Boxed(TinyF32(hs.map(|h| h as f32)), b);
+    let p: Picker<'_, f32, TinyF32Boxed> = Picker::new(&dem).unwrap();
+    let e = Ellipsoid::<f32>::wgs84();
+    // Straight down on the peak, and rays grazing the box's top and sides at the 400 m plateau.
+    let top = e.geodetic_deg_to_ecef(47.01, 8.01, 10_000.0);
+    let n = e.normal(47.01_f32.to_radians(), 8.01_f32.to_radians());
+    let hit = p.pick(&Ray::new(top, n.negated()).unwrap()).unwrap().unwrap();
+    assert!((hit.h - 2500.0).abs() < 3.0, "{}", hit.h);
+    // Near the corners (at the box's lowest points) the boxed picker answers as the plain one.
+    let plain_dem = TinyF32(hs.map(|h| h as f32));
+    let plain: Picker<'_, f32, TinyF32> = Picker::new(&plain_dem).unwrap();
+    for (lat, lon) in [(47.0001, 8.0001), (47.0199, 8.0199), (47.0001, 8.0199)] {
+        let top = e.geodetic_deg_to_ecef(lat, lon, 5_000.0);
+        let n = e.normal(lat.to_radians(), lon.to_radians());
+        let ray = Ray::new(top, n.negated()).unwrap();
+        let (got, want) = (p.pick(&ray).unwrap(), plain.pick(&ray).unwrap());
+        assert!(got.is_some() && got == want, "{lat} {lon}: {got:?} vs {want:?}");
     }
 }
 
