@@ -8,11 +8,16 @@
 //! * no false hit: a kernel hit point must lie within 1 mm (plus rounding of the point itself) of some triangle;
 //! * no miss: if the brute force finds a hit at a non-grazing angle whose point lies at least 1 mm inside a
 //!   triangle (from every edge), the kernel must return a hit no farther than it (within 1 mm).
+//!
+//! Bit 3 of `rows` (unused by the grid size) makes the storage provide node boxes
+//! ([`TerrainStorage::node_box`]), built here from every vertex of each node, so that half of the inputs run the
+//! traversal's box tests and half its spheroidal volumes (the shipped seeds keep the volumes).
 #![no_main]
 
 use arbitrary::Arbitrary;
 use curvicast::Ray;
 use curvicast::geodesy::Ellipsoid;
+use curvicast::terrain::boxes::NodeBox;
 use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainStorage};
 use libfuzzer_sys::fuzz_target;
 
@@ -41,6 +46,8 @@ struct Tiny {
     h: Vec<Option<f64>>,
     nodes: Vec<Node<f64>>,
     zones: Vec<NodeId>,
+    /// Node boxes by id (empty: the storage provides none).
+    boxes: Vec<Option<NodeBox>>,
 }
 
 impl Tiny {
@@ -54,6 +61,15 @@ impl Tiny {
             }
         }
         out
+    }
+    /// The box of every node, from all of its vertices with data, as the storage's contract states it
+    /// (computed while the storage provides no boxes).
+    fn build_boxes(&self) -> Vec<Option<NodeBox>> {
+        let e = self.ellipsoid();
+        self.nodes
+            .iter()
+            .map(|n| NodeBox::of_vertices(self, &e, n))
+            .collect()
     }
     fn node(&self, rows: [u32; 2], cols: [u32; 2], level: u8) -> Node<f64> {
         Node {
@@ -90,6 +106,9 @@ impl TerrainStorage<f64> for Tiny {
             .get((i * self.grid.cols + j) as usize)
             .copied()
             .flatten()
+    }
+    fn node_box(&self, id: NodeId) -> Option<NodeBox> {
+        self.boxes.get(id.0 as usize).copied().flatten()
     }
 }
 
@@ -191,6 +210,7 @@ fuzz_target!(|inp: Input| {
         h,
         nodes: Vec::new(),
         zones: Vec::new(),
+        boxes: Vec::new(),
     };
     let (cr, cc) = (rows - 1, cols - 1);
     let root = t.node([0, cr], [0, cc], 0);
@@ -216,6 +236,9 @@ fuzz_target!(|inp: Input| {
         t.nodes[0].children = kids;
     }
     t.zones.push(NodeId(0));
+    if inp.rows & 0x08 != 0 {
+        t.boxes = t.build_boxes();
+    }
     let e = Ellipsoid::<f64>::wgs84();
     let Ok(picker) = Picker::<'_, f64, Tiny>::new(&t) else {
         return;

@@ -940,7 +940,7 @@ impl<'a> DemStorage<'a> {
     /// cell with data).
     fn build_boxes(&mut self) {
         use curvicast::terrain::TerrainStorage;
-        use curvicast::terrain::boxes::{BoxBuilder, LocalFrame};
+        use curvicast::terrain::boxes::{BoxBuilder, LocalFrame, NodeBox};
         use curvicast::vec3::V3;
         let e: curvicast::geodesy::Ellipsoid<f64> = self.ellipsoid();
         let a = e.a();
@@ -953,17 +953,11 @@ impl<'a> DemStorage<'a> {
             if node.heights.is_none() {
                 continue;
             }
-            let frame = LocalFrame::of(self, &e, &node);
-            let mut b = BoxBuilder::default();
             if node.is_leaf() {
-                for i in node.rows[0]..=node.rows[1] {
-                    for j in node.cols[0]..=node.cols[1] {
-                        if let Some(p) = curvicast::terrain::vertex_ecef(self, &e, i, j) {
-                            b.add(frame.coords(p), l1(p));
-                        }
-                    }
-                }
+                self.records[k].bbox = NodeBox::of_vertices(self, &e, &node);
             } else {
+                let frame = LocalFrame::of(self, &e, &node);
+                let mut b = BoxBuilder::default();
                 for cid in node.children.iter().flatten() {
                     let (Some(child), Some(cb)) = (
                         TerrainStorage::<f64>::node(self, *cid),
@@ -977,8 +971,8 @@ impl<'a> DemStorage<'a> {
                         b.add(frame.coords(p), l1(p));
                     }
                 }
+                self.records[k].bbox = b.finish();
             }
-            self.records[k].bbox = b.finish();
         }
     }
 

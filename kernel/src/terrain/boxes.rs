@@ -115,6 +115,26 @@ pub struct NodeBox {
 }
 
 impl NodeBox {
+    /// The box of `node`'s vertices with data in its [`LocalFrame`], built in `f64` from
+    /// [`super::vertex_ecef`] (a storage's build step: it visits every vertex of the node). `None` if the node
+    /// has no vertex with data.
+    pub fn of_vertices<S: TerrainStorage<f64> + ?Sized>(
+        storage: &S,
+        ellipsoid: &Ellipsoid<f64>,
+        node: &Node<f64>,
+    ) -> Option<NodeBox> {
+        let frame = LocalFrame::of(storage, ellipsoid, node);
+        let mut b = BoxBuilder::default();
+        for i in node.rows[0]..=node.rows[1] {
+            for j in node.cols[0]..=node.cols[1] {
+                if let Some(p) = super::vertex_ecef(storage, ellipsoid, i, j) {
+                    b.add(frame.coords(p), p.x.abs() + p.y.abs() + p.z.abs() + ellipsoid.a());
+                }
+            }
+        }
+        b.finish()
+    }
+
     /// The eight corners, in frame coordinates.
     pub fn corners(&self) -> [V3<f64>; 8] {
         let mut out = [V3::new(0.0, 0.0, 0.0); 8];
@@ -255,7 +275,7 @@ mod tests {
         let mut b = BoxBuilder::default();
         assert_eq!(b.finish(), None);
         let pts = [
-            V3::new(0.1, -1234.567_890_123, 1e-9),
+            V3::new(0.1, -1_234.567_890_123, 1e-9),
             V3::new(-0.3, 98_765.432_1, -7.000_000_1),
             V3::new(f64::NAN, 0.0, 0.0), // ignored
         ];

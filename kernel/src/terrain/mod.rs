@@ -1110,7 +1110,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             let mut plane_a = row_plane(first_row, false);
             // The northern (higher-row) corners of the last cell traced in this column, reused as the next
             // cell's southern ones.
-            let mut shared: Option<(u32, Option<V3<T>>, Option<V3<T>>)> = None;
+            let mut shared: Option<RowCorners<T>> = None;
             let mut i = first_row;
             while i < end_row {
                 let i1 = step(i, r1);
@@ -1216,7 +1216,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         u: &Unit,
         [lo, hi]: [T; 2],
         (radial_o, radial_d): (T, T),
-        radial_sign: T,
+        az_rate: T,
         plane: &impl Fn(u32, T) -> T,
         hint: &mut Option<i64>,
     ) -> (u32, u32) {
@@ -1225,7 +1225,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let (e2, q) = (e.e2(), e.a() / e.b());
         let r_order = T::TWO * e2 * e.a() * q * (T::ONE + e2 * q * q);
         let ordered = radial_o + lo * radial_d > r_order && radial_o + hi * radial_d > r_order;
-        if !ordered || !(lo.is_finite() && hi.is_finite()) {
+        if !(ordered && lo.is_finite() && hi.is_finite()) {
             return (r0, r1);
         }
         // The cell containing the point at `t`: the last plane i in [r0, r1] that the point lies on the
@@ -1247,31 +1247,31 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             // From the hint (the cell found last in this unit: the ray crosses few rows per column), a few
             // steps; else a binary search. The answer a: after(a), !after(a + 1), a in [r0 − 1, r1].
             if let Some(h) = hint {
-                let mut a = h.clamp(first_plane - 1, last_plane);
+                let mut a = h.clamp(first_plane.saturating_sub(1), last_plane);
                 for _ in 0..4 {
                     if !after(a) {
-                        a -= 1;
-                    } else if after(a + 1) {
-                        a += 1;
+                        a = a.saturating_sub(1);
+                    } else if after(a.saturating_add(1)) {
+                        a = a.saturating_add(1);
                     } else {
                         return a;
                     }
                 }
             }
-            let (mut a, mut b) = (first_plane - 1, last_plane);
+            let (mut a, mut b) = (first_plane.saturating_sub(1), last_plane);
             while a < b {
-                let m = a + (b - a + 1) / 2;
+                let m = a.saturating_add(b.saturating_sub(a).saturating_add(1).wrapping_shr(1));
                 if after(m) {
                     a = m;
                 } else {
-                    b = m - 1;
+                    b = m.saturating_sub(1);
                 }
             }
             a
         };
         // The end on the column's western meridian first: it is shared with the previous column, whose eastern
         // end is the hint (longitude grows along the ray when (o × d)_z > 0).
-        let east_at_hi = radial_sign > T::ZERO;
+        let east_at_hi = az_rate > T::ZERO;
         let (t_west, t_east) = if east_at_hi { (lo, hi) } else { (hi, lo) };
         let ca = cell_of(t_west, *hint);
         let cb = cell_of(t_east, Some(ca));
@@ -1530,6 +1530,9 @@ fn div_ceil_pow2(n: u32, s: u32) -> u32 {
     let q = n.checked_shr(s.trailing_zeros()).unwrap_or(0);
     q.saturating_add(u32::from(n & s.wrapping_sub(1) != 0))
 }
+
+/// A row of a column's traced cells: the row index and the corners on its west and east meridians.
+type RowCorners<T> = (u32, Option<V3<T>>, Option<V3<T>>);
 
 /// Rows of a leaf whose trigonometry is cached per leaf (leaves up to 64 cells tall).
 const ROW_CACHE: usize = 65;

@@ -67,18 +67,7 @@ impl TestDem {
         self.boxes = self
             .nodes
             .iter()
-            .map(|n| {
-                let f = boxes::LocalFrame::of(&self, &self.e, n);
-                let mut b = boxes::BoxBuilder::default();
-                for i in n.rows[0]..=n.rows[1] {
-                    for j in n.cols[0]..=n.cols[1] {
-                        if let Some(p) = vertex_ecef(&self, &self.e, i, j) {
-                            b.add(f.coords(p), p.x.abs() + p.y.abs() + p.z.abs() + self.e.a());
-                        }
-                    }
-                }
-                b.finish()
-            })
+            .map(|n| boxes::NodeBox::of_vertices(&self, &self.e, n))
             .collect();
         self
     }

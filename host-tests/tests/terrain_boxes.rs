@@ -1,0 +1,521 @@
+//! Node boxes of [`DemStorage`] ([`curvicast::terrain::boxes`]): every box contains its node's vertices, boxes are
+//! tight, and [`LocalFrame::box_interval`] never drops a parameter whose point lies in the box.
+//!
+//! The vertices are formed here by a geodetic-to-ECEF conversion of this file's own (radians, `f64`), not by the
+//! kernel's `vertex_ecef`; the two differ by rounding only (nanometres), far below the 1 µm allowed.
+
+use curvicast::Ray;
+use curvicast::geodesy::Ellipsoid;
+use curvicast::terrain::boxes::{LocalFrame, NodeBox};
+use curvicast::terrain::{Node, NodeId, TerrainStorage};
+use curvicast::vec3::V3;
+use curvicast_host::scenes::real_dem;
+use curvicast_host::scenes::terrain::{Dem, DemStorage, MultiRes};
+use curvicast_host::scenes::terrain_cases::{TerrainKind, synthetic};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// How far (m) a vertex may lie outside its node's box: the rounding difference between this file's vertices and
+/// the kernel's.
+const INFLATE: f64 = 1e-6;
+
+/// Geodetic (degrees, metres) to ECEF on the ellipsoid (a, b), written out here: N = a / √(1 − e² sin²φ),
+/// x = (N + h) cos φ cos λ, y = (N + h) cos φ sin λ, z = (N (1 − e²) + h) sin φ.
+fn ecef(a: f64, b: f64, lat_deg: f64, lon_deg: f64, h: f64) -> V3<f64> {
+    let (sp, cp) = lat_deg.to_radians().sin_cos();
+    let (sl, cl) = lon_deg.to_radians().sin_cos();
+    let e2 = 1.0 - (b * b) / (a * a);
+    let n = a / (1.0 - e2 * sp * sp).sqrt();
+    V3::new(
+        (n + h) * cp * cl,
+        (n + h) * cp * sl,
+        (n * (1.0 - e2) + h) * sp,
+    )
+}
+
+fn ellipsoid(s: &DemStorage<'_>) -> Ellipsoid<f64> {
+    TerrainStorage::<f64>::ellipsoid(s)
+}
+
+fn node(s: &DemStorage<'_>, id: NodeId) -> Node<f64> {
+    TerrainStorage::<f64>::node(s, id).unwrap_or_else(|| panic!("node {} is missing", id.0))
+}
+
+/// Every node reachable from the zones, zones first.
+fn all_nodes(s: &DemStorage<'_>) -> Vec<(NodeId, Node<f64>)> {
+    let mut stack: Vec<NodeId> = (0..TerrainStorage::<f64>::zone_count(s))
+        .map(|k| TerrainStorage::<f64>::zone(s, k).expect("zone id"))
+        .collect();
+    let mut out = Vec::new();
+    while let Some(id) = stack.pop() {
+        let n = node(s, id);
+        stack.extend(n.children.iter().flatten().copied());
+        out.push((id, n));
+    }
+    out
+}
+
+fn inside(q: V3<f64>, b: &NodeBox, pad: f64) -> bool {
+    [q.x, q.y, q.z]
+        .into_iter()
+        .zip(b.lo.iter().zip(&b.hi))
+        .all(|(v, (&lo, &hi))| f64::from(lo) - pad <= v && v <= f64::from(hi) + pad)
+}
+
+/// Checks every node of `s` (see the test below); returns (vertex checks, nodes with a box).
+fn check_boxes_contain_vertices(name: &str, dem: &Dem, s: &DemStorage<'_>) -> (usize, usize) {
+    let e = ellipsoid(s);
+    let lat: Vec<f64> = (0..dem.rows).map(|i| dem.lat(i)).collect();
+    let lon: Vec<f64> = (0..dem.cols).map(|j| dem.lon(j)).collect();
+    let mut seen = vec![false; dem.rows * dem.cols];
+    let (mut checks, mut boxed) = (0usize, 0usize);
+    let mut worst = f64::NEG_INFINITY; // largest excess of a vertex over its box (negative: inside)
+    for (id, n) in all_nodes(s) {
+        let bx = TerrainStorage::<f64>::node_box(s, id);
+        let Some(bx) = bx else {
+            assert!(
+                n.heights.is_none(),
+                "{name}: node {} (rows {:?}, cols {:?}) has data but no box",
+                id.0,
+                n.rows,
+                n.cols
+            );
+            continue;
+        };
+        boxed += 1;
+        let frame = LocalFrame::<f64>::of(s, &e, &n);
+        for i in n.rows[0]..=n.rows[1] {
+            for j in n.cols[0]..=n.cols[1] {
+                let (i, j) = (i as usize, j as usize);
+                let Some(h) = dem.height(i, j) else { continue };
+                let p = ecef(dem.a, dem.b, lat[i], lon[j], f64::from(h));
+                let q = frame.coords(p);
+                for (k, v) in [q.x, q.y, q.z].into_iter().enumerate() {
+                    worst = worst
+                        .max(f64::from(bx.lo[k]) - v)
+                        .max(v - f64::from(bx.hi[k]));
+                }
+                assert!(
+                    inside(q, &bx, INFLATE),
+                    "{name}: vertex ({i}, {j}) at lat {}, lon {}, h {h} is outside the box of node {} (rows {:?}, \
+                     cols {:?}, level {}): frame coordinates {q:?}, box {bx:?}",
+                    lat[i],
+                    lon[j],
+                    id.0,
+                    n.rows,
+                    n.cols,
+                    n.level
+                );
+                seen[i * dem.cols + j] = true;
+                checks += 1;
+            }
+        }
+    }
+    let with_data = (0..dem.rows)
+        .flat_map(|i| (0..dem.cols).map(move |j| (i, j)))
+        .filter(|&(i, j)| dem.height(i, j).is_some())
+        .count();
+    let covered = seen.iter().filter(|&&x| x).count();
+    assert!(with_data > 0, "{name}: the DEM has no data");
+    assert_eq!(
+        covered, with_data,
+        "{name}: the zones' nodes must cover every vertex with data"
+    );
+    // Every vertex is checked once per level of the tree at least (a zone and each node under it down to a leaf).
+    assert!(
+        checks >= with_data,
+        "{name}: {checks} checks for {with_data} vertices"
+    );
+    eprintln!(
+        "{name}: {boxed} boxes, {checks} vertex checks over {with_data} vertices, worst excess {worst:.3e} m"
+    );
+    (checks, boxed)
+}
+
+/// Makes vertices missing: a rectangle of rows × cols (whole nodes empty) and scattered single vertices.
+fn punch_holes(dem: &mut Dem, rect: ([usize; 2], [usize; 2]), every: usize) {
+    for i in rect.0[0]..rect.0[1] {
+        for j in rect.1[0]..rect.1[1] {
+            dem.heights[i * dem.cols + j] = f32::NAN;
+        }
+    }
+    for k in (0..dem.heights.len()).step_by(every) {
+        dem.heights[k] = f32::NAN;
+    }
+}
+
+#[test]
+fn node_boxes_contain_every_vertex_of_their_node() {
+    let mut cases: Vec<(&str, Dem, usize)> = vec![
+        (
+            "fractal mid-latitude",
+            synthetic(TerrainKind::Fractal, (45.0, 7.0, 0.01, 0.01), (130, 170), 1),
+            16,
+        ),
+        (
+            "spiky 80-89.9N",
+            synthetic(TerrainKind::Spiky, (80.0, -30.0, 0.1, 0.7), (100, 120), 2),
+            8,
+        ),
+        (
+            "fractal to the north pole, 2-degree columns all round",
+            synthetic(TerrainKind::Fractal, (60.0, -180.0, 0.5, 2.0), (61, 181), 3),
+            4,
+        ),
+        (
+            "negative heights across the antimeridian",
+            synthetic(
+                TerrainKind::Negative,
+                (-20.0, 179.0, 0.02, 0.02),
+                (90, 110),
+                4,
+            ),
+            16,
+        ),
+        (
+            "fractal, negative dlat, southern high latitudes",
+            synthetic(
+                TerrainKind::Fractal,
+                (-70.0, 100.0, -0.2, 0.5),
+                (100, 90),
+                5,
+            ),
+            8,
+        ),
+        (
+            "flat, coarse cells (block reduced below 180 degrees)",
+            synthetic(TerrainKind::Flat, (-60.0, -170.0, 3.0, 40.0), (41, 10), 6),
+            16,
+        ),
+    ];
+    let mut holes = synthetic(
+        TerrainKind::Fractal,
+        (30.0, 140.0, -0.005, 0.005),
+        (150, 150),
+        7,
+    );
+    punch_holes(&mut holes, ([20, 70], [40, 110]), 13);
+    cases.push(("fractal with nodata holes", holes, 8));
+    let mut sparse = synthetic(TerrainKind::Spiky, (-5.0, -75.0, 0.003, 0.003), (64, 64), 8);
+    punch_holes(&mut sparse, ([0, 64], [0, 30]), 3);
+    cases.push(("spiky, half empty, every third vertex missing", sparse, 4));
+    let etopo = real_dem::etopo20().expect("the shipped ETOPO20 DEM loads");
+    cases.push(("ETOPO20 (global)", etopo, 16));
+
+    let mut total = 0;
+    for (name, dem, block) in &cases {
+        let s = DemStorage::new(dem, *block);
+        let (checks, boxed) = check_boxes_contain_vertices(name, dem, &s);
+        assert!(boxed >= TerrainStorage::<f64>::zone_count(&s), "{name}");
+        total += checks;
+    }
+
+    // Multi-resolution trees: coarse leaves outside a fine region (their boxes bound all their grid vertices,
+    // not only their blocks' samples).
+    let multi = synthetic(
+        TerrainKind::Fractal,
+        (-48.0, 10.0, 0.003, 0.003),
+        (161, 161),
+        9,
+    );
+    let fine_region = Some([-47.8, -47.6, 10.1, 10.25]);
+    for coarse_level in [1, 2] {
+        let s = DemStorage::multi_resolution(
+            &multi,
+            8,
+            MultiRes {
+                fine_region,
+                coarse_level,
+            },
+        );
+        let name = format!("multi-resolution, coarse level {coarse_level}");
+        let coarse_leaves = all_nodes(&s)
+            .iter()
+            .filter(|(id, n)| n.is_leaf() && TerrainStorage::<f64>::block_stride(&s, *id) > 1)
+            .count();
+        assert!(coarse_leaves > 0, "{name}: the tree has no coarse leaf");
+        total += check_boxes_contain_vertices(&name, &multi, &s).0;
+    }
+    let etopo = &cases.last().expect("etopo case").1;
+    let s = DemStorage::multi_resolution(
+        etopo,
+        16,
+        MultiRes {
+            fine_region: Some([60.0, 89.9, -10.0, 40.0]),
+            coarse_level: 2,
+        },
+    );
+    total += check_boxes_contain_vertices("ETOPO20 multi-resolution", etopo, &s).0;
+    let vertices: usize = cases.iter().map(|(_, d, _)| d.rows * d.cols).sum();
+    assert!(total >= vertices, "{total} checks for {vertices} vertices");
+}
+
+#[test]
+fn leaf_boxes_of_trinidad_like_terrain_are_within_a_metre_of_the_height_range() {
+    // 3″ spacing (1/1200°) from 38°N 106°W southwards, heights shifted to Trinidad's 1.4–4.3 km, 16-cell blocks:
+    // a leaf spans about 1.5 × 1.2 km, over which the Earth's curvature drops the ground by about 4 cm.
+    let mut dem = synthetic(
+        TerrainKind::Fractal,
+        (38.0, -106.0, -1.0 / 1200.0, 1.0 / 1200.0),
+        (321, 481),
+        11,
+    );
+    for h in &mut dem.heights {
+        *h = 1400.0 + 1.6 * (*h + 200.0).max(0.0);
+    }
+    let s = DemStorage::new(&dem, 16);
+    let e = ellipsoid(&s);
+    let (mut leaves, mut worst_up, mut worst_side) = (0, f64::NEG_INFINITY, f64::NEG_INFINITY);
+    for (id, n) in all_nodes(&s) {
+        if !n.is_leaf() {
+            continue;
+        }
+        let [hmin, hmax] = n.heights.expect("no nodata here");
+        let bx = TerrainStorage::<f64>::node_box(&s, id).expect("a leaf with data has a box");
+        let up = f64::from(bx.hi[2]) - f64::from(bx.lo[2]);
+        let slack = up - (hmax - hmin);
+        worst_up = worst_up.max(slack);
+        assert!(
+            slack <= 1.0,
+            "leaf {} (rows {:?}, cols {:?}): box up-extent {up} m for heights {hmin}..{hmax} m",
+            id.0,
+            n.rows,
+            n.cols
+        );
+        // The horizontal extents: at most the node's footprint (its corners at its lowest and highest heights,
+        // from this file's vertices; the frame's up leans against the normals at the corners, so a corner 4 km
+        // up lies half a metre farther out than at the ground) plus 10 cm.
+        let corner = |i: u32, j: u32, h: f64| {
+            ecef(dem.a, dem.b, dem.lat(i as usize), dem.lon(j as usize), h)
+        };
+        let frame = LocalFrame::<f64>::of(&s, &e, &n);
+        let mut foot = [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for i in n.rows {
+            for j in n.cols {
+                for h in [hmin, hmax] {
+                    let q = frame.coords(corner(i, j, h));
+                    foot = [
+                        foot[0].min(q.x),
+                        foot[1].max(q.x),
+                        foot[2].min(q.y),
+                        foot[3].max(q.y),
+                    ];
+                }
+            }
+        }
+        let (east, north) = (
+            f64::from(bx.hi[0]) - f64::from(bx.lo[0]),
+            f64::from(bx.hi[1]) - f64::from(bx.lo[1]),
+        );
+        let side = (east - (foot[1] - foot[0])).max(north - (foot[3] - foot[2]));
+        worst_side = worst_side.max(side);
+        assert!(
+            side <= 0.1,
+            "leaf {}: box {east} × {north} m for a footprint {} × {} m",
+            id.0,
+            foot[1] - foot[0],
+            foot[3] - foot[2]
+        );
+        leaves += 1;
+    }
+    assert_eq!(leaves, 20 * 30, "16-cell leaves of 320 × 480 cells");
+    eprintln!(
+        "{leaves} leaves: up-extent exceeds the height range by at most {worst_up:.3} m, footprint by {worst_side:.3} m"
+    );
+}
+
+/// A random unit vector (uniform on the sphere).
+fn unit(rng: &mut impl Rng) -> V3<f64> {
+    loop {
+        let v = V3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        );
+        let l = v.length();
+        if l > 0.1 && l <= 1.0 {
+            return v.scaled(1.0 / l);
+        }
+    }
+}
+
+/// A random point of the box, in frame coordinates: each coordinate at a face (lo or hi) or uniform between.
+fn point_in_box(rng: &mut impl Rng, b: &NodeBox) -> V3<f64> {
+    let mut c = [0.0; 3];
+    for (k, v) in c.iter_mut().enumerate() {
+        let (lo, hi) = (f64::from(b.lo[k]), f64::from(b.hi[k]));
+        *v = match rng.random_range(0..4) {
+            0 => lo,
+            1 => hi,
+            _ => rng.random_range(lo..=hi),
+        };
+    }
+    V3::new(c[0], c[1], c[2])
+}
+
+/// A random direction: uniform, along an ECEF axis (so that some frame components are exactly zero), or along
+/// the box's own axes (grazing its faces); scaled by 10^[-3, 3].
+fn direction(rng: &mut impl Rng, frame: &LocalFrame<f64>, at: V3<f64>) -> V3<f64> {
+    let d = match rng.random_range(0..6) {
+        0 => {
+            let mut a = [0.0; 3];
+            a[rng.random_range(0..3)] = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+            V3::from(a)
+        }
+        1 => {
+            let mut a = [0.0; 3];
+            a[rng.random_range(0..3)] = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+            let p = frame.point(at);
+            let d = frame.point(at.plus(V3::from(a).scaled(1000.0))).minus(p);
+            d.scaled(1.0 / d.length())
+        }
+        _ => unit(rng),
+    };
+    d.scaled(10f64.powf(rng.random_range(-3.0..3.0)))
+}
+
+/// Rays through random points of the boxes of `s`'s nodes, from origins 1 m to 4·10⁷ m away along the ray (before
+/// the point, or beyond it with the point at a negative parameter), restricted to random finite intervals that
+/// contain the point's parameter, in the picker's scalar type `T`; returns the number of rays checked.
+///
+/// The points are formed in `f64` by the `f64` frame; in `T` the ray's origin, direction and parameter are
+/// rounded to `T`, which moves the ray's point by the rounding that `box_interval`'s inflation covers.
+fn check_box_intervals<T: curvicast::Real + std::fmt::Debug>(
+    name: &str,
+    s: &DemStorage<'_>,
+    seed: u64,
+    per_node: usize,
+) -> usize
+where
+    for<'d> DemStorage<'d>: TerrainStorage<T>,
+{
+    let e = ellipsoid(s);
+    let e_t = TerrainStorage::<T>::ellipsoid(s);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let nodes = all_nodes(s);
+    let (mut checked, mut clipped) = (0, 0);
+    for (id, n) in &nodes {
+        let Some(b) = TerrainStorage::<f64>::node_box(s, *id) else {
+            continue;
+        };
+        let frame = LocalFrame::<f64>::of(s, &e, n);
+        let node_t = TerrainStorage::<T>::node(s, *id).expect("node");
+        let frame_t = LocalFrame::<T>::of(s, &e_t, &node_t);
+        for _ in 0..per_node {
+            let q = point_in_box(&mut rng, &b);
+            let p = frame.point(q);
+            let dir = direction(&mut rng, &frame, q);
+            let dist = 10f64.powf(rng.random_range(0.0..7.6)); // 1 m to 4·10⁷ m
+            let t = dist / dir.length();
+            let behind = rng.random_bool(0.2);
+            let (o, t) = if behind {
+                (p.add_scaled(t, dir), -t)
+            } else {
+                (p.add_scaled(-t, dir), t)
+            };
+            let (t_lo, t_hi) = match rng.random_range(0..4) {
+                0 => (0.0, 2.0 * t),
+                1 => (t, t),
+                2 => (
+                    t * rng.random_range(0.0..1.0),
+                    t * rng.random_range(1.0..2.0),
+                ),
+                _ => (t - t.abs() * 1e-9, t + t.abs() * 1e-9),
+            };
+            let (t_lo, t_hi) = (t_lo.min(t_hi), t_lo.max(t_hi));
+            let v = |x: V3<f64>| V3::new(T::from_f64(x.x), T::from_f64(x.y), T::from_f64(x.z));
+            let ray = Ray::<T>::new(v(o), v(dir))
+                .and_then(|r| r.with_interval(T::from_f64(t_lo), T::from_f64(t_hi)))
+                .expect("valid ray");
+            let tt = T::from_f64(t);
+            let got = frame_t.box_interval(&b, &ray);
+            assert!(
+                got.is_some_and(|(lo, hi)| lo <= tt && tt <= hi),
+                "{name} ({}): node {} (rows {:?}, cols {:?}) box {b:?}: the ray from {o:?} along {dir:?} on \
+                 [{t_lo}, {t_hi}] passes through the box point {q:?} (frame) at t = {t}, but box_interval gives \
+                 {got:?}",
+                std::any::type_name::<T>(),
+                id.0,
+                n.rows,
+                n.cols
+            );
+            // Count the intervals that the box actually clipped (so that the check is not vacuous).
+            if got.is_some_and(|(lo, hi)| lo > ray.t_min() || hi < ray.t_max()) {
+                clipped += 1;
+            }
+            checked += 1;
+        }
+    }
+    assert!(
+        clipped * 4 >= checked,
+        "{name} ({}): only {clipped} of {checked} intervals were clipped by the box",
+        std::any::type_name::<T>()
+    );
+    eprintln!(
+        "{name} ({}): {checked} rays, {clipped} intervals clipped",
+        std::any::type_name::<T>()
+    );
+    checked
+}
+
+fn interval_storages() -> Vec<(&'static str, Dem, usize, usize)> {
+    vec![
+        (
+            "ETOPO20",
+            real_dem::etopo20().expect("the shipped ETOPO20 DEM loads"),
+            16,
+            40,
+        ),
+        (
+            "spiky 80-90N",
+            synthetic(
+                TerrainKind::Spiky,
+                (80.0, -180.0, 0.05, 0.5),
+                (201, 721),
+                21,
+            ),
+            8,
+            40,
+        ),
+        (
+            "3-arc-second fractal",
+            synthetic(
+                TerrainKind::Fractal,
+                (38.0, -106.0, -1.0 / 1200.0, 1.0 / 1200.0),
+                (257, 257),
+                22,
+            ),
+            16,
+            200,
+        ),
+    ]
+}
+
+#[test]
+fn box_interval_is_conservative_for_rays_through_box_points() {
+    let mut total = 0;
+    for (k, (name, dem, block, per_node)) in interval_storages().into_iter().enumerate() {
+        let s = DemStorage::new(&dem, block);
+        let n = check_box_intervals::<f64>(name, &s, 100 + k as u64, per_node);
+        assert!(n >= 10_000, "{name}: only {n} rays");
+        total += n;
+    }
+    eprintln!("{total} f64 rays through box points");
+}
+
+#[test]
+fn box_interval_is_conservative_for_f32_rays_through_box_points() {
+    let mut total = 0;
+    for (k, (name, dem, block, per_node)) in interval_storages().into_iter().enumerate() {
+        let s = DemStorage::new(&dem, block);
+        let n = check_box_intervals::<f32>(name, &s, 200 + k as u64, per_node);
+        assert!(n >= 10_000, "{name}: only {n} rays");
+        total += n;
+    }
+    eprintln!("{total} f32 rays through box points");
+}
