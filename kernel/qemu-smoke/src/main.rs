@@ -2,7 +2,8 @@
 //!
 //! Runs every case of [`cases::CASES`] (expected answers computed on the host by the arbitrary-precision oracle)
 //! through the kernel's [`Surface::crossings`] in `f64` and in `f32`, plus a march through a spherical grid
-//! (serial engine), an edge-beveled sphere and a terrain pick (with the hit refinement) with hand-derived
+//! (serial engine), an edge-beveled sphere and a terrain pick (with the hit refinement, with and without node
+//! boxes, the boxes built on the target by `NodeBox::of_vertices`) with hand-derived
 //! expectations (the pass line counts these under "march, bevel and pick"), prints one line per failure and a
 //! final pass line over semihosting, and exits (semihosting exit) with status 0 only if everything passes.
 //!
@@ -37,6 +38,7 @@ use curvicast::spherical::SphericalGrid;
 use curvicast::surface::{
     AxialCone, Crossings, HalfPlane, PlaneZ, Side, Spheroid, Surface, SurfaceError,
 };
+use curvicast::terrain::boxes::NodeBox;
 use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainStorage};
 use curvicast::tessellate::bevel::{Face, bevel_sphere, face_count, vertex_count};
 use curvicast::vec3::V3;
@@ -167,9 +169,39 @@ fn bevel_case<T: Real>(tol: f64) -> bool {
     counts.vertices == NV && counts.faces == NF && centers_touch && outside
 }
 
-/// A 3 × 3-vertex DEM near (10°N, 20°E), flat at 0 m with the center vertex raised to 500 m: one zone that is
-/// also a leaf.
-struct Peak;
+/// A 3 × 3-vertex DEM near (10°N, 20°E), flat at 0 m with the center vertex raised to 500 m: one zone split into
+/// four one-cell leaves, with or without node boxes (`boxes` by node id).
+struct Peak {
+    boxes: [Option<NodeBox>; 5],
+}
+
+/// Node 0 is the zone `[0, 2] × [0, 2]`; nodes 1–4 its cells.
+fn peak_ranges(id: NodeId) -> Option<([u32; 2], [u32; 2])> {
+    match id.0 {
+        0 => Some(([0, 2], [0, 2])),
+        1 => Some(([0, 1], [0, 1])),
+        2 => Some(([0, 1], [1, 2])),
+        3 => Some(([1, 2], [0, 1])),
+        4 => Some(([1, 2], [1, 2])),
+        _ => None,
+    }
+}
+
+impl Peak {
+    /// The DEM with every node's box, built as a storage would.
+    fn boxed() -> Peak {
+        let plain = Peak { boxes: [None; 5] };
+        let e = Ellipsoid::<f64>::wgs84();
+        let mut boxes = [None; 5];
+        for (k, b) in boxes.iter_mut().enumerate() {
+            let id = NodeId(u32::try_from(k).unwrap_or(u32::MAX));
+            if let Some(n) = TerrainStorage::<f64>::node(&plain, id) {
+                *b = NodeBox::of_vertices(&plain, &e, &n);
+            }
+        }
+        Peak { boxes }
+    }
+}
 
 impl<T: Real> TerrainStorage<T> for Peak {
     fn ellipsoid(&self) -> Ellipsoid<T> {
@@ -193,12 +225,24 @@ impl<T: Real> TerrainStorage<T> for Peak {
         (k == 0).then_some(NodeId(0))
     }
     fn node(&self, id: NodeId) -> Option<Node<T>> {
-        (id == NodeId(0)).then_some(Node {
-            rows: [0, 2],
-            cols: [0, 2],
+        let (rows, cols) = peak_ranges(id)?;
+        let children = if id.0 == 0 {
+            [
+                Some(NodeId(1)),
+                Some(NodeId(2)),
+                Some(NodeId(3)),
+                Some(NodeId(4)),
+            ]
+        } else {
+            [None; 4]
+        };
+        // Every node holds the raised center vertex.
+        Some(Node {
+            rows,
+            cols,
             heights: Some([T::ZERO, T::from_f64(500.0)]),
-            children: [None; 4],
-            level: 0,
+            children,
+            level: u8::from(id.0 != 0),
         })
     }
     fn height(&self, i: u32, j: u32) -> Option<T> {
@@ -208,16 +252,27 @@ impl<T: Real> TerrainStorage<T> for Peak {
             T::ZERO
         })
     }
+    fn node_box(&self, id: NodeId) -> Option<NodeBox> {
+        self.boxes
+            .get(usize::try_from(id.0).ok()?)
+            .copied()
+            .flatten()
+    }
 }
 
-/// Terrain picking (traversal, watertight test and the double-double refinement of the hit): straight down onto
-/// the peak vertex from 10 km above the ellipsoid hits at t = 9500 (m) and h = 500 (within `tol_m` meters); a
-/// ray from 1 km above the southern row, aimed at a point 250 m *below* the peak, meets the peak's slope on the
-/// way (t in (0, 1), 0 < h < 500).
-fn pick_case<T: Real>(tol_m: f64) -> bool {
+/// Picks the peak straight down and a slope from the side (with node boxes when `boxed`).
+fn pick_case<T: Real>(tol_m: f64, boxed: bool) -> bool {
     let e = Ellipsoid::<T>::wgs84();
     let h = |x: f64| T::from_f64(x);
-    let Ok(picker) = Picker::<'_, T, Peak, 16, 4>::new(&Peak) else {
+    let dem = if boxed {
+        Peak::boxed()
+    } else {
+        Peak { boxes: [None; 5] }
+    };
+    if boxed && dem.boxes.iter().any(Option::is_none) {
+        return false;
+    }
+    let Ok(picker) = Picker::<'_, T, Peak, 16, 4>::new(&dem) else {
         return false;
     };
     let top = e.geodetic_deg_to_ecef(h(10.01), h(20.01), h(10_000.0));
@@ -387,8 +442,10 @@ fn main() -> ! {
         ("march f32", march_case::<f32>(1e-5)),
         ("bevel f64", bevel_case::<f64>(1e-12)),
         ("bevel f32", bevel_case::<f32>(1e-5)),
-        ("pick f64", pick_case::<f64>(1e-6)),
-        ("pick f32", pick_case::<f32>(2.0)),
+        ("pick f64", pick_case::<f64>(1e-6, false)),
+        ("pick f32", pick_case::<f32>(2.0, false)),
+        ("pick f64 with boxes", pick_case::<f64>(1e-6, true)),
+        ("pick f32 with boxes", pick_case::<f32>(2.0, true)),
     ];
     let mut extra_passed = 0usize;
     for (name, ok) in extra {

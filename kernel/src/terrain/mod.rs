@@ -1247,7 +1247,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             // From the hint (the cell found last in this unit: the ray crosses few rows per column), a few
             // steps; else a binary search. The answer a: after(a), !after(a + 1), a in [r0 − 1, r1].
             if let Some(h) = hint {
-                let mut a = h.clamp(first_plane.saturating_sub(1), last_plane);
+                let mut a = h.max(first_plane.saturating_sub(1)).min(last_plane);
                 for _ in 0..4 {
                     if !after(a) {
                         a = a.saturating_sub(1);
