@@ -19,8 +19,12 @@ use std::hint::black_box;
 const BATCH: usize = 256;
 
 fn bench_scene(c: &mut Criterion, name: &str, dem: &Dem) {
-    let storage = DemStorage::new(dem, 16);
-    let picker: Picker<'_, f64, DemStorage<'_>> = Picker::new(&storage).expect("picker");
+    // Leaf blocks of 8 × 8 cells (the faster) and 16 × 16 (the command line's default), with node boxes.
+    let storages = [8, 16].map(|block| (block, DemStorage::new(dem, block)));
+    let pickers: Vec<(usize, Picker<'_, f64, DemStorage<'_>>)> = storages
+        .iter()
+        .map(|(block, s)| (*block, Picker::new(s).expect("picker")))
+        .collect();
     let parry = ParryTerrain::new(dem).expect("parry mesh");
     let brute = BruteForceTerrain::new(dem);
     let mut g = c.benchmark_group(format!("terrain/{name}"));
@@ -34,13 +38,16 @@ fn bench_scene(c: &mut Criterion, name: &str, dem: &Dem) {
             .map(|r| Ray::new(r.origin, r.dir).expect("ray"))
             .collect();
         g.throughput(Throughput::Elements(BATCH as u64));
-        g.bench_with_input(BenchmarkId::new("quadtree", kind), &kr, |b, kr| {
-            b.iter(|| {
-                kr.iter()
-                    .filter(|r| picker.pick(black_box(r)).ok().flatten().is_some())
-                    .count()
-            })
-        });
+        for (block, picker) in &pickers {
+            let id = BenchmarkId::new(format!("quadtree_block{block}"), kind);
+            g.bench_with_input(id, &kr, |b, kr| {
+                b.iter(|| {
+                    kr.iter()
+                        .filter(|r| picker.pick(black_box(r)).ok().flatten().is_some())
+                        .count()
+                })
+            });
+        }
         g.bench_with_input(
             BenchmarkId::new("parry_bvh", kind),
             &rays,

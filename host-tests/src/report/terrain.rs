@@ -103,7 +103,9 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
             ),
             ("orbit (4e7 m)", orbit_rays(dem, n_rays, 2)),
         ] {
-            rows.extend(measure(name, kind, &rays, &pickers, &parry, &brute, n_brute)?);
+            rows.extend(measure(
+                name, kind, &rays, &pickers, &parry, &brute, n_brute,
+            )?);
         }
         drop(pickers);
         drop(storages);

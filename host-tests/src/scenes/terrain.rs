@@ -760,7 +760,8 @@ mod tests {
 ///   nodes — at most 8 × 4 = 32 zones bounded by parallels and meridians of the grid, whether the DEM is global
 ///   (ETOPO20: 3 × 5 zones) or regional (Trinidad: 3 × 5 zones of its own extent).
 /// * A node id is the node's index in the pyramid's level arrays (levels concatenated). Each node keeps one
-///   record formed at build time — cell ranges, height range, child ids, level — from which the kernel's
+///   record formed at build time — cell ranges, height range, child ids, level, and the node's box in its local
+///   frame ([`curvicast::terrain::boxes`], built bottom-up) — from which the kernel's
 ///   [`curvicast::terrain::Node`] is copied when asked for ([`DemStorage::overhead_bytes`] counts them). A parent
 ///   whose only child covers the same cells is skipped (the kernel requires children strictly smaller than their
 ///   parent).
@@ -1060,7 +1061,8 @@ impl<'a> DemStorage<'a> {
             + self.offsets.len() * std::mem::size_of::<usize>()
             + (self.row_trig.len() + self.col_trig.len()) * std::mem::size_of::<(f64, f64)>()
             + self.row_dd.len() * std::mem::size_of::<curvicast::dd::Parallel<f64>>()
-            + self.col_dd.len() * std::mem::size_of::<(curvicast::dd::Dd<f64>, curvicast::dd::Dd<f64>)>()
+            + self.col_dd.len()
+                * std::mem::size_of::<(curvicast::dd::Dd<f64>, curvicast::dd::Dd<f64>)>()
     }
 
     /// The memory of the heights themselves (`f32` per vertex), for comparison.

@@ -128,7 +128,10 @@ impl NodeBox {
         for i in node.rows[0]..=node.rows[1] {
             for j in node.cols[0]..=node.cols[1] {
                 if let Some(p) = super::vertex_ecef(storage, ellipsoid, i, j) {
-                    b.add(frame.coords(p), p.x.abs() + p.y.abs() + p.z.abs() + ellipsoid.a());
+                    b.add(
+                        frame.coords(p),
+                        p.x.abs() + p.y.abs() + p.z.abs() + ellipsoid.a(),
+                    );
                 }
             }
         }
@@ -214,10 +217,7 @@ impl BoxBuilder {
                 *o = round(h + margin, true);
             }
         }
-        b.lo.iter()
-            .chain(&b.hi)
-            .all(|v| v.is_finite())
-            .then_some(b)
+        b.lo.iter().chain(&b.hi).all(|v| v.is_finite()).then_some(b)
     }
 }
 
@@ -241,9 +241,28 @@ impl<T: Real> LocalFrame<T> {
         let widen = |v: f32, s: T| T::from_f64(f64::from(v)) + s;
         let [bx, by, bz] = b.lo;
         let [cx, cy, cz] = b.hi;
-        let ok = slab(&mut lo, &mut hi, q0.x, qd.x, widen(bx, -tol), widen(cx, tol))
-            && slab(&mut lo, &mut hi, q0.y, qd.y, widen(by, -tol), widen(cy, tol))
-            && slab(&mut lo, &mut hi, q0.z, qd.z, widen(bz, -tol), widen(cz, tol));
+        let ok = slab(
+            &mut lo,
+            &mut hi,
+            q0.x,
+            qd.x,
+            widen(bx, -tol),
+            widen(cx, tol),
+        ) && slab(
+            &mut lo,
+            &mut hi,
+            q0.y,
+            qd.y,
+            widen(by, -tol),
+            widen(cy, tol),
+        ) && slab(
+            &mut lo,
+            &mut hi,
+            q0.z,
+            qd.z,
+            widen(bz, -tol),
+            widen(cz, tol),
+        );
         ok.then_some((lo, hi))
     }
 }
@@ -297,7 +316,12 @@ mod tests {
     #[test]
     fn frame_point_inverts_coords_and_up_is_the_normal() {
         let e = Ellipsoid::<f64>::wgs84();
-        for (lat, lon) in [(0.0, 0.0), (36.5, -118.25), (-89.9, 179.95), (89.999, -45.0)] {
+        for (lat, lon) in [
+            (0.0, 0.0),
+            (36.5, -118.25),
+            (-89.9, 179.95),
+            (89.999, -45.0),
+        ] {
             let (sp, cp) = crate::geodesy::sin_cos_deg(lat);
             let (sl, cl) = crate::geodesy::sin_cos_deg(lon);
             let f = LocalFrame {

@@ -180,7 +180,8 @@ pub mod triangle;
 
 pub use refine::{col_sin_cos_dd, row_parallel};
 pub use storage::{
-    DEFAULT_ZONE_COLS, DEFAULT_ZONE_ROWS, Grid, Node, NodeId, TerrainStorage, vertex_ecef, zone_cells,
+    DEFAULT_ZONE_COLS, DEFAULT_ZONE_ROWS, Grid, Node, NodeId, TerrainStorage, vertex_ecef,
+    zone_cells,
 };
 
 use crate::geodesy::{
@@ -189,9 +190,9 @@ use crate::geodesy::{
 };
 use crate::ray::{Ray, RayError};
 use crate::real::Real;
-use boxes::{LocalFrame, NodeBox};
 use crate::surface::{Side, Surface};
 use crate::vec3::V3;
+use boxes::{LocalFrame, NodeBox};
 use refine::{Tri, Vtx};
 use triangle::WatertightRay;
 
@@ -387,7 +388,12 @@ impl<T: Real> Walk<'_, '_, T> {
 
 /// A zone: its root, how its volume is tested (the storage's cached volume, or the relaxed test of
 /// [`relaxed_interval`] from the zone's trigonometry), and its box if the storage has one.
-type Zone<T> = (NodeId, Node<T>, ZoneVolume<T>, Option<(LocalFrame<T>, NodeBox)>);
+type Zone<T> = (
+    NodeId,
+    Node<T>,
+    ZoneVolume<T>,
+    Option<(LocalFrame<T>, NodeBox)>,
+);
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum ZoneVolume<T> {
@@ -735,7 +741,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     Some(b) => {
                         LocalFrame::of(self.storage, &self.ellipsoid, &child).box_interval(&b, &sub)
                     }
-                    None => self.volume_interval(*cid, &child, &e.node, stride, src, lo, hi, &sub)?,
+                    None => {
+                        self.volume_interval(*cid, &child, &e.node, stride, src, lo, hi, &sub)?
+                    }
                 };
                 if let Some((a, c)) = interval {
                     if let Some(slot) = kids.get_mut(nk) {
@@ -1102,7 +1110,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     az_rate,
                     &|i, t| {
                         let (sp, cp, kz, _) = row_at(i);
-                        cp * c_half * (o.z - kz) - sp * radial_o + t * (cp * c_half * d.z - sp * radial_d)
+                        cp * c_half * (o.z - kz) - sp * radial_o
+                            + t * (cp * c_half * d.z - sp * radial_d)
                     },
                     &mut row_hint,
                 )

@@ -336,12 +336,7 @@ pub(super) fn refine_vertices<T: Real, S: TerrainStorage<T> + ?Sized>(
     tri: [Vtx; 3],
 ) -> Option<(T, [T; 3])> {
     let [a, b, c] = tri;
-    let h = plane_through(
-        ray,
-        &vtx_dd(s, g, a)?,
-        &vtx_dd(s, g, b)?,
-        &vtx_dd(s, g, c)?,
-    )?;
+    let h = plane_through(ray, &vtx_dd(s, g, a)?, &vtx_dd(s, g, b)?, &vtx_dd(s, g, c)?)?;
     let tol = T::from_f64(16.0) * T::EPSILON * V3::from(h.p).max_abs();
     if h.inside.iter().any(|&x| x < -tol) {
         return None;

@@ -513,7 +513,9 @@ fn random_rays_agree_with_brute_force_on_rough_terrain() {
 fn node_boxes_stand_in_for_the_volumes() {
     // A light version of the test above (runs under Miri): a few rays at a ridge, boxes from all vertices.
     let g = grid(-45.0, 30.0, 0.01, 0.01, 9, 9);
-    let hs: Vec<f64> = (0..81).map(|k| if k % 9 == 4 { 1500.0 } else { 200.0 }).collect();
+    let hs: Vec<f64> = (0..81)
+        .map(|k| if k % 9 == 4 { 1500.0 } else { 200.0 })
+        .collect();
     let dem = TestDem::new(g, hs, 2, 1, 2).with_boxes();
     assert!(dem.boxes.iter().all(Option::is_some));
     let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
@@ -522,12 +524,19 @@ fn node_boxes_stand_in_for_the_volumes() {
         let lat = -45.0 + 0.0125 * k as f64 + 0.001;
         let ray = radial_ray(&e, lat, 30.04, 4000.0);
         let mut stats = PickStats::default();
-        let got = p.pick_with_stats(&ray, &mut stats).unwrap().map(|h| (h.t, h.cell));
+        let got = p
+            .pick_with_stats(&ray, &mut stats)
+            .unwrap()
+            .map(|h| (h.t, h.cell));
         assert!(got.is_some() && stats.triangles_tested > 0, "ray {k}");
         same_hit(&ray, got, dem.brute(&ray), &std::format!("ray {k}"));
         // Grazing along the ridge from 50 km away.
         let target = e.geodetic_deg_to_ecef(lat, 30.04, 1400.0);
-        let east = V3::new(-(30.0_f64.to_radians().sin()), 30.0_f64.to_radians().cos(), 0.0);
+        let east = V3::new(
+            -(30.0_f64.to_radians().sin()),
+            30.0_f64.to_radians().cos(),
+            0.0,
+        );
         let ray = Ray::new(target.add_scaled(-5.0e4, east), east).unwrap();
         let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
         same_hit(&ray, got, dem.brute(&ray), &std::format!("grazing ray {k}"));
@@ -726,7 +735,10 @@ fn f32_picker_with_a_box_built_in_f64_still_finds_the_peak() {
     // Straight down on the peak, and rays grazing the box's top and sides at the 400 m plateau.
     let top = e.geodetic_deg_to_ecef(47.01, 8.01, 10_000.0);
     let n = e.normal(47.01_f32.to_radians(), 8.01_f32.to_radians());
-    let hit = p.pick(&Ray::new(top, n.negated()).unwrap()).unwrap().unwrap();
+    let hit = p
+        .pick(&Ray::new(top, n.negated()).unwrap())
+        .unwrap()
+        .unwrap();
     assert!((hit.h - 2500.0).abs() < 3.0, "{}", hit.h);
     // Near the corners (at the box's lowest points) the boxed picker answers as the plain one.
     let plain_dem = TinyF32(hs.map(|h| h as f32));
@@ -736,7 +748,10 @@ fn f32_picker_with_a_box_built_in_f64_still_finds_the_peak() {
         let n = e.normal(lat.to_radians(), lon.to_radians());
         let ray = Ray::new(top, n.negated()).unwrap();
         let (got, want) = (p.pick(&ray).unwrap(), plain.pick(&ray).unwrap());
-        assert!(got.is_some() && got == want, "{lat} {lon}: {got:?} vs {want:?}");
+        assert!(
+            got.is_some() && got == want,
+            "{lat} {lon}: {got:?} vs {want:?}"
+        );
     }
 }
 
