@@ -68,7 +68,15 @@ impl Tiny {
         let e = self.ellipsoid();
         self.nodes
             .iter()
-            .map(|n| NodeBox::of_vertices(self, &e, n))
+            .enumerate()
+            .map(|(k, n)| {
+                // The box is in the parent's frame (a zone's in the grid's).
+                let parent = self
+                    .nodes
+                    .iter()
+                    .find(|p| p.children.iter().flatten().any(|c| c.0 as usize == k));
+                NodeBox::of_vertices(self, &e, n, parent)
+            })
             .collect()
     }
     fn node(&self, rows: [u32; 2], cols: [u32; 2], level: u8) -> Node<f64> {

@@ -141,7 +141,12 @@ impl Tiny {
         let e = self.ellipsoid();
         self.nodes
             .iter()
-            .map(|n| NodeBox::of_vertices(self, &e, n))
+            .zip(&self.parent)
+            .map(|(n, p)| {
+                // The box is in the parent's frame (a zone's in the grid's).
+                let parent = p.and_then(|p| self.nodes.get(p));
+                NodeBox::of_vertices(self, &e, n, parent)
+            })
             .collect()
     }
 

@@ -1,5 +1,5 @@
 //! Node boxes of [`DemStorage`] ([`curvicast::terrain::boxes`]): every box contains its node's vertices, boxes are
-//! tight, and [`LocalFrame::box_interval`] never drops a parameter whose point lies in the box.
+//! tight, and [`FrameRay::interval`](curvicast::terrain::boxes::FrameRay::interval) never drops a parameter whose point lies in the box.
 //!
 //! The vertices are formed here by a geodetic-to-ECEF conversion of this file's own (radians, `f64`), not by the
 //! kernel's `vertex_ecef`; the two differ by rounding only (nanometres), far below the 1 µm allowed.
@@ -41,16 +41,17 @@ fn node(s: &DemStorage<'_>, id: NodeId) -> Node<f64> {
     TerrainStorage::<f64>::node(s, id).unwrap_or_else(|| panic!("node {} is missing", id.0))
 }
 
-/// Every node reachable from the zones, zones first.
-fn all_nodes(s: &DemStorage<'_>) -> Vec<(NodeId, Node<f64>)> {
-    let mut stack: Vec<NodeId> = (0..TerrainStorage::<f64>::zone_count(s))
-        .map(|k| TerrainStorage::<f64>::zone(s, k).expect("zone id"))
+/// Every node reachable from the zones with its parent (whose frame its box is in; `None` for a zone), zones
+/// first.
+fn all_nodes(s: &DemStorage<'_>) -> Vec<(NodeId, Node<f64>, Option<NodeId>)> {
+    let mut stack: Vec<(NodeId, Option<NodeId>)> = (0..TerrainStorage::<f64>::zone_count(s))
+        .map(|k| (TerrainStorage::<f64>::zone(s, k).expect("zone id"), None))
         .collect();
     let mut out = Vec::new();
-    while let Some(id) = stack.pop() {
+    while let Some((id, parent)) = stack.pop() {
         let n = node(s, id);
-        stack.extend(n.children.iter().flatten().copied());
-        out.push((id, n));
+        stack.extend(n.children.iter().flatten().map(|&c| (c, Some(id))));
+        out.push((id, n, parent));
     }
     out
 }
@@ -70,7 +71,7 @@ fn check_boxes_contain_vertices(name: &str, dem: &Dem, s: &DemStorage<'_>) -> (u
     let mut seen = vec![false; dem.rows * dem.cols];
     let (mut checks, mut boxed) = (0usize, 0usize);
     let mut worst = f64::NEG_INFINITY; // largest excess of a vertex over its box (negative: inside)
-    for (id, n) in all_nodes(s) {
+    for (id, n, parent) in all_nodes(s) {
         let bx = TerrainStorage::<f64>::node_box(s, id);
         let Some(bx) = bx else {
             assert!(
@@ -83,7 +84,7 @@ fn check_boxes_contain_vertices(name: &str, dem: &Dem, s: &DemStorage<'_>) -> (u
             continue;
         };
         boxed += 1;
-        let frame = LocalFrame::<f64>::of(s, &e, &n);
+        let frame = LocalFrame::<f64>::for_box(s, &e, parent.map(|p| node(s, p)).as_ref());
         for i in n.rows[0]..=n.rows[1] {
             for j in n.cols[0]..=n.cols[1] {
                 let (i, j) = (i as usize, j as usize);
@@ -231,7 +232,7 @@ fn node_boxes_contain_every_vertex_of_their_node() {
         let name = format!("multi-resolution, coarse level {coarse_level}");
         let coarse_leaves = all_nodes(&s)
             .iter()
-            .filter(|(id, n)| n.is_leaf() && TerrainStorage::<f64>::block_stride(&s, *id) > 1)
+            .filter(|(id, n, _)| n.is_leaf() && TerrainStorage::<f64>::block_stride(&s, *id) > 1)
             .count();
         assert!(coarse_leaves > 0, "{name}: the tree has no coarse leaf");
         total += check_boxes_contain_vertices(&name, &multi, &s).0;
@@ -266,7 +267,7 @@ fn leaf_boxes_of_trinidad_like_terrain_are_within_a_metre_of_the_height_range() 
     let s = DemStorage::new(&dem, 16);
     let e = ellipsoid(&s);
     let (mut leaves, mut worst_up, mut worst_side) = (0, f64::NEG_INFINITY, f64::NEG_INFINITY);
-    for (id, n) in all_nodes(&s) {
+    for (id, n, parent) in all_nodes(&s) {
         if !n.is_leaf() {
             continue;
         }
@@ -288,7 +289,7 @@ fn leaf_boxes_of_trinidad_like_terrain_are_within_a_metre_of_the_height_range() 
         let corner = |i: u32, j: u32, h: f64| {
             ecef(dem.a, dem.b, dem.lat(i as usize), dem.lon(j as usize), h)
         };
-        let frame = LocalFrame::<f64>::of(&s, &e, &n);
+        let frame = LocalFrame::<f64>::for_box(&s, &e, parent.map(|p| node(&s, p)).as_ref());
         let mut foot = [
             f64::INFINITY,
             f64::NEG_INFINITY,
@@ -399,13 +400,13 @@ where
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let nodes = all_nodes(s);
     let (mut checked, mut clipped) = (0, 0);
-    for (id, n) in &nodes {
+    for (id, n, parent) in &nodes {
         let Some(b) = TerrainStorage::<f64>::node_box(s, *id) else {
             continue;
         };
-        let frame = LocalFrame::<f64>::of(s, &e, n);
-        let node_t = TerrainStorage::<T>::node(s, *id).expect("node");
-        let frame_t = LocalFrame::<T>::of(s, &e_t, &node_t);
+        let frame = LocalFrame::<f64>::for_box(s, &e, parent.map(|p| node(s, p)).as_ref());
+        let parent_t = parent.map(|p| TerrainStorage::<T>::node(s, p).expect("node"));
+        let frame_t = LocalFrame::<T>::for_box(s, &e_t, parent_t.as_ref());
         for _ in 0..per_node {
             let q = point_in_box(&mut rng, &b);
             let p = frame.point(q);
@@ -433,7 +434,7 @@ where
                 .and_then(|r| r.with_interval(T::from_f64(t_lo), T::from_f64(t_hi)))
                 .expect("valid ray");
             let tt = T::from_f64(t);
-            let got = frame_t.box_interval(&b, &ray);
+            let got = frame_t.ray(&ray).interval(&b);
             assert!(
                 got.is_some_and(|(lo, hi)| lo <= tt && tt <= hi),
                 "{name} ({}): node {} (rows {:?}, cols {:?}) box {b:?}: the ray from {o:?} along {dir:?} on \

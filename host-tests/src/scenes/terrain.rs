@@ -920,7 +920,6 @@ impl<'a> DemStorage<'a> {
         s.col_dd = (0..g.cols)
             .map(|j| curvicast::terrain::col_sin_cos_dd(&g, j))
             .collect();
-        s.build_boxes();
         let (zr, zc) = s.pyramid.dims[zone_level];
         for r in 0..zr {
             for c in 0..zc {
@@ -929,16 +928,17 @@ impl<'a> DemStorage<'a> {
                 }
             }
         }
+        s.build_boxes();
         // The records hold the height ranges now.
         s.pyramid.min = Vec::new();
         s.pyramid.max = Vec::new();
         s
     }
 
-    /// Every node's box in its local frame ([`curvicast::terrain::boxes`]), in one bottom-up pass: a leaf's from
-    /// its vertices, a parent's from the corners of its children's boxes (children have smaller ids). The
-    /// parent's box contains its children's, so it contains all of its vertices too (the children cover every
-    /// cell with data).
+    /// Every node's box in its parent's frame ([`curvicast::terrain::boxes`]; a zone's in the grid's frame), in
+    /// one bottom-up pass over the tree reachable from the zones: a leaf's from its vertices, a parent's from the
+    /// corners of its children's boxes (which are in the parent's own frame; children have smaller ids). A box
+    /// thus contains its children's, so all of its vertices (the children cover every cell with data).
     fn build_boxes(&mut self) {
         use curvicast::terrain::TerrainStorage;
         use curvicast::terrain::boxes::{BoxBuilder, LocalFrame, NodeBox};
@@ -946,34 +946,44 @@ impl<'a> DemStorage<'a> {
         let e: curvicast::geodesy::Ellipsoid<f64> = self.ellipsoid();
         let a = e.a();
         let l1 = |p: V3<f64>| p.x.abs() + p.y.abs() + p.z.abs() + a;
+        let mut parent: Vec<Option<u32>> = vec![None; self.records.len()];
+        let mut reachable = vec![false; self.records.len()];
+        let mut stack: Vec<u32> = self.zones.iter().map(|z| z.0).collect();
+        while let Some(k) = stack.pop() {
+            reachable[k as usize] = true;
+            for &c in self.records[k as usize]
+                .kids
+                .iter()
+                .filter(|&&c| c != u32::MAX)
+            {
+                parent[c as usize] = Some(k);
+                stack.push(c);
+            }
+        }
+        let node = |s: &Self, k: u32| TerrainStorage::<f64>::node(s, curvicast::terrain::NodeId(k));
         for k in 0..self.records.len() {
-            let id = curvicast::terrain::NodeId(k as u32);
-            let Some(node) = TerrainStorage::<f64>::node(self, id) else {
+            let Some(n) = node(self, k as u32).filter(|n| reachable[k] && n.heights.is_some())
+            else {
                 continue;
             };
-            if node.heights.is_none() {
-                continue;
-            }
-            if node.is_leaf() {
-                self.records[k].bbox = NodeBox::of_vertices(self, &e, &node);
+            let p = parent[k].and_then(|p| node(self, p));
+            self.records[k].bbox = if n.is_leaf() {
+                NodeBox::of_vertices(self, &e, &n, p.as_ref())
             } else {
-                let frame = LocalFrame::of(self, &e, &node);
+                let frame = LocalFrame::for_box(self, &e, p.as_ref());
+                let own = LocalFrame::of(self, &e, &n);
                 let mut b = BoxBuilder::default();
-                for cid in node.children.iter().flatten() {
-                    let (Some(child), Some(cb)) = (
-                        TerrainStorage::<f64>::node(self, *cid),
-                        self.records[cid.0 as usize].bbox,
-                    ) else {
+                for cid in n.children.iter().flatten() {
+                    let Some(cb) = self.records[cid.0 as usize].bbox else {
                         continue;
                     };
-                    let cf = LocalFrame::of(self, &e, &child);
                     for q in cb.corners() {
-                        let p = cf.point(q);
-                        b.add(frame.coords(p), l1(p));
+                        let pt = own.point(q);
+                        b.add(frame.coords(pt), l1(pt));
                     }
                 }
-                self.records[k].bbox = b.finish();
-            }
+                b.finish()
+            };
         }
     }
 

@@ -193,10 +193,13 @@ impl Peak {
         let plain = Peak { boxes: [None; 5] };
         let e = Ellipsoid::<f64>::wgs84();
         let mut boxes = [None; 5];
+        let zone = TerrainStorage::<f64>::node(&plain, NodeId(0));
         for (k, b) in boxes.iter_mut().enumerate() {
             let id = NodeId(u32::try_from(k).unwrap_or(u32::MAX));
             if let Some(n) = TerrainStorage::<f64>::node(&plain, id) {
-                *b = NodeBox::of_vertices(&plain, &e, &n);
+                // The zone's box is in the grid's frame, the leaves' in the zone's.
+                let parent = if k == 0 { None } else { zone.as_ref() };
+                *b = NodeBox::of_vertices(&plain, &e, &n, parent);
             }
         }
         Peak { boxes }

@@ -1,13 +1,15 @@
-//! Node boxes (beyond the paper): a storage may give every node a box in the node's own local frame that
-//! contains all of the node's vertices. Triangles are the convex hulls of their vertices, so the box contains every
-//! triangle the traversal can trace under the node — at any block stride and with the stitching fans of §6,
-//! whose vertices are the node's grid vertices and midpoints of its cells' diagonals — with no sagitta or bulge
-//! bound needed. The traversal tests a child against its box (a slab test, about a tenth of the cost of the
-//! spheroidal volume's relaxed test of [`crate::geodesy::relaxed_interval`]); for a node a few kilometres
-//! across the box is also the tighter of the two (its faces follow the local horizon; the volume's lower wall is a
-//! sphere). The no-miss argument of the module docs holds unchanged with the box as the node's volume.
+//! Node boxes (beyond the paper): a storage may give every node a box that contains all of the node's vertices,
+//! in the local frame of the node's **parent** ([`LocalFrame::for_box`]; a zone's box is in the grid's frame).
+//! Triangles are the convex hulls of their vertices, so the box contains every triangle the traversal can trace
+//! under the node — at any block stride and with the stitching fans of §6, whose vertices are the node's grid
+//! vertices and midpoints of its cells' diagonals — with no sagitta or bulge bound needed. The traversal moves
+//! the ray into a node's frame once and tests the node's children against their boxes with three slabs each
+//! (a small fraction of the cost of the spheroidal volume's relaxed test, [`crate::geodesy::relaxed_interval`]);
+//! for a node a few kilometres across the box is also the tighter of the two (its faces follow the local
+//! horizon; the volume's lower wall is a sphere). The no-miss argument of the module docs holds unchanged with
+//! the box as the node's volume.
 //!
-//! The frame is east, north, up at the node's middle vertex ([`LocalFrame::of`]); the box is stored in `f32`,
+//! A frame is east, north, up at a node's middle vertex ([`LocalFrame::of`]); the box is stored in `f32`,
 //! rounded outwards, and the kernel inflates it by the rounding of the ray's transformation and of the frame and
 //! vertices in the picker's scalar type (`f32` pickers included).
 
@@ -39,6 +41,22 @@ impl<T: Real> LocalFrame<T> {
         node: &Node<T>,
     ) -> Self {
         Self::of_ranges(storage, ellipsoid, node.rows, node.cols)
+    }
+
+    /// The frame a node's box is expressed in: its parent's ([`LocalFrame::of`]), or for a zone (no parent) the
+    /// frame of the whole grid.
+    pub fn for_box<S: TerrainStorage<T> + ?Sized>(
+        storage: &S,
+        ellipsoid: &Ellipsoid<T>,
+        parent: Option<&Node<T>>,
+    ) -> Self {
+        match parent {
+            Some(p) => Self::of(storage, ellipsoid, p),
+            None => {
+                let g = storage.grid();
+                Self::of_ranges(storage, ellipsoid, [0, g.cell_rows()], [0, g.cell_cols()])
+            }
+        }
     }
 
     /// [`LocalFrame::of`] for a node's ranges.
@@ -115,15 +133,16 @@ pub struct NodeBox {
 }
 
 impl NodeBox {
-    /// The box of `node`'s vertices with data in its [`LocalFrame`], built in `f64` from
-    /// [`super::vertex_ecef`] (a storage's build step: it visits every vertex of the node). `None` if the node
-    /// has no vertex with data.
+    /// The box of `node`'s vertices with data in the frame of its `parent` ([`LocalFrame::for_box`]), built in
+    /// `f64` from [`super::vertex_ecef`] (a storage's build step: it visits every vertex of the node). `None` if
+    /// the node has no vertex with data.
     pub fn of_vertices<S: TerrainStorage<f64> + ?Sized>(
         storage: &S,
         ellipsoid: &Ellipsoid<f64>,
         node: &Node<f64>,
+        parent: Option<&Node<f64>>,
     ) -> Option<NodeBox> {
-        let frame = LocalFrame::of(storage, ellipsoid, node);
+        let frame = LocalFrame::for_box(storage, ellipsoid, parent);
         let mut b = BoxBuilder::default();
         for i in node.rows[0]..=node.rows[1] {
             for j in node.cols[0]..=node.cols[1] {
@@ -222,22 +241,46 @@ impl BoxBuilder {
 }
 
 impl<T: Real> LocalFrame<T> {
-    /// The hull of the ray's parameters within `[ray.t_min(), ray.t_max()]` inside box `b` of this frame, or
-    /// `None`. The box is inflated by `32 ε (|o|₁ + |t|·|d|₁ + a)` (ε of `T`), which covers the rounding of the
-    /// ray's frame coordinates, of the frame itself and of the vertices in `T`, and of the slab parameters.
-    pub fn box_interval(&self, b: &NodeBox, ray: &Ray<T>) -> Option<(T, T)> {
+    /// The ray in this frame, for testing boxes of the frame ([`FrameRay::interval`]) within the ray's interval.
+    pub fn ray(&self, ray: &Ray<T>) -> FrameRay<T> {
         let (o, d) = (ray.origin(), ray.dir());
-        let (mut lo, mut hi) = (ray.t_min(), ray.t_max());
+        let (lo, hi) = (ray.t_min(), ray.t_max());
         let t_abs = lo.abs().max(hi.abs());
         let mag = (o.x.abs() + o.y.abs() + o.z.abs())
             + t_abs * (d.x.abs() + d.y.abs() + d.z.abs())
             + self.a;
-        let tol = T::from_f64(32.0) * T::EPSILON * mag;
+        FrameRay {
+            q0: self.coords(o),
+            qd: self.rotate(d),
+            tol: T::from_f64(32.0) * T::EPSILON * mag,
+            lo,
+            hi,
+        }
+    }
+}
+
+/// A ray's origin and direction in a [`LocalFrame`], with its parameter interval and the tolerance of its box
+/// tests.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameRay<T> {
+    q0: V3<T>,
+    qd: V3<T>,
+    tol: T,
+    lo: T,
+    hi: T,
+}
+
+impl<T: Real> FrameRay<T> {
+    /// The hull of the ray's parameters inside box `b` (of the frame), or `None`. The box is inflated by
+    /// `32 ε (|o|₁ + |t|·|d|₁ + a)` (ε of `T`, `t` over the ray's interval), which covers the rounding of the
+    /// ray's frame coordinates, of the frame itself and of the vertices in `T`, and of the slab parameters.
+    pub fn interval(&self, b: &NodeBox) -> Option<(T, T)> {
+        let (mut lo, mut hi) = (self.lo, self.hi);
+        let tol = self.tol;
         if !tol.is_finite() {
             return Some((lo, hi)); // no finite bound on the rounding: keep the whole interval
         }
-        let q0 = self.coords(o);
-        let qd = self.rotate(d);
+        let (q0, qd) = (self.q0, self.qd);
         let widen = |v: f32, s: T| T::from_f64(f64::from(v)) + s;
         let [bx, by, bz] = b.lo;
         let [cx, cy, cz] = b.hi;

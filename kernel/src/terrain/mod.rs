@@ -387,13 +387,8 @@ impl<T: Real> Walk<'_, '_, T> {
 }
 
 /// A zone: its root, how its volume is tested (the storage's cached volume, or the relaxed test of
-/// [`relaxed_interval`] from the zone's trigonometry), and its box if the storage has one.
-type Zone<T> = (
-    NodeId,
-    Node<T>,
-    ZoneVolume<T>,
-    Option<(LocalFrame<T>, NodeBox)>,
-);
+/// [`relaxed_interval`] from the zone's trigonometry), and its box (in the grid's frame) if the storage has one.
+type Zone<T> = (NodeId, Node<T>, ZoneVolume<T>, Option<NodeBox>);
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum ZoneVolume<T> {
@@ -430,6 +425,10 @@ pub struct Picker<'s, T, S, const STACK: usize = 64, const ZONES: usize = 64> {
     min_level: u8,
     zones: [Option<Zone<T>>; ZONES],
     zone_count: usize,
+    /// The frame of the zones' boxes ([`LocalFrame::for_box`] without a parent).
+    grid_frame: LocalFrame<T>,
+    /// The grid spans less than 30° both ways: its frame's boxes are tight enough on their own.
+    regional: bool,
 }
 
 impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
@@ -462,6 +461,12 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             min_level: 0,
             zones: [None; ZONES],
             zone_count: 0,
+            grid_frame: LocalFrame::for_box(storage, &ellipsoid, None),
+            regional: {
+                let span = |n: u32, step: T| T::from_f64(f64::from(n)) * step.abs();
+                let lim = T::from_f64(30.0);
+                span(grid.cell_rows(), grid.dlat) < lim && span(grid.cell_cols(), grid.dlon) < lim
+            },
         };
         for k in 0..n {
             let id = storage.zone(k).ok_or(TerrainError::MalformedTree)?;
@@ -483,9 +488,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 )?),
             };
             picker.h_max = picker.h_max.max(hi);
-            let bbox = storage
-                .node_box(id)
-                .map(|b| (LocalFrame::of(storage, &ellipsoid, &node), b));
+            let bbox = storage.node_box(id);
             if let Some(slot) = picker.zones.get_mut(picker.zone_count) {
                 *slot = Some((id, node, b, bbox));
                 picker.zone_count = picker.zone_count.saturating_add(1);
@@ -622,15 +625,22 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         // 2. Zones in order of entry.
         let mut order = [(0usize, T::ZERO, T::ZERO); ZONES];
         let mut n_order = 0usize;
+        let grid_ray = self.grid_frame.ray(&clipped);
         for (k, z) in self.zones.iter().enumerate().take(self.zone_count) {
             if let Some((_, _, v, bbox)) = z {
-                // The zone's box first (cheap), then its volume on what is left (tighter for a large zone).
+                let volume = |r: &Ray<T>| match v {
+                    ZoneVolume::Cached(b) => b.ray_interval(r),
+                    ZoneVolume::Relaxed(v) => v.interval(r),
+                };
+                // The box in the grid's frame is tight for a regional grid; across a global one its faces tilt
+                // by up to 180°, so the zone's own volume then clips what the box leaves.
                 let interval = match bbox {
-                    Some((f, b)) => f.box_interval(b, &clipped),
-                    None => match v {
-                        ZoneVolume::Cached(b) => b.ray_interval(&clipped),
-                        ZoneVolume::Relaxed(v) => v.interval(&clipped),
-                    },
+                    Some(b) if self.regional => grid_ray.interval(b),
+                    Some(b) => grid_ray
+                        .interval(b)
+                        .and_then(|(a, c)| clipped.with_interval(a, c).ok())
+                        .and_then(|r| volume(&r)),
+                    None => volume(&clipped),
                 };
                 if let Some((a, c)) = interval {
                     if let Some(slot) = order.get_mut(n_order) {
@@ -729,6 +739,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 ray.with_interval(e.t_in.max(ray.t_min()), t_out.max(e.t_in).min(ray.t_max()))?;
             let mut kids = [(e, false); 4];
             let mut nk = 0usize;
+            // The ray in this node's frame, where its children's boxes are (formed at the first box).
+            let mut frame_ray = None;
             for cid in e.node.children.iter().flatten() {
                 let child = self.storage.node(*cid).ok_or(TerrainError::MalformedTree)?;
                 check_child(&e.node, &child)?;
@@ -738,9 +750,11 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 };
                 let interval = match self.storage.node_box(*cid) {
                     // The box holds all of the child's vertices, so every triangle traced under it.
-                    Some(b) => {
-                        LocalFrame::of(self.storage, &self.ellipsoid, &child).box_interval(&b, &sub)
-                    }
+                    Some(b) => frame_ray
+                        .get_or_insert_with(|| {
+                            LocalFrame::of(self.storage, &self.ellipsoid, &e.node).ray(&sub)
+                        })
+                        .interval(&b),
                     None => {
                         self.volume_interval(*cid, &child, &e.node, stride, src, lo, hi, &sub)?
                     }

@@ -67,7 +67,14 @@ impl TestDem {
         self.boxes = self
             .nodes
             .iter()
-            .map(|n| boxes::NodeBox::of_vertices(&self, &self.e, n))
+            .enumerate()
+            .map(|(k, n)| {
+                let parent = self
+                    .nodes
+                    .iter()
+                    .find(|p| p.children.iter().flatten().any(|c| c.0 as usize == k));
+                boxes::NodeBox::of_vertices(&self, &self.e, n, parent)
+            })
             .collect();
         self
     }
