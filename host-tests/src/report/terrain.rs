@@ -151,7 +151,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
         ));
     }
     md.push_str("\nMemory. Ours: one 72-byte record per quadtree node (cell ranges, height range, child ids, level, \
-                 the node's box in its local frame as six f32) plus the zone list, the sine/cosine of every grid \
+                 the node's box in its parent's local frame as six f32) plus the zone list, the sine/cosine of every grid \
                  row and column (two f64 each) and their double-double forms for the refinement (64 bytes per \
                  row, 32 per column) — the heights themselves are the DEM's and are needed by every method. parry: \
                  its own `TriMesh::total_memory_size()` estimate (vertex array of f64 triples, index triples, BVH \

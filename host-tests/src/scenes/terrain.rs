@@ -760,8 +760,8 @@ mod tests {
 ///   nodes — at most 8 × 4 = 32 zones bounded by parallels and meridians of the grid, whether the DEM is global
 ///   (ETOPO20: 3 × 5 zones) or regional (Trinidad: 3 × 5 zones of its own extent).
 /// * A node id is the node's index in the pyramid's level arrays (levels concatenated). Each node keeps one
-///   record formed at build time — cell ranges, height range, child ids, level, and the node's box in its local
-///   frame ([`curvicast::terrain::boxes`], built bottom-up) — from which the kernel's
+///   record formed at build time — cell ranges, height range, child ids, level, and the node's box in its parent's
+///   local frame ([`curvicast::terrain::boxes`], built bottom-up) — from which the kernel's
 ///   [`curvicast::terrain::Node`] is copied when asked for ([`DemStorage::overhead_bytes`] counts them). A parent
 ///   whose only child covers the same cells is skipped (the kernel requires children strictly smaller than their
 ///   parent).
@@ -791,7 +791,7 @@ pub struct DemStorage<'a> {
 }
 
 /// One node of a [`DemStorage`]: cell ranges, vertex height range (`[min, max]`, min > max when the node has
-/// no data), child ids (`u32::MAX`: none), level (zones are 0) and the node's box in its local frame: 72 bytes.
+/// no data), child ids (`u32::MAX`: none), level (zones are 0) and the node's box in its parent's frame: 72 bytes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct NodeRecord {
     rows: [u32; 2],
@@ -799,7 +799,8 @@ struct NodeRecord {
     heights: [f32; 2],
     kids: [u32; 4],
     level: u8,
-    /// The node's box in its local frame ([`curvicast::terrain::boxes`]), `None` without data.
+    /// The node's box in its parent's frame (a zone's in the grid's; [`curvicast::terrain::boxes`]), `None` without
+    /// data.
     bbox: Option<curvicast::terrain::boxes::NodeBox>,
 }
 

@@ -25,8 +25,10 @@
 //!    twice (one hull over both visits), and is what the no-miss proof below needs. Traversal ends when no
 //!    pending quad can be entered before the best hit, or at `t_global_exit`. When the storage gives node
 //!    boxes ([`TerrainStorage::node_box`]; beyond the paper), zones and children are tested against those
-//!    instead: a box in the node's local frame around all of its vertices ([`boxes`]), a slab test about a
-//!    tenth of the relaxed test's cost and, for a node a few kilometres across, the tighter bound.
+//!    instead: a box around all of the node's vertices in its parent's local frame ([`boxes`]), so that the ray
+//!    is moved into a visited node's frame once and each child costs three slabs — a small fraction of the
+//!    relaxed test — and, for a node a few kilometres across, the tighter bound. (A global grid's zones, whose
+//!    boxes lie in one frame for the whole grid, are clipped by their volumes too.)
 //! 4. **Leaf blocks** (§4): in a leaf, each cell (triangle pair) has its own volume bounded by four *planes*: the
 //!    meridian planes of its two columns and, for each of its two rows, the plane through the spheroid normals at
 //!    the row's two grid vertices (both normals of one latitude pass through the latitude cone's apex, so they
@@ -124,8 +126,8 @@
 //!
 //! # Cost
 //!
-//! Per child of a visited quad, only along the part of the ray inside the parent: with node boxes, the ray
-//! rotated into the child's frame and three slabs; without them, the child's walls on the parent's internal
+//! Per child of a visited quad, only along the part of the ray inside the parent: with node boxes, three slabs
+//! (the ray is rotated into the parent's frame once); without them, the child's walls on the parent's internal
 //! partition: the internal meridian plane (a division), then the rest of the relaxed volume (the internal
 //! latitude plane, the upper spheroid, the lower sphere), each step only if the interval is still non-empty.
 //! Per leaf: a clip against two meridian planes per column (columns the ray misses are skipped), the rows the
