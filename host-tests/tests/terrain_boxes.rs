@@ -385,7 +385,7 @@ fn direction(rng: &mut impl Rng, frame: &LocalFrame<f64>, at: V3<f64>) -> V3<f64
 /// contain the point's parameter, in the picker's scalar type `T`; returns the number of rays checked.
 ///
 /// The points are formed in `f64` by the `f64` frame; in `T` the ray's origin, direction and parameter are
-/// rounded to `T`, which moves the ray's point by the rounding that `box_interval`'s inflation covers.
+/// rounded to `T`, which moves the ray's point by the rounding that the box test's inflation covers.
 fn check_box_intervals<T: curvicast::Real + std::fmt::Debug>(
     name: &str,
     s: &DemStorage<'_>,
@@ -438,7 +438,7 @@ where
             assert!(
                 got.is_some_and(|(lo, hi)| lo <= tt && tt <= hi),
                 "{name} ({}): node {} (rows {:?}, cols {:?}) box {b:?}: the ray from {o:?} along {dir:?} on \
-                 [{t_lo}, {t_hi}] passes through the box point {q:?} (frame) at t = {t}, but box_interval gives \
+                 [{t_lo}, {t_hi}] passes through the box point {q:?} (frame) at t = {t}, but the box test gives \
                  {got:?}",
                 std::any::type_name::<T>(),
                 id.0,

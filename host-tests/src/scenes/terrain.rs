@@ -943,10 +943,7 @@ impl<'a> DemStorage<'a> {
     fn build_boxes(&mut self) {
         use curvicast::terrain::TerrainStorage;
         use curvicast::terrain::boxes::{BoxBuilder, LocalFrame, NodeBox};
-        use curvicast::vec3::V3;
         let e: curvicast::geodesy::Ellipsoid<f64> = self.ellipsoid();
-        let a = e.a();
-        let l1 = |p: V3<f64>| p.x.abs() + p.y.abs() + p.z.abs() + a;
         let mut parent: Vec<Option<u32>> = vec![None; self.records.len()];
         let mut reachable = vec![false; self.records.len()];
         let mut stack: Vec<u32> = self.zones.iter().map(|z| z.0).collect();
@@ -979,8 +976,7 @@ impl<'a> DemStorage<'a> {
                         continue;
                     };
                     for q in cb.corners() {
-                        let pt = own.point(q);
-                        b.add(frame.coords(pt), l1(pt));
+                        b.add_point(&frame, own.point(q));
                     }
                 }
                 b.finish()

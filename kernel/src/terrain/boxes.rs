@@ -121,9 +121,9 @@ impl<T: Real> LocalFrame<T> {
     }
 }
 
-/// A node's box in its [`LocalFrame`]: `lo ≤ coords(V) ≤ hi` for every vertex `V` of the node with data
-/// (rows `rows[0] ..= rows[1]`, columns `cols[0] ..= cols[1]`), the vertices as
-/// [`super::vertex_ecef`] forms them in `f64`. Build it with [`BoxBuilder`].
+/// A node's box in the [`LocalFrame`] of its parent ([`LocalFrame::for_box`]): `lo ≤ coords(V) ≤ hi` for every
+/// vertex `V` of the node with data (rows `rows[0] ..= rows[1]`, columns `cols[0] ..= cols[1]`), the vertices as
+/// [`super::vertex_ecef`] forms them in `f64`. Build it with [`NodeBox::of_vertices`] or [`BoxBuilder`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NodeBox {
     /// Lower corner (east, north, up), metres.
@@ -147,10 +147,7 @@ impl NodeBox {
         for i in node.rows[0]..=node.rows[1] {
             for j in node.cols[0]..=node.cols[1] {
                 if let Some(p) = super::vertex_ecef(storage, ellipsoid, i, j) {
-                    b.add(
-                        frame.coords(p),
-                        p.x.abs() + p.y.abs() + p.z.abs() + ellipsoid.a(),
-                    );
+                    b.add_point(&frame, p);
                 }
             }
         }
@@ -171,8 +168,8 @@ impl NodeBox {
     }
 }
 
-/// Accumulates frame coordinates (computed in `f64`) into a [`NodeBox`], rounded outwards with a margin for
-/// the rounding of the coordinates themselves.
+/// Accumulates ECEF points, in a frame's coordinates (computed in `f64`), into a [`NodeBox`], rounded outwards
+/// with a margin for the rounding of the coordinates themselves.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BoxBuilder {
     lo: [f64; 3],
@@ -192,9 +189,13 @@ impl Default for BoxBuilder {
 }
 
 impl BoxBuilder {
-    /// Adds the frame coordinates `q` of a point of magnitude `|P|₁ + a` (for the margin); non-finite points are
-    /// ignored.
-    pub fn add(&mut self, q: V3<f64>, magnitude: f64) {
+    /// Adds the ECEF point `p` in `frame`'s coordinates; non-finite points are ignored.
+    pub fn add_point(&mut self, frame: &LocalFrame<f64>, p: V3<f64>) {
+        self.add(frame.coords(p), p.x.abs() + p.y.abs() + p.z.abs() + frame.a);
+    }
+
+    /// Adds frame coordinates `q` of a point of magnitude `|P|₁ + a` (for the margin).
+    fn add(&mut self, q: V3<f64>, magnitude: f64) {
         if !(q.is_finite() && magnitude.is_finite()) {
             return;
         }

@@ -664,8 +664,8 @@ fn cached_bounds_give_identical_picks() {
     }
 }
 
-/// A 3 × 3-vertex DEM in `f32` (one zone, one leaf).
-struct TinyF32([f32; 9]);
+/// A 3 × 3-vertex DEM in `f32` (one zone, one leaf), with or without a node box.
+struct TinyF32([f32; 9], Option<boxes::NodeBox>);
 impl TerrainStorage<f32> for TinyF32 {
     fn ellipsoid(&self) -> Ellipsoid<f32> {
         Ellipsoid::wgs84()
@@ -698,31 +698,8 @@ impl TerrainStorage<f32> for TinyF32 {
     fn height(&self, i: u32, j: u32) -> Option<f32> {
         self.0.get((i * 3 + j) as usize).copied()
     }
-}
-
-/// [`TinyF32`] with a box built from the same DEM's vertices in `f64`.
-struct TinyF32Boxed(TinyF32, boxes::NodeBox);
-impl TerrainStorage<f32> for TinyF32Boxed {
-    fn ellipsoid(&self) -> Ellipsoid<f32> {
-        self.0.ellipsoid()
-    }
-    fn grid(&self) -> Grid<f32> {
-        self.0.grid()
-    }
-    fn zone_count(&self) -> usize {
-        1
-    }
-    fn zone(&self, k: usize) -> Option<NodeId> {
-        self.0.zone(k)
-    }
-    fn node(&self, id: NodeId) -> Option<Node<f32>> {
-        self.0.node(id)
-    }
-    fn height(&self, i: u32, j: u32) -> Option<f32> {
-        self.0.height(i, j)
-    }
     fn node_box(&self, _: NodeId) -> Option<boxes::NodeBox> {
-        Some(self.1)
+        self.1
     }
 }
 
@@ -735,11 +712,11 @@ fn f32_picker_with_a_box_built_in_f64_still_finds_the_peak() {
     ];
     let g = grid(47.0, 8.0, 0.01, 0.01, 3, 3);
     let f64_dem = TestDem::new(g, hs.to_vec(), 2, 1, 1).with_boxes();
-    let b = f64_dem.boxes[0].unwrap();
-    let dem = TinyF32Boxed(TinyF32(hs.map(|h| h as f32)), b);
-    let p: Picker<'_, f32, TinyF32Boxed> = Picker::new(&dem).unwrap();
+    let dem = TinyF32(hs.map(|h| h as f32), f64_dem.boxes[0]);
+    assert!(dem.1.is_some());
+    let p: Picker<'_, f32, TinyF32> = Picker::new(&dem).unwrap();
     let e = Ellipsoid::<f32>::wgs84();
-    // Straight down on the peak, and rays grazing the box's top and sides at the 400 m plateau.
+    // Straight down on the peak, then near the corners (the box's lowest points).
     let top = e.geodetic_deg_to_ecef(47.01, 8.01, 10_000.0);
     let n = e.normal(47.01_f32.to_radians(), 8.01_f32.to_radians());
     let hit = p
@@ -748,7 +725,7 @@ fn f32_picker_with_a_box_built_in_f64_still_finds_the_peak() {
         .unwrap();
     assert!((hit.h - 2500.0).abs() < 3.0, "{}", hit.h);
     // Near the corners (at the box's lowest points) the boxed picker answers as the plain one.
-    let plain_dem = TinyF32(hs.map(|h| h as f32));
+    let plain_dem = TinyF32(hs.map(|h| h as f32), None);
     let plain: Picker<'_, f32, TinyF32> = Picker::new(&plain_dem).unwrap();
     for (lat, lon) in [(47.0001, 8.0001), (47.0199, 8.0199), (47.0001, 8.0199)] {
         let top = e.geodetic_deg_to_ecef(lat, lon, 5_000.0);
@@ -764,9 +741,12 @@ fn f32_picker_with_a_box_built_in_f64_still_finds_the_peak() {
 
 #[test]
 fn f32_pick_of_a_peak() {
-    let dem = TinyF32([
-        400.0, 400.0, 400.0, 400.0, 2500.0, 400.0, 400.0, 400.0, 400.0,
-    ]);
+    let dem = TinyF32(
+        [
+            400.0, 400.0, 400.0, 400.0, 2500.0, 400.0, 400.0, 400.0, 400.0,
+        ],
+        None,
+    );
     let p: Picker<'_, f32, TinyF32> = Picker::new(&dem).unwrap();
     let e = Ellipsoid::<f32>::wgs84();
     let top = e.geodetic_deg_to_ecef(47.01, 8.01, 10_000.0);
