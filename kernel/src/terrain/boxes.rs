@@ -250,9 +250,11 @@ impl<T: Real> LocalFrame<T> {
         let mag = (o.x.abs() + o.y.abs() + o.z.abs())
             + t_abs * (d.x.abs() + d.y.abs() + d.z.abs())
             + self.a;
+        let qd = self.rotate(d);
         FrameRay {
             q0: self.coords(o),
-            qd: self.rotate(d),
+            inv: V3::new(T::ONE / qd.x, T::ONE / qd.y, T::ONE / qd.z),
+            qd,
             tol: T::from_f64(32.0) * T::EPSILON * mag,
             lo,
             hi,
@@ -266,6 +268,8 @@ impl<T: Real> LocalFrame<T> {
 pub struct FrameRay<T> {
     q0: V3<T>,
     qd: V3<T>,
+    /// `1 / qd` per axis (infinite for a zero component, which [`slab`] tests apart), formed once per frame.
+    inv: V3<T>,
     tol: T,
     lo: T,
     hi: T,
@@ -275,49 +279,42 @@ impl<T: Real> FrameRay<T> {
     /// The hull of the ray's parameters inside box `b` (of the frame), or `None`. The box is inflated by
     /// `32 ε (|o|₁ + |t|·|d|₁ + a)` (ε of `T`, `t` over the ray's interval), which covers the rounding of the
     /// ray's frame coordinates, of the frame itself and of the vertices in `T`, and of the slab parameters.
+    #[inline]
     pub fn interval(&self, b: &NodeBox) -> Option<(T, T)> {
         let (mut lo, mut hi) = (self.lo, self.hi);
         let tol = self.tol;
         if !tol.is_finite() {
             return Some((lo, hi)); // no finite bound on the rounding: keep the whole interval
         }
-        let (q0, qd) = (self.q0, self.qd);
         let widen = |v: f32, s: T| T::from_f64(f64::from(v)) + s;
-        let [bx, by, bz] = b.lo;
-        let [cx, cy, cz] = b.hi;
-        let ok = slab(
-            &mut lo,
-            &mut hi,
-            q0.x,
-            qd.x,
-            widen(bx, -tol),
-            widen(cx, tol),
-        ) && slab(
-            &mut lo,
-            &mut hi,
-            q0.y,
-            qd.y,
-            widen(by, -tol),
-            widen(cy, tol),
-        ) && slab(
-            &mut lo,
-            &mut hi,
-            q0.z,
-            qd.z,
-            widen(bz, -tol),
-            widen(cz, tol),
-        );
+        let ok = [
+            (self.q0.x, self.qd.x, self.inv.x),
+            (self.q0.y, self.qd.y, self.inv.y),
+            (self.q0.z, self.qd.z, self.inv.z),
+        ]
+        .iter()
+        .zip(b.lo.iter().zip(&b.hi))
+        .all(|(&(q, dq, inv), (&bl, &bh))| {
+            slab(
+                &mut lo,
+                &mut hi,
+                q,
+                dq,
+                inv,
+                widen(bl, -tol),
+                widen(bh, tol),
+            )
+        });
         ok.then_some((lo, hi))
     }
 }
 
-/// Clips `[lo, hi]` to `bl ≤ q + t·dq ≤ bh`; false when empty.
+/// Clips `[lo, hi]` to `bl ≤ q + t·dq ≤ bh` (`inv = 1 / dq`); false when empty.
 #[inline]
-fn slab<T: Real>(lo: &mut T, hi: &mut T, q: T, dq: T, bl: T, bh: T) -> bool {
+fn slab<T: Real>(lo: &mut T, hi: &mut T, q: T, dq: T, inv: T, bl: T, bh: T) -> bool {
     if dq == T::ZERO {
         return bl <= q && q <= bh && *lo <= *hi;
     }
-    let inv = T::ONE / dq;
     let (t1, t2) = ((bl - q) * inv, (bh - q) * inv);
     let (a, c) = if dq > T::ZERO { (t1, t2) } else { (t2, t1) };
     if a > *lo {

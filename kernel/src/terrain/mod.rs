@@ -398,14 +398,17 @@ enum ZoneVolume<T> {
     Relaxed(RelaxedVolume<T>),
 }
 
+/// A node on the traversal stack. The node itself is read from the storage when it is visited, and checked
+/// then against its parent's ranges and stride.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Entry<T> {
     id: NodeId,
-    node: Node<T>,
+    /// The parent's cell ranges (`None` for a zone).
+    parent: Option<([u32; 2], [u32; 2])>,
     t_in: T,
     t_out: T,
-    /// The node's block stride.
-    stride: u32,
+    /// The parent's block stride (`u32::MAX` for a zone).
+    parent_stride: u32,
     /// The source inherited from the parent.
     src: Option<Source>,
 }
@@ -625,8 +628,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             .ok_or(TerrainError::Ray(RayError::ZeroDirection))?;
 
         // 2. Zones in order of entry.
-        let mut order = [(0usize, T::ZERO, T::ZERO); ZONES];
-        let mut n_order = 0usize;
+        let mut order: heapless::Vec<(usize, T, T), ZONES> = heapless::Vec::new();
         let grid_ray = self.grid_frame.ray(&clipped);
         for (k, z) in self.zones.iter().enumerate().take(self.zone_count) {
             if let Some((_, _, v, bbox)) = z {
@@ -645,15 +647,12 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     None => volume(&clipped),
                 };
                 if let Some((a, c)) = interval {
-                    if let Some(slot) = order.get_mut(n_order) {
-                        *slot = (k, a, c);
-                        n_order = n_order.saturating_add(1);
-                    }
+                    // At most `ZONES` zones (checked by `new`), so the push cannot fail.
+                    let _ = order.push((k, a, c));
                 }
             }
         }
-        let order = order.get_mut(..n_order).unwrap_or(&mut []);
-        sort_by_entry(order);
+        insertion_sort(&mut order, |x, y| x.1 < y.1);
 
         let mut best: Option<Candidate<T>> = None;
         let mut pending: Option<(T, NodeId)> = None;
@@ -664,15 +663,15 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     break;
                 }
             }
-            let Some(Some((id, node, _, _))) = self.zones.get(k) else {
+            let Some(Some((id, _, _, _))) = self.zones.get(k) else {
                 continue;
             };
             let root = Entry {
                 id: *id,
-                node: *node,
+                parent: None,
                 t_in: a,
                 t_out: c,
-                stride: self.stride_of(*id, u32::MAX)?,
+                parent_stride: u32::MAX,
                 src: None,
             };
             let mut walk = Walk {
@@ -723,9 +722,17 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 continue;
             }
             *budget = budget.checked_sub(1).ok_or(TerrainError::TraversalBound)?;
+            let node = self.storage.node(e.id).ok_or(TerrainError::MalformedTree)?;
+            if let Some((rows, cols)) = e.parent {
+                check_child(rows, cols, &node)?;
+            }
+            let stride = self.stride_of(e.id, e.parent_stride)?;
+            if node.heights.is_none() {
+                continue;
+            }
             w.stats.quads_visited = w.stats.quads_visited.saturating_add(1);
             let t_out = e.t_out.min(best_t);
-            let src = match self.step(e.id, &e.node, e.stride, e.src)? {
+            let src = match self.step(e.id, &node, stride, e.src)? {
                 Step::Trace(unit) => {
                     self.trace_unit(&unit, e.t_in, t_out, w)?;
                     continue;
@@ -736,68 +743,44 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 }
                 Step::Descend(src) => src,
             };
-            // Children, nearest entry pushed last (popped first).
+            // Children go straight onto the stack, then are sorted there, nearest entry on top.
             let sub =
                 ray.with_interval(e.t_in.max(ray.t_min()), t_out.max(e.t_in).min(ray.t_max()))?;
-            let mut kids = [(e, false); 4];
-            let mut nk = 0usize;
+            let first = stack.len();
             // The ray in this node's frame, where its children's boxes are (formed at the first box).
             let mut frame_ray = None;
-            for cid in e.node.children.iter().flatten() {
-                let child = self.storage.node(*cid).ok_or(TerrainError::MalformedTree)?;
-                check_child(&e.node, &child)?;
-                let stride = self.stride_of(*cid, e.stride)?;
-                let Some([lo, hi]) = child.heights else {
-                    continue;
-                };
+            for cid in node.children.iter().flatten() {
                 let interval = match self.storage.node_box(*cid) {
                     // The box holds all of the child's vertices, so every triangle traced under it.
                     Some(b) => frame_ray
                         .get_or_insert_with(|| {
-                            LocalFrame::of(self.storage, &self.ellipsoid, &e.node).ray(&sub)
+                            LocalFrame::of(self.storage, &self.ellipsoid, &node).ray(&sub)
                         })
                         .interval(&b),
                     None => {
-                        self.volume_interval(*cid, &child, &e.node, stride, src, lo, hi, &sub)?
+                        let child = self.storage.node(*cid).ok_or(TerrainError::MalformedTree)?;
+                        check_child(node.rows, node.cols, &child)?;
+                        let Some([lo, hi]) = child.heights else {
+                            continue;
+                        };
+                        let c_stride = self.stride_of(*cid, stride)?;
+                        self.volume_interval(*cid, &child, &node, c_stride, src, lo, hi, &sub)?
                     }
                 };
-                if let Some((a, c)) = interval {
-                    if let Some(slot) = kids.get_mut(nk) {
-                        *slot = (
-                            Entry {
-                                id: *cid,
-                                node: child,
-                                t_in: a,
-                                t_out: c,
-                                stride,
-                                src,
-                            },
-                            true,
-                        );
-                        nk = nk.saturating_add(1);
-                    }
-                }
-            }
-            let kids = kids.get_mut(..nk).unwrap_or(&mut []);
-            // Sort descending by entry so the nearest is on top of the stack.
-            for i in 1..kids.len() {
-                let mut j = i;
-                while j > 0 {
-                    let jm = j.saturating_sub(1);
-                    let (Some(x), Some(y)) = (kids.get(jm), kids.get(j)) else {
-                        break;
+                if let Some((t_in, t_out)) = interval {
+                    let child = Entry {
+                        id: *cid,
+                        parent: Some((node.rows, node.cols)),
+                        t_in,
+                        t_out,
+                        parent_stride: stride,
+                        src,
                     };
-                    if y.0.t_in > x.0.t_in {
-                        kids.swap(jm, j);
-                        j = jm;
-                    } else {
-                        break;
-                    }
+                    stack.push(child).map_err(|_| TerrainError::StackFull)?;
                 }
             }
-            for (k, _) in kids.iter() {
-                stack.push(*k).map_err(|_| TerrainError::StackFull)?;
-            }
+            let kids = stack.get_mut(first..).unwrap_or(&mut []);
+            insertion_sort(kids, |x, y| x.t_in > y.t_in);
         }
         Ok(())
     }
@@ -955,7 +938,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             for cid in node.children.iter().flatten() {
                 let child = self.storage.node(*cid).ok_or(TerrainError::MalformedTree)?;
                 if holds(&child) {
-                    check_child(&node, &child)?;
+                    check_child(node.rows, node.cols, &child)?;
                     next = Some((*cid, child));
                     break;
                 }
@@ -1564,7 +1547,8 @@ type RowCorners<T> = (u32, Option<V3<T>>, Option<V3<T>>);
 /// Rows of a leaf whose trigonometry is cached per leaf (leaves up to 64 cells tall).
 const ROW_CACHE: usize = 65;
 
-fn sort_by_entry<T: Real>(v: &mut [(usize, T, T)]) {
+/// Sorts a short slice stably so that no element is preceded by one it goes `before`.
+fn insertion_sort<E>(v: &mut [E], before: impl Fn(&E, &E) -> bool) {
     for i in 1..v.len() {
         let mut j = i;
         while j > 0 {
@@ -1572,7 +1556,7 @@ fn sort_by_entry<T: Real>(v: &mut [(usize, T, T)]) {
             let (Some(x), Some(y)) = (v.get(jm), v.get(j)) else {
                 break;
             };
-            if y.1 < x.1 {
+            if before(y, x) {
                 v.swap(jm, j);
                 j = jm;
             } else {
@@ -1604,14 +1588,15 @@ fn check_in_grid<T: Real>(n: &Node<T>, g: &Grid<T>) -> Result<(), TerrainError> 
     }
 }
 
-fn check_child<T: Real>(p: &Node<T>, c: &Node<T>) -> Result<(), TerrainError> {
-    let inside = c.rows[0] >= p.rows[0]
-        && c.rows[1] <= p.rows[1]
-        && c.cols[0] >= p.cols[0]
-        && c.cols[1] <= p.cols[1]
+/// A child lies inside its parent's ranges `rows`, `cols` and is strictly smaller.
+fn check_child<T: Real>(rows: [u32; 2], cols: [u32; 2], c: &Node<T>) -> Result<(), TerrainError> {
+    let inside = c.rows[0] >= rows[0]
+        && c.rows[1] <= rows[1]
+        && c.cols[0] >= cols[0]
+        && c.cols[1] <= cols[1]
         && c.rows[0] < c.rows[1]
         && c.cols[0] < c.cols[1];
-    let smaller = c.rows != p.rows || c.cols != p.cols;
+    let smaller = c.rows != rows || c.cols != cols;
     if inside && smaller {
         Ok(())
     } else {
