@@ -250,80 +250,75 @@ impl<T: Real> LocalFrame<T> {
         let mag = (o.x.abs() + o.y.abs() + o.z.abs())
             + t_abs * (d.x.abs() + d.y.abs() + d.z.abs())
             + self.a;
-        let qd = self.rotate(d);
+        let (q, qd) = (self.coords(o), self.rotate(d));
+        let tol = T::from_f64(32.0) * T::EPSILON * mag;
         FrameRay {
-            q0: self.coords(o),
+            q_lo: V3::new(q.x + tol, q.y + tol, q.z + tol),
+            q_hi: V3::new(q.x - tol, q.y - tol, q.z - tol),
             inv: V3::new(T::ONE / qd.x, T::ONE / qd.y, T::ONE / qd.z),
-            qd,
-            tol: T::from_f64(32.0) * T::EPSILON * mag,
+            bounded: tol.is_finite(),
             lo,
             hi,
         }
     }
 }
 
-/// A ray's origin and direction in a [`LocalFrame`], with its parameter interval and the tolerance of its box
-/// tests.
+/// A ray in a [`LocalFrame`], set up for its box tests: per axis its origin coordinate shifted by the
+/// tolerance `32 ε (|o|₁ + |t|·|d|₁ + a)` (ε of `T`, `t` over the ray's interval) towards each face, which
+/// inflates every box by that much, and its reciprocal direction; and its parameter interval.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrameRay<T> {
-    q0: V3<T>,
-    qd: V3<T>,
-    /// `1 / qd` per axis (infinite for a zero component, which [`slab`] tests apart), formed once per frame.
+    /// `q + tol` and `q − tol`: the origin against the boxes' low and high faces.
+    q_lo: V3<T>,
+    q_hi: V3<T>,
+    /// `1 / q_d` per axis: `±∞` for a zero component (signed like the zero).
     inv: V3<T>,
-    tol: T,
+    /// The tolerance is finite; otherwise no box can clip the interval.
+    bounded: bool,
     lo: T,
     hi: T,
 }
 
 impl<T: Real> FrameRay<T> {
-    /// The hull of the ray's parameters inside box `b` (of the frame), or `None`. The box is inflated by
-    /// `32 ε (|o|₁ + |t|·|d|₁ + a)` (ε of `T`, `t` over the ray's interval), which covers the rounding of the
-    /// ray's frame coordinates, of the frame itself and of the vertices in `T`, and of the slab parameters.
+    /// The hull of the ray's parameters inside box `b` (of the frame, inflated by the tolerance), or `None`.
+    /// The tolerance covers the rounding of the ray's frame coordinates, of the frame itself and of the vertices
+    /// in `T`, and of the slab parameters.
+    ///
+    /// Per axis the slab is entered at the face the direction points away from. A zero direction component
+    /// gives infinite parameters of the right signs (the origin inside the slab: no clip; outside: empty), or a
+    /// NaN on a face itself, which compares false and so clips nothing.
     #[inline]
     pub fn interval(&self, b: &NodeBox) -> Option<(T, T)> {
         let (mut lo, mut hi) = (self.lo, self.hi);
-        let tol = self.tol;
-        if !tol.is_finite() {
-            return Some((lo, hi)); // no finite bound on the rounding: keep the whole interval
+        if !self.bounded {
+            return Some((lo, hi));
         }
-        let widen = |v: f32, s: T| T::from_f64(f64::from(v)) + s;
-        let ok = [
-            (self.q0.x, self.qd.x, self.inv.x),
-            (self.q0.y, self.qd.y, self.inv.y),
-            (self.q0.z, self.qd.z, self.inv.z),
-        ]
-        .iter()
-        .zip(b.lo.iter().zip(&b.hi))
-        .all(|(&(q, dq, inv), (&bl, &bh))| {
-            slab(
-                &mut lo,
-                &mut hi,
-                q,
-                dq,
-                inv,
-                widen(bl, -tol),
-                widen(bh, tol),
-            )
-        });
-        ok.then_some((lo, hi))
+        let face = |v: f32| T::from_f64(f64::from(v));
+        let axes = [
+            (self.q_lo.x, self.q_hi.x, self.inv.x),
+            (self.q_lo.y, self.q_hi.y, self.inv.y),
+            (self.q_lo.z, self.q_hi.z, self.inv.z),
+        ];
+        for ((q_lo, q_hi, inv), (&bl, &bh)) in axes.into_iter().zip(b.lo.iter().zip(&b.hi)) {
+            let t_lo = (face(bl) - q_lo) * inv;
+            let t_hi = (face(bh) - q_hi) * inv;
+            let (enter, leave) = if inv < T::ZERO {
+                (t_hi, t_lo)
+            } else {
+                (t_lo, t_hi)
+            };
+            if enter > lo {
+                lo = enter;
+            }
+            if leave < hi {
+                hi = leave;
+            }
+            if !(lo <= hi) {
+                return None;
+            }
+        }
+        Some((lo, hi))
     }
-}
-
-/// Clips `[lo, hi]` to `bl ≤ q + t·dq ≤ bh` (`inv = 1 / dq`); false when empty.
-#[inline]
-fn slab<T: Real>(lo: &mut T, hi: &mut T, q: T, dq: T, inv: T, bl: T, bh: T) -> bool {
-    if dq == T::ZERO {
-        return bl <= q && q <= bh && *lo <= *hi;
-    }
-    let (t1, t2) = ((bl - q) * inv, (bh - q) * inv);
-    let (a, c) = if dq > T::ZERO { (t1, t2) } else { (t2, t1) };
-    if a > *lo {
-        *lo = a;
-    }
-    if c < *hi {
-        *hi = c;
-    }
-    *lo <= *hi
 }
 
 #[cfg(test)]

@@ -195,6 +195,7 @@ use crate::real::Real;
 use crate::surface::{Side, Surface};
 use crate::vec3::V3;
 use boxes::{LocalFrame, NodeBox};
+use core::cell::Cell;
 use refine::{Tri, Vtx};
 use triangle::WatertightRay;
 
@@ -979,10 +980,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let step = |i: u32, end: u32| i.saturating_add(s).min(end);
         let north_up = g.dlat > T::ZERO;
         // Per-unit cache of the lattice rows' values (sin ψ, cos ψ, cone apex k, prime vertical radius N) for
-        // units up to ROW_CACHE − 1 cells tall.
-        let mut rows_cache: heapless::Vec<(T, T, T, T), ROW_CACHE> = heapless::Vec::new();
+        // units up to ROW_CACHE − 1 cells tall, filled as rows are first asked for (a ray from above needs few).
+        let rows_cache: [Cell<Option<(T, T, T, T)>>; ROW_CACHE] =
+            core::array::from_fn(|_| Cell::new(None));
         let n_rows = div_ceil_pow2(r1.saturating_sub(r0), s);
-        let cached = usize::try_from(n_rows).is_ok_and(|n| n < ROW_CACHE);
         let row_vals = |i: u32| -> (T, T, T, T) {
             let (sp, cp) = self.storage.row_sin_cos(i);
             (
@@ -992,30 +993,26 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 e.prime_vertical_radius(sp),
             )
         };
-        if cached {
-            let mut i = r0;
-            while rows_cache.push(row_vals(i)).is_ok() && i < r1 {
-                i = step(i, r1);
-            }
-        }
         // Strides are powers of two: lattice row k·s is entry k, the last row entry n_rows.
         let shift = s.trailing_zeros();
         let mask = s.wrapping_sub(1);
         let row_at = |i: u32| -> (T, T, T, T) {
-            if cached {
-                let k = i.wrapping_sub(r0);
-                let entry = if k & mask == 0 {
-                    k.wrapping_shr(shift)
-                } else if i == r1 {
-                    n_rows
-                } else {
-                    u32::MAX
-                };
-                if let Some(v) = usize::try_from(entry).ok().and_then(|k| rows_cache.get(k)) {
-                    return *v;
-                }
-            }
-            row_vals(i)
+            let k = i.wrapping_sub(r0);
+            let entry = if k & mask == 0 {
+                k.wrapping_shr(shift)
+            } else if i == r1 {
+                n_rows
+            } else {
+                u32::MAX
+            };
+            let Some(slot) = usize::try_from(entry).ok().and_then(|k| rows_cache.get(k)) else {
+                return row_vals(i);
+            };
+            slot.get().unwrap_or_else(|| {
+                let v = row_vals(i);
+                slot.set(Some(v));
+                v
+            })
         };
         let stitchable = s > 1;
         // Height cull (beyond the paper): in the unit's local frame, a cell whose part of the ray lies wholly
@@ -1458,47 +1455,60 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     }
 
     /// The unit's cell columns `[first, end)` (in cells of its stride from its first column) that the ray can
-    /// cross within `[t_in, t_out]`: along a line the azimuth is monotone (`dφ/dt = (p × d)_z / r²`) and sweeps
-    /// less than 180°, so the crossed columns lie between the columns of the two end points (plus one column of
-    /// margin for rounding). Falls back to all columns when the unit spans 180° or more, the line meets the z
-    /// axis, or the sweep wraps around.
+    /// cross within `[t_in, t_out]`. Both end points must lie in the half-space in front of the unit's middle
+    /// meridian (`r_m > 0`), which is convex, so the whole segment does; there the azimuth is monotone along the
+    /// line and every meridian of a unit narrower than 180° (minus a column) is within 90° of the middle one, so
+    /// the side of a meridian plane, `cos λ_j·y − sin λ_j·x ≥ 0` (east of it), is monotone over the unit's
+    /// meridians. Each end's column is found by a binary search over those sides, from the storage's
+    /// trigonometry; the crossed columns lie between the two, plus one column of margin for a side decided
+    /// wrongly by rounding. Falls back to all columns otherwise.
     fn unit_columns(&self, u: &Unit, ray: &Ray<T>, t_in: T, t_out: T) -> (u32, u32) {
-        let n = div_ceil_pow2(u.cols[1].saturating_sub(u.cols[0]), u.stride);
+        let [c0, c1] = u.cols;
+        let n = div_ceil_pow2(c1.saturating_sub(c0), u.stride);
         let all = (0, n);
-        let g = &self.grid;
-        let span = T::from_f64(f64::from(u.cols[1].saturating_sub(u.cols[0])));
-        if !(span * g.dlon < T::from_f64(180.0)) {
+        let span = T::from_f64(f64::from(c1.saturating_sub(c0).saturating_add(u.stride)));
+        if !(span * self.grid.dlon < T::from_f64(180.0)) {
             return all;
         }
-        let (o, d) = (ray.origin(), ray.dir());
-        let w = o.x * d.y - o.y * d.x;
-        let pa = V3::from(ray.at(t_in));
-        let pb = V3::from(ray.at(t_out));
-        let zero_r = |p: V3<T>| p.x == T::ZERO && p.y == T::ZERO;
-        if w == T::ZERO || zero_r(pa) || zero_r(pb) || !pa.is_finite() || !pb.is_finite() {
-            return all;
-        }
-        let deg = T::from_f64(180.0) / T::PI;
-        let lon_w = g.lon_deg(u.cols[0]);
-        let wrap = |x: T| {
-            let turns = libm::round((x / T::from_f64(360.0)).to_f64());
-            x - T::from_f64(360.0 * turns)
+        let meridian = |k: u32| {
+            self.storage
+                .col_sin_cos(c0.saturating_add(k.saturating_mul(u.stride)).min(c1))
         };
-        let ua = wrap(pa.y.atan2(pa.x) * deg - lon_w);
-        let ub = wrap(pb.y.atan2(pb.x) * deg - lon_w);
-        let (u_lo, u_hi) = if w > T::ZERO { (ua, ub) } else { (ub, ua) };
-        if !(u_lo <= u_hi) {
+        let (sm, cm) = meridian(n.wrapping_shr(1));
+        // The cell column of point `p`: the last meridian `k ∈ [0, n]` it is east of (`n`: east of the unit).
+        let column = |p: V3<T>| -> Option<u32> {
+            if !(cm * p.x + sm * p.y > T::ZERO) {
+                return None;
+            }
+            let east_of = |k: u32| {
+                let (sk, ck) = meridian(k);
+                ck * p.y - sk * p.x >= T::ZERO
+            };
+            let (mut a, mut b) = (0u32, n);
+            if east_of(b) {
+                return Some(n);
+            }
+            // Invariant: east of meridian `a` (or west of the unit when `a` is 0), not east of meridian `b`.
+            while b.saturating_sub(a) > 1 {
+                let m = a.wrapping_add(b.wrapping_sub(a).wrapping_shr(1));
+                if east_of(m) {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            Some(a)
+        };
+        let (Some(ka), Some(kb)) = (
+            column(V3::from(ray.at(t_in))),
+            column(V3::from(ray.at(t_out))),
+        ) else {
             return all;
-        }
-        let width = g.dlon * self.scale(u.stride);
-        let col = |x: T| libm::floor((x / width).to_f64());
-        let nf = f64::from(n);
-        let lo = (col(u_lo) - 1.0).clamp(0.0, nf);
-        let hi = (col(u_hi) + 2.0).clamp(0.0, nf);
-        // Both are integers in [0, n] ⊂ u32 range; the casts are exact.
-        #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
-        let (lo, hi) = (lo as u32, hi as u32);
-        (lo, hi)
+        };
+        (
+            ka.min(kb).saturating_sub(1),
+            ka.max(kb).saturating_add(2).min(n),
+        )
     }
 
     /// The [`Hit`] of the traversal's nearest triangle, with its parameter and point refined in double-double

@@ -150,8 +150,30 @@ struct PlaneHit<T> {
     p: [T; 3],
     /// `|n·d| / |n|`: the sine of the ray's elevation over the plane times `|d|`.
     slope: T,
-    /// Signed in-plane distances of `p` inside the edges opposite `v0`, `v1`, `v2` (negative: outside).
-    inside: [T; 3],
+    /// `|n|` of the scalar normal.
+    n_len: T,
+    /// Barycentric coordinates of `p` times `|n|²` (for `v0`, `v1`, `v2`).
+    bary: [T; 3],
+    /// Squared lengths of the edges opposite `v0`, `v1`, `v2`.
+    edge2: [T; 3],
+}
+
+impl<T: Real> PlaneHit<T> {
+    /// The signed in-plane distance of `p` inside the edge opposite `v_k` (negative: outside): its barycentric
+    /// coordinate times the triangle's height over that edge.
+    fn inside(&self, k: usize) -> T {
+        let (c, e2) = (self.bary.get(k), self.edge2.get(k));
+        match (c, e2) {
+            (Some(&c), Some(&e2)) => c / (self.n_len * e2.sqrt()),
+            _ => T::NAN,
+        }
+    }
+
+    /// Whether `p` lies inside all three edges, or beyond one by at most `tol` (a root and a division only for
+    /// the edges `p` is beyond).
+    fn within(&self, tol: T) -> bool {
+        (0..3).all(|k| self.bary.get(k).is_some_and(|&c| c >= T::ZERO) || self.inside(k) >= -tol)
+    }
 }
 
 /// The refined intersection with triangle `tri` of cell `[i, j]` (module docs); `None` if a corner is nodata or
@@ -223,26 +245,31 @@ fn plane_through<T: Real>(
     let [d0, d1, d2] = d;
     let at = |ok: T, dk: T| t_dd.times_t(dk).plus_t(ok).value();
     let p = [at(o0, d0), at(o1, d1), at(o2, d2)];
-    // Barycentric coordinates of p: λ1 = (w × b)·n / |n|², λ2 = (a × w)·n / |n|², λ0 = 1 − λ1 − λ2, times the
-    // heights |n|/|edge| of the triangle over the opposite edges: in-plane distances inside each edge.
+    // Barycentric coordinates of p: λ1 = (w × b)·n / |n|², λ2 = (a × w)·n / |n|², λ0 = 1 − λ1 − λ2; kept times
+    // |n|² (`PlaneHit::inside` turns them into in-plane distances inside each edge).
     let [p0, p1, p2] = p;
     let w = diff(&[Dd::from(p0), Dd::from(p1), Dd::from(p2)], v0);
     let nn = n.length_squared();
     let n_len = nn.sqrt();
     let (c1, c2) = (w.cross(b).dot(n), a.cross(w).dot(n));
-    let c0 = nn - c1 - c2;
-    let inside = [
-        c0 / (n_len * b.minus(a).length()),
-        c1 / (n_len * b.length()),
-        c2 / (n_len * a.length()),
+    let bary = [nn - c1 - c2, c1, c2];
+    let edge2 = [
+        b.minus(a).length_squared(),
+        b.length_squared(),
+        a.length_squared(),
     ];
     let t = t_dd.value();
-    let finite = t.is_finite() && p.iter().chain(inside.iter()).all(|x| x.is_finite());
+    let finite = t.is_finite()
+        && n_len > T::ZERO
+        && n_len.is_finite()
+        && p.iter().chain(&bary).chain(&edge2).all(|x| x.is_finite());
     finite.then_some(PlaneHit {
         t,
         p,
         slope: den.value().abs() / n_len,
-        inside,
+        n_len,
+        bary,
+        edge2,
     })
 }
 
@@ -287,18 +314,18 @@ pub(super) fn refine<T: Real, S: TerrainStorage<T> + ?Sized>(
     let mut chosen = None;
     for _ in 0..MAX_WALK {
         let (h, c, tr) = cur;
-        let [d0, d1, d2] = h.inside;
-        let (k, worst) = if d0 <= d1 && d0 <= d2 {
-            (0, d0)
-        } else if d1 <= d2 {
-            (1, d1)
-        } else {
-            (2, d2)
-        };
-        if worst >= -tol {
+        if h.within(tol) {
             chosen = Some(h);
             break;
         }
+        let [d0, d1, d2] = [0, 1, 2].map(|k| h.inside(k));
+        let k = if d0 <= d1 && d0 <= d2 {
+            0
+        } else if d1 <= d2 {
+            1
+        } else {
+            2
+        };
         let Some((nc, nt)) = across(g, c, tr, k).filter(|(nc, _)| full_resolution(*nc)) else {
             break;
         };
@@ -338,7 +365,7 @@ pub(super) fn refine_vertices<T: Real, S: TerrainStorage<T> + ?Sized>(
     let [a, b, c] = tri;
     let h = plane_through(ray, &vtx_dd(s, g, a)?, &vtx_dd(s, g, b)?, &vtx_dd(s, g, c)?)?;
     let tol = T::from_f64(16.0) * T::EPSILON * V3::from(h.p).max_abs();
-    if h.inside.iter().any(|&x| x < -tol) {
+    if !h.within(tol) {
         return None;
     }
     guard(ray, t0, &h)
