@@ -294,28 +294,33 @@ impl<T: Real> FrameRay<T> {
             return Some((lo, hi));
         }
         let face = |v: f32| T::from_f64(f64::from(v));
-        let axes = [
-            (self.q_lo.x, self.q_hi.x, self.inv.x),
-            (self.q_lo.y, self.q_hi.y, self.inv.y),
-            (self.q_lo.z, self.q_hi.z, self.inv.z),
-        ];
-        for ((q_lo, q_hi, inv), (&bl, &bh)) in axes.into_iter().zip(b.lo.iter().zip(&b.hi)) {
+        // One axis: the parameters where the ray enters and leaves the slab.
+        let slab = |q_lo: T, q_hi: T, inv: T, bl: f32, bh: f32| {
             let t_lo = (face(bl) - q_lo) * inv;
             let t_hi = (face(bh) - q_hi) * inv;
-            let (enter, leave) = if inv < T::ZERO {
+            if inv < T::ZERO {
                 (t_hi, t_lo)
             } else {
                 (t_lo, t_hi)
-            };
-            if enter > lo {
-                lo = enter;
             }
-            if leave < hi {
-                hi = leave;
+        };
+        let clip = |lo: &mut T, hi: &mut T, (enter, leave): (T, T)| {
+            if enter > *lo {
+                *lo = enter;
             }
-            if !(lo <= hi) {
-                return None;
+            if leave < *hi {
+                *hi = leave;
             }
+            *lo <= *hi
+        };
+        let (q_lo, q_hi, inv) = (self.q_lo, self.q_hi, self.inv);
+        let [bx, by, bz] = b.lo;
+        let [cx, cy, cz] = b.hi;
+        let inside = clip(&mut lo, &mut hi, slab(q_lo.x, q_hi.x, inv.x, bx, cx))
+            && clip(&mut lo, &mut hi, slab(q_lo.y, q_hi.y, inv.y, by, cy))
+            && clip(&mut lo, &mut hi, slab(q_lo.z, q_hi.z, inv.z, bz, cz));
+        if !inside {
+            return None;
         }
         Some((lo, hi))
     }
