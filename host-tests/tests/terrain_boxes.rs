@@ -434,7 +434,7 @@ where
                 .and_then(|r| r.with_interval(T::from_f64(t_lo), T::from_f64(t_hi)))
                 .expect("valid ray");
             let tt = T::from_f64(t);
-            let got = frame_t.ray(&ray).interval(&b);
+            let got = frame_t.ray(&ray, [ray.t_min(), ray.t_max()]).interval(&b);
             assert!(
                 got.is_some_and(|(lo, hi)| lo <= tt && tt <= hi),
                 "{name} ({}): node {} (rows {:?}, cols {:?}) box {b:?}: the ray from {o:?} along {dir:?} on \

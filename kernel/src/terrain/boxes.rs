@@ -242,10 +242,9 @@ impl BoxBuilder {
 }
 
 impl<T: Real> LocalFrame<T> {
-    /// The ray in this frame, for testing boxes of the frame ([`FrameRay::interval`]) within the ray's interval.
-    pub fn ray(&self, ray: &Ray<T>) -> FrameRay<T> {
+    /// The ray in this frame, for testing boxes of the frame ([`FrameRay::interval`]) within `[lo, hi]`.
+    pub fn ray(&self, ray: &Ray<T>, [lo, hi]: [T; 2]) -> FrameRay<T> {
         let (o, d) = (ray.origin(), ray.dir());
-        let (lo, hi) = (ray.t_min(), ray.t_max());
         let t_abs = lo.abs().max(hi.abs());
         let mag = (o.x.abs() + o.y.abs() + o.z.abs())
             + t_abs * (d.x.abs() + d.y.abs() + d.z.abs())

@@ -389,9 +389,9 @@ impl<T: Real> Walk<'_, '_, T> {
     }
 }
 
-/// A zone: its root, how its volume is tested (the storage's cached volume, or the relaxed test of
-/// [`relaxed_interval`] from the zone's trigonometry), and its box (in the grid's frame) if the storage has one.
-type Zone<T> = (NodeId, Node<T>, ZoneVolume<T>, Option<NodeBox>);
+/// A zone: its root and how its volume is tested (the storage's cached volume, or the relaxed test of
+/// [`relaxed_interval`] from the zone's trigonometry). Its box is kept apart ([`Picker`]'s `zone_boxes`).
+type Zone<T> = (NodeId, Node<T>, ZoneVolume<T>);
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum ZoneVolume<T> {
@@ -430,6 +430,8 @@ pub struct Picker<'s, T, S, const STACK: usize = 64, const ZONES: usize = 64> {
     /// The coarsest level whose blocks may stand in for missing finer ones (§5).
     min_level: u8,
     zones: [Option<Zone<T>>; ZONES],
+    /// The zones' boxes (in the grid's frame) if the storage has them, compact for the per-ray scan.
+    zone_boxes: [Option<NodeBox>; ZONES],
     zone_count: usize,
     /// The frame of the zones' boxes ([`LocalFrame::for_box`] without a parent).
     grid_frame: LocalFrame<T>,
@@ -466,6 +468,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             half_cells,
             min_level: 0,
             zones: [None; ZONES],
+            zone_boxes: [None; ZONES],
             zone_count: 0,
             grid_frame: LocalFrame::for_box(storage, &ellipsoid, None),
             regional: {
@@ -494,10 +497,11 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 )?),
             };
             picker.h_max = picker.h_max.max(hi);
-            let bbox = storage.node_box(id);
-            if let Some(slot) = picker.zones.get_mut(picker.zone_count) {
-                *slot = Some((id, node, b, bbox));
-                picker.zone_count = picker.zone_count.saturating_add(1);
+            let k = picker.zone_count;
+            if let (Some(slot), Some(bbox)) = (picker.zones.get_mut(k), picker.zone_boxes.get_mut(k)) {
+                *slot = Some((id, node, b));
+                *bbox = storage.node_box(id);
+                picker.zone_count = k.saturating_add(1);
             }
         }
         Ok(picker)
@@ -630,27 +634,26 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
 
         // 2. Zones in order of entry.
         let mut order: heapless::Vec<(usize, T, T), ZONES> = heapless::Vec::new();
-        let grid_ray = self.grid_frame.ray(&clipped);
-        for (k, z) in self.zones.iter().enumerate().take(self.zone_count) {
-            if let Some((_, _, v, bbox)) = z {
-                let volume = |r: &Ray<T>| match v {
-                    ZoneVolume::Cached(b) => b.ray_interval(r),
-                    ZoneVolume::Relaxed(v) => v.interval(r),
-                };
-                // The box in the grid's frame is tight for a regional grid; across a global one its faces tilt
-                // by up to 180°, so the zone's own volume then clips what the box leaves.
-                let interval = match bbox {
-                    Some(b) if self.regional => grid_ray.interval(b),
-                    Some(b) => grid_ray
-                        .interval(b)
-                        .and_then(|(a, c)| clipped.with_interval(a, c).ok())
-                        .and_then(|r| volume(&r)),
-                    None => volume(&clipped),
-                };
-                if let Some((a, c)) = interval {
-                    // At most `ZONES` zones (checked by `new`), so the push cannot fail.
-                    let _ = order.push((k, a, c));
-                }
+        let grid_ray = self.grid_frame.ray(ray, [t_lo, t_hi]);
+        for (k, bbox) in self.zone_boxes.iter().enumerate().take(self.zone_count) {
+            let volume = |r: &Ray<T>| match self.zones.get(k) {
+                Some(Some((_, _, ZoneVolume::Cached(b)))) => b.ray_interval(r),
+                Some(Some((_, _, ZoneVolume::Relaxed(v)))) => v.interval(r),
+                _ => None,
+            };
+            // The box in the grid's frame is tight for a regional grid; across a global one its faces tilt by up
+            // to 180°, so the zone's own volume then clips what the box leaves.
+            let interval = match bbox {
+                Some(b) if self.regional => grid_ray.interval(b),
+                Some(b) => grid_ray
+                    .interval(b)
+                    .and_then(|(a, c)| clipped.with_interval(a, c).ok())
+                    .and_then(|r| volume(&r)),
+                None => volume(&clipped),
+            };
+            if let Some((a, c)) = interval {
+                // At most `ZONES` zones (checked by `new`), so the push cannot fail.
+                let _ = order.push((k, a, c));
             }
         }
         insertion_sort(&mut order, |x, y| x.1 < y.1);
@@ -664,7 +667,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     break;
                 }
             }
-            let Some(Some((id, _, _, _))) = self.zones.get(k) else {
+            let Some(Some((id, _, _))) = self.zones.get(k) else {
                 continue;
             };
             let root = Entry {
@@ -745,8 +748,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 Step::Descend(src) => src,
             };
             // Children go straight onto the stack, then are sorted there, nearest entry on top.
-            let sub =
-                ray.with_interval(e.t_in.max(ray.t_min()), t_out.max(e.t_in).min(ray.t_max()))?;
+            let span = [
+                e.t_in.max(ray.t_min()),
+                t_out.max(e.t_in).min(ray.t_max()),
+            ];
             let first = stack.len();
             // The ray in this node's frame, where its children's boxes are (formed at the first box).
             let mut frame_ray = None;
@@ -755,7 +760,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     // The box holds all of the child's vertices, so every triangle traced under it.
                     Some(b) => frame_ray
                         .get_or_insert_with(|| {
-                            LocalFrame::of(self.storage, &self.ellipsoid, &node).ray(&sub)
+                            LocalFrame::of(self.storage, &self.ellipsoid, &node).ray(ray, span)
                         })
                         .interval(&b),
                     None => {
@@ -765,6 +770,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                             continue;
                         };
                         let c_stride = self.stride_of(*cid, stride)?;
+                        let [a, c] = span;
+                        let sub = ray.with_interval(a, c)?;
                         self.volume_interval(*cid, &child, &node, c_stride, src, lo, hi, &sub)?
                     }
                 };
@@ -921,8 +928,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             .iter()
             .take(self.zone_count)
             .flatten()
-            .find(|(_, n, _, _)| holds(n))
-            .map(|(id, n, _, _)| (*id, *n))
+            .find(|(_, n, _)| holds(n))
+            .map(|(id, n, _)| (*id, *n))
         else {
             return Ok(Lookup::Empty);
         };
