@@ -366,7 +366,7 @@ impl<T: Real> HeightQuadBounds<T> {
             }
         }
         let pts = bp.get_mut(..n).unwrap_or(&mut []);
-        insertion_sort(pts);
+        insertion_sort(pts, |x, y| x < y);
         // `[lo, hi]` already lies in the upper spheroid and the wedge, so a point needs only the other walls.
         // They are inflated by the rounding of the point `p + t·d` itself, which grows with the origin's
         // distance: a ray from 10⁹ m away misplaces a point near the pole by micrometres.
@@ -792,17 +792,17 @@ pub(crate) fn clip_half_space<T: Real>(lo: &mut T, hi: &mut T, s0: T, sd: T, tol
     }
 }
 
-/// Sorts a short slice in place (NaNs, which the solvers never return, would stay where they are).
-fn insertion_sort<T: Real>(v: &mut [T]) {
-    let n = v.len();
-    for i in 1..n {
+/// Sorts a short slice stably in place so that no element is preceded by one it goes `before` (incomparable
+/// elements such as NaNs stay where they are).
+pub(crate) fn insertion_sort<E>(v: &mut [E], before: impl Fn(&E, &E) -> bool) {
+    for i in 1..v.len() {
         let mut j = i;
         while j > 0 {
             let jm = j.saturating_sub(1);
-            let (Some(&x), Some(&y)) = (v.get(jm), v.get(j)) else {
+            let (Some(x), Some(y)) = (v.get(jm), v.get(j)) else {
                 break;
             };
-            if y < x {
+            if before(y, x) {
                 v.swap(jm, j);
                 j = jm;
             } else {

@@ -188,7 +188,7 @@ pub use storage::{
 
 use crate::geodesy::{
     Ellipsoid, GeodesyError, HeightQuadBounds, QuadTrig, RelaxedVolume, SideWalls, clip_half_space,
-    relaxed_interval, sin_cos_deg, upper_spheroid,
+    insertion_sort, relaxed_interval, sin_cos_deg, upper_spheroid,
 };
 use crate::ray::{Ray, RayError};
 use crate::real::Real;
@@ -498,7 +498,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             };
             picker.h_max = picker.h_max.max(hi);
             let k = picker.zone_count;
-            if let (Some(slot), Some(bbox)) = (picker.zones.get_mut(k), picker.zone_boxes.get_mut(k)) {
+            if let (Some(slot), Some(bbox)) =
+                (picker.zones.get_mut(k), picker.zone_boxes.get_mut(k))
+            {
                 *slot = Some((id, node, b));
                 *bbox = storage.node_box(id);
                 picker.zone_count = k.saturating_add(1);
@@ -748,10 +750,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 Step::Descend(src) => src,
             };
             // Children go straight onto the stack, then are sorted there, nearest entry on top.
-            let span = [
-                e.t_in.max(ray.t_min()),
-                t_out.max(e.t_in).min(ray.t_max()),
-            ];
+            let span = [e.t_in.max(ray.t_min()), t_out.max(e.t_in).min(ray.t_max())];
             let first = stack.len();
             // The ray in this node's frame, where its children's boxes are (formed at the first box).
             let mut frame_ray = None;
@@ -1563,25 +1562,6 @@ type RowCorners<T> = (u32, Option<V3<T>>, Option<V3<T>>);
 
 /// Rows of a leaf whose trigonometry is cached per leaf (leaves up to 64 cells tall).
 const ROW_CACHE: usize = 65;
-
-/// Sorts a short slice stably so that no element is preceded by one it goes `before`.
-fn insertion_sort<E>(v: &mut [E], before: impl Fn(&E, &E) -> bool) {
-    for i in 1..v.len() {
-        let mut j = i;
-        while j > 0 {
-            let jm = j.saturating_sub(1);
-            let (Some(x), Some(y)) = (v.get(jm), v.get(j)) else {
-                break;
-            };
-            if before(y, x) {
-                v.swap(jm, j);
-                j = jm;
-            } else {
-                break;
-            }
-        }
-    }
-}
 
 /// The most nodes a well-formed forest over this grid can have (each node has ≥ 1 cell and children are
 /// strictly smaller; a quadtree has fewer than 4/3 nodes per leaf) with generous slack.
