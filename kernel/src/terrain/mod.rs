@@ -1466,8 +1466,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// line and every meridian of a unit narrower than 180° (minus a column) is within 90° of the middle one, so
     /// the side of a meridian plane, `cos λ_j·y − sin λ_j·x ≥ 0` (east of it), is monotone over the unit's
     /// meridians. Each end's column is found by a binary search over those sides, from the storage's
-    /// trigonometry; the crossed columns lie between the two, plus one column of margin for a side decided
-    /// wrongly by rounding. Falls back to all columns otherwise.
+    /// trigonometry; the crossed columns lie between the two, plus one column of margin beyond a meridian that
+    /// an end lies within rounding distance of (the cells beyond are convex hulls of vertices on or past that
+    /// meridian, so an end clear of it keeps the segment out of them). Falls back to all columns otherwise.
     fn unit_columns(&self, u: &Unit, ray: &Ray<T>, t_in: T, t_out: T) -> (u32, u32) {
         let [c0, c1] = u.cols;
         let n = div_ceil_pow2(c1.saturating_sub(c0), u.stride);
@@ -1481,40 +1482,46 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 .col_sin_cos(c0.saturating_add(k.saturating_mul(u.stride)).min(c1))
         };
         let (sm, cm) = meridian(n.wrapping_shr(1));
-        // The cell column of point `p`: the last meridian `k ∈ [0, n]` it is east of (`n`: east of the unit).
-        let column = |p: V3<T>| -> Option<u32> {
+        let (o, d) = (ray.origin(), ray.dir());
+        // The column loop's tolerance on the meridian planes (`trace_unit`): a side beyond it is decided alike
+        // there.
+        let tol = T::from_f64(64.0)
+            * T::EPSILON
+            * ((o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * t_in.abs().max(t_out.abs()));
+        // The columns `[first, end)` around point `p`'s: its cell column (the last meridian `k ∈ [0, n]` it is
+        // east of; `n`: east of the unit), widened by one on a side whose meridian it is within `tol` of.
+        let columns = |p: V3<T>| -> Option<(u32, u32)> {
             if !(cm * p.x + sm * p.y > T::ZERO) {
                 return None;
             }
-            let east_of = |k: u32| {
+            let side = |k: u32| {
                 let (sk, ck) = meridian(k);
-                ck * p.y - sk * p.x >= T::ZERO
+                ck * p.y - sk * p.x
             };
             let (mut a, mut b) = (0u32, n);
-            if east_of(b) {
-                return Some(n);
+            if side(b) >= T::ZERO {
+                return Some((n.saturating_sub(1), n));
             }
             // Invariant: east of meridian `a` (or west of the unit when `a` is 0), not east of meridian `b`.
             while b.saturating_sub(a) > 1 {
                 let m = a.wrapping_add(b.wrapping_sub(a).wrapping_shr(1));
-                if east_of(m) {
+                if side(m) >= T::ZERO {
                     a = m;
                 } else {
                     b = m;
                 }
             }
-            Some(a)
+            let west = u32::from(!(side(a) > tol));
+            let east = u32::from(!(side(b) < -tol));
+            Some((a.saturating_sub(west), b.saturating_add(east)))
         };
-        let (Some(ka), Some(kb)) = (
-            column(V3::from(ray.at(t_in))),
-            column(V3::from(ray.at(t_out))),
+        let (Some((fa, ea)), Some((fb, eb))) = (
+            columns(V3::from(ray.at(t_in))),
+            columns(V3::from(ray.at(t_out))),
         ) else {
             return all;
         };
-        (
-            ka.min(kb).saturating_sub(1),
-            ka.max(kb).saturating_add(2).min(n),
-        )
+        (fa.min(fb), ea.max(eb).min(n))
     }
 
     /// The [`Hit`] of the traversal's nearest triangle, with its parameter and point refined in double-double
