@@ -987,10 +987,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let north_up = g.dlat > T::ZERO;
         // Per-unit cache of the lattice rows' values (sin ψ, cos ψ, cone apex k, prime vertical radius N) for
         // units up to ROW_CACHE − 1 cells tall, filled as rows are first asked for (a ray from above needs few).
-        let rows_cache: [Cell<Option<(T, T, T, T)>>; ROW_CACHE] =
+        let rows_cache: [Cell<Option<RowValues<T>>>; ROW_CACHE] =
             core::array::from_fn(|_| Cell::new(None));
         let n_rows = div_ceil_pow2(r1.saturating_sub(r0), s);
-        let row_vals = |i: u32| -> (T, T, T, T) {
+        let row_vals = |i: u32| -> RowValues<T> {
             let (sp, cp) = self.storage.row_sin_cos(i);
             (
                 sp,
@@ -1002,7 +1002,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         // Strides are powers of two: lattice row k·s is entry k, the last row entry n_rows.
         let shift = s.trailing_zeros();
         let mask = s.wrapping_sub(1);
-        let row_at = |i: u32| -> (T, T, T, T) {
+        let row_at = |i: u32| -> RowValues<T> {
             let k = i.wrapping_sub(r0);
             let entry = if k & mask == 0 {
                 k.wrapping_shr(shift)
@@ -1566,6 +1566,9 @@ fn div_ceil_pow2(n: u32, s: u32) -> u32 {
 
 /// A row of a column's traced cells: the row index and the corners on its west and east meridians.
 type RowCorners<T> = (u32, Option<V3<T>>, Option<V3<T>>);
+
+/// A lattice row's `(sin ψ, cos ψ, cone apex k, prime vertical radius N)`.
+type RowValues<T> = (T, T, T, T);
 
 /// Rows of a leaf whose trigonometry is cached per leaf (leaves up to 64 cells tall).
 const ROW_CACHE: usize = 65;
