@@ -1199,13 +1199,11 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                         ])
                     }
                 };
-                for (tri, which) in [
-                    ([v00, v01, v11], refs(true)),
-                    ([v00, v11, v10], refs(false)),
-                ] {
-                    if let [Some(a), Some(b), Some(c)] = tri {
-                        self.test_triangle(w, [a, b, c], [row_i, j], which, u);
-                    }
+                if let (Some(a), Some(b), Some(c)) = (v00, v01, v11) {
+                    self.test_triangle(w, [a, b, c], [row_i, j], refs(true), u);
+                }
+                if let (Some(a), Some(b), Some(c)) = (v00, v11, v10) {
+                    self.test_triangle(w, [a, b, c], [row_i, j], refs(false), u);
                 }
             }
         }
