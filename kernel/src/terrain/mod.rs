@@ -437,6 +437,9 @@ pub struct Picker<'s, T, S, const STACK: usize = 64, const ZONES: usize = 64> {
     grid_frame: LocalFrame<T>,
     /// The grid spans less than 30° both ways: its frame's boxes are tight enough on their own.
     regional: bool,
+    /// `2 e² (a²/b)(1 + e² a²/b²)`: beyond this distance from the axis a column's row planes are ordered
+    /// ([`Picker::crossed_rows`]).
+    rows_ordered_beyond: T,
 }
 
 impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
@@ -471,6 +474,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             zone_boxes: [None; ZONES],
             zone_count: 0,
             grid_frame: LocalFrame::for_box(storage, &ellipsoid, None),
+            rows_ordered_beyond: {
+                let (e2, q) = (ellipsoid.e2(), ellipsoid.a() / ellipsoid.b());
+                T::TWO * e2 * ellipsoid.a() * q * (T::ONE + e2 * q * q)
+            },
             regional: {
                 let span = |n: u32, step: T| T::from_f64(f64::from(n)) * step.abs();
                 let lim = T::from_f64(30.0);
@@ -1232,9 +1239,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         hint: &mut Option<i64>,
     ) -> (u32, u32) {
         let [r0, r1] = u.rows;
-        let e = &self.ellipsoid;
-        let (e2, q) = (e.e2(), e.a() / e.b());
-        let r_order = T::TWO * e2 * e.a() * q * (T::ONE + e2 * q * q);
+        let r_order = self.rows_ordered_beyond;
         let ordered = radial_o + lo * radial_d > r_order && radial_o + hi * radial_d > r_order;
         if !(ordered && lo.is_finite() && hi.is_finite()) {
             return (r0, r1);
