@@ -497,26 +497,31 @@ fn interval_storages() -> Vec<(&'static str, Dem, usize, usize)> {
     ]
 }
 
-#[test]
-fn box_interval_is_conservative_for_rays_through_box_points() {
+/// Runs [`check_box_intervals`] in scalar type `T` over every storage of [`interval_storages`] (seeds from
+/// `seed`); the number of rays checked.
+fn check_all_box_intervals<T: curvicast::Real + std::fmt::Debug>(seed: u64) -> usize {
     let mut total = 0;
     for (k, (name, dem, block, per_node)) in interval_storages().into_iter().enumerate() {
         let s = DemStorage::new(&dem, block);
-        let n = check_box_intervals::<f64>(name, &s, 100 + k as u64, per_node);
+        let n = check_box_intervals::<T>(name, &s, seed + k as u64, per_node);
         assert!(n >= 10_000, "{name}: only {n} rays");
         total += n;
     }
-    eprintln!("{total} f64 rays through box points");
+    total
+}
+
+#[test]
+fn box_interval_is_conservative_for_rays_through_box_points() {
+    eprintln!(
+        "{} f64 rays through box points",
+        check_all_box_intervals::<f64>(100)
+    );
 }
 
 #[test]
 fn box_interval_is_conservative_for_f32_rays_through_box_points() {
-    let mut total = 0;
-    for (k, (name, dem, block, per_node)) in interval_storages().into_iter().enumerate() {
-        let s = DemStorage::new(&dem, block);
-        let n = check_box_intervals::<f32>(name, &s, 200 + k as u64, per_node);
-        assert!(n >= 10_000, "{name}: only {n} rays");
-        total += n;
-    }
-    eprintln!("{total} f32 rays through box points");
+    eprintln!(
+        "{} f32 rays through box points",
+        check_all_box_intervals::<f32>(200)
+    );
 }

@@ -703,30 +703,36 @@ impl TerrainStorage<f32> for TinyF32 {
     }
 }
 
+/// A 2500 m peak in the middle of a 3 × 3 grid of 400 m (0.01° spacing from 47° N, 8° E).
+const PEAK: [f64; 9] = [
+    400.0, 400.0, 400.0, 400.0, 2500.0, 400.0, 400.0, 400.0, 400.0,
+];
+
+/// The hit of a ray straight down on [`PEAK`]'s summit from 10 km.
+fn pick_down_on_the_peak(p: &Picker<'_, f32, TinyF32>) -> Hit<f32> {
+    let e = Ellipsoid::<f32>::wgs84();
+    let top = e.geodetic_deg_to_ecef(47.01, 8.01, 10_000.0);
+    let n = e.normal(47.01_f32.to_radians(), 8.01_f32.to_radians());
+    p.pick(&Ray::new(top, n.negated()).unwrap())
+        .unwrap()
+        .unwrap()
+}
+
 #[test]
 fn f32_picker_with_a_box_built_in_f64_still_finds_the_peak() {
     // The box is exact for the f64 vertices; the f32 picker's vertices and frame differ by f32 rounding (0.5 m
     // at Earth scale), which the box test's tolerance covers.
-    let hs = [
-        400.0, 400.0, 400.0, 400.0, 2500.0, 400.0, 400.0, 400.0, 400.0,
-    ];
     let g = grid(47.0, 8.0, 0.01, 0.01, 3, 3);
-    let f64_dem = TestDem::new(g, hs.to_vec(), 2, 1, 1).with_boxes();
-    let dem = TinyF32(hs.map(|h| h as f32), f64_dem.boxes[0]);
+    let f64_dem = TestDem::new(g, PEAK.to_vec(), 2, 1, 1).with_boxes();
+    let dem = TinyF32(PEAK.map(|h| h as f32), f64_dem.boxes[0]);
     assert!(dem.1.is_some());
     let p: Picker<'_, f32, TinyF32> = Picker::new(&dem).unwrap();
-    let e = Ellipsoid::<f32>::wgs84();
-    // Straight down on the peak, then near the corners (the box's lowest points).
-    let top = e.geodetic_deg_to_ecef(47.01, 8.01, 10_000.0);
-    let n = e.normal(47.01_f32.to_radians(), 8.01_f32.to_radians());
-    let hit = p
-        .pick(&Ray::new(top, n.negated()).unwrap())
-        .unwrap()
-        .unwrap();
+    let hit = pick_down_on_the_peak(&p);
     assert!((hit.h - 2500.0).abs() < 3.0, "{}", hit.h);
     // Near the corners (at the box's lowest points) the boxed picker answers as the plain one.
-    let plain_dem = TinyF32(hs.map(|h| h as f32), None);
+    let plain_dem = TinyF32(PEAK.map(|h| h as f32), None);
     let plain: Picker<'_, f32, TinyF32> = Picker::new(&plain_dem).unwrap();
+    let e = Ellipsoid::<f32>::wgs84();
     for (lat, lon) in [(47.0001, 8.0001), (47.0199, 8.0199), (47.0001, 8.0199)] {
         let top = e.geodetic_deg_to_ecef(lat, lon, 5_000.0);
         let n = e.normal(lat.to_radians(), lon.to_radians());
@@ -741,20 +747,9 @@ fn f32_picker_with_a_box_built_in_f64_still_finds_the_peak() {
 
 #[test]
 fn f32_pick_of_a_peak() {
-    let dem = TinyF32(
-        [
-            400.0, 400.0, 400.0, 400.0, 2500.0, 400.0, 400.0, 400.0, 400.0,
-        ],
-        None,
-    );
+    let dem = TinyF32(PEAK.map(|h| h as f32), None);
     let p: Picker<'_, f32, TinyF32> = Picker::new(&dem).unwrap();
-    let e = Ellipsoid::<f32>::wgs84();
-    let top = e.geodetic_deg_to_ecef(47.01, 8.01, 10_000.0);
-    let n = e.normal(47.01_f32.to_radians(), 8.01_f32.to_radians());
-    let hit = p
-        .pick(&Ray::new(top, n.negated()).unwrap())
-        .unwrap()
-        .unwrap();
+    let hit = pick_down_on_the_peak(&p);
     // f32 ECEF coordinates are quantised to 0.5 m at Earth scale.
     assert!((hit.t - 7500.0).abs() < 3.0, "{}", hit.t);
     assert!((hit.h - 2500.0).abs() < 3.0, "{}", hit.h);
