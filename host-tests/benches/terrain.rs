@@ -2,7 +2,9 @@
 //! parry3d-f64's `TriMesh` BVH and brute force, on Trinidad (1201 × 2401) and a synthetic fractal terrain of
 //! 4096 × 4096 vertices (set `CURVICAST_TERRAIN_BENCH_N` for another size: parry's mesh needs about 170 bytes per
 //! triangle, 5.6 GB at 4096²), rays from a camera 2 km above ground and from orbit. Each iteration picks a batch
-//! of rays; throughput is in rays.
+//! of rays; throughput is in rays. `quadtree_block*` is `Picker::pick` (the refined hit with its geodetic
+//! coordinates); `quadtree_t_block*` is `Picker::pick_t`, the same traversal returning `t` and the cell, which is
+//! what parry's `cast_local_ray` returns.
 //!
 //! Quick run: `cargo bench -p curvicast-host --bench terrain -- --warm-up-time 1 --measurement-time 2`.
 
@@ -44,6 +46,15 @@ fn bench_scene(c: &mut Criterion, name: &str, dem: &Dem) {
                 b.iter(|| {
                     kr.iter()
                         .filter(|r| picker.pick(black_box(r)).ok().flatten().is_some())
+                        .count()
+                })
+            });
+            // `pick_t`: the same traversal, `t` and the cell only, as parry's cast returns `t` only.
+            let id = BenchmarkId::new(format!("quadtree_t_block{block}"), kind);
+            g.bench_with_input(id, &kr, |b, kr| {
+                b.iter(|| {
+                    kr.iter()
+                        .filter(|r| picker.pick_t(black_box(r)).ok().flatten().is_some())
                         .count()
                 })
             });

@@ -7,6 +7,9 @@
 //! translated by 1 µm along one of the six axis directions, agrees with the kernel (both miss, or hit points within
 //! 2 µm).
 //!
+//! Every ray also goes through `pick_t`, the same traversal without the refinement: it must report the same hit
+//! status and cell as `pick`; the worst distance of its unrefined point from the oracle's is reported beside.
+//!
 //! The default run checks every suite on a reduced number of rays; the `#[ignore]`d `*_full` tests bring the
 //! total above 100 000 rays (`cargo test -p curvicast-host --release --test terrain_oracle -- --include-ignored`).
 
@@ -33,6 +36,8 @@ struct Tally {
     far: usize,
     ambiguous: usize,
     worst: f64,
+    /// The worst distance of `pick_t`'s unrefined point `o + t·d` from the oracle's hit.
+    worst_t: f64,
     failures: Vec<String>,
 }
 
@@ -48,7 +53,7 @@ fn compare(dem: &Dem, block: usize, rays: &[RaySpec]) -> Tally {
     #[allow(clippy::type_complexity)]
     let results: Vec<(
         usize,
-        Result<(Option<[f64; 3]>, Option<[f64; 3]>, bool), String>,
+        Result<(Option<[f64; 3]>, Option<[f64; 3]>, bool, f64), String>,
     )> = rays
         .par_iter()
         .enumerate()
@@ -57,18 +62,29 @@ fn compare(dem: &Dem, block: usize, rays: &[RaySpec]) -> Tally {
                 .and_then(|x| x.with_interval(r.t_min, r.t_max_or_inf()))
                 .map_err(|e| format!("ray {k}: {e}"));
             let out = ray.and_then(|ray| {
-                let ours = picker
+                let hit = picker
                     .pick(&ray)
                     .map_err(|e| format!("ray {k}: kernel error {e}"))?;
-                let ours = ours.map(|h| h.ecef);
+                let ours = hit.map(|h| h.ecef);
                 let truth = oracle.pick(r).map(|h| h.point);
+                // `pick_t` is the same traversal without the refinement: the same status and cell as `pick`.
+                let fast = picker
+                    .pick_t(&ray)
+                    .map_err(|e| format!("ray {k}: kernel error in pick_t {e}"))?;
+                if fast.map(|f| f.1) != hit.map(|h| h.cell) {
+                    return Err(format!("ray {k} {r:?}: pick_t {fast:?} vs pick {hit:?}"));
+                }
+                let err_t = match (fast, truth) {
+                    (Some((t, _)), Some(q)) => dist(ray.at(t), q),
+                    _ => 0.0,
+                };
                 let agree = |q: Option<[f64; 3]>, tol: f64| match (ours, q) {
                     (None, None) => true,
                     (Some(a), Some(b)) => dist(a, b) <= tol,
                     _ => false,
                 };
                 if agree(truth, TOL) {
-                    return Ok((ours, truth, false));
+                    return Ok((ours, truth, false, err_t));
                 }
                 // Shifts: ±1 µm along each axis and along the radial (≈ vertical) direction at either hit.
                 let mut shifts: Vec<[f64; 3]> = (0..6)
@@ -89,10 +105,10 @@ fn compare(dem: &Dem, block: usize, rays: &[RaySpec]) -> Tally {
                         *c += d;
                     }
                     if agree(oracle.pick(&moved).map(|h| h.point), 2.0 * TOL) {
-                        return Ok((ours, ours, true));
+                        return Ok((ours, ours, true, 0.0));
                     }
                 }
-                Ok((ours, truth, false))
+                Ok((ours, truth, false, err_t))
             });
             (k, out)
         })
@@ -102,10 +118,11 @@ fn compare(dem: &Dem, block: usize, rays: &[RaySpec]) -> Tally {
         t.rays += 1;
         match res {
             Err(e) => t.failures.push(e),
-            Ok((_, _, true)) => t.ambiguous += 1,
-            Ok((None, None, _)) => {}
-            Ok((Some(p), Some(q), _)) => {
+            Ok((_, _, true, _)) => t.ambiguous += 1,
+            Ok((None, None, _, _)) => {}
+            Ok((Some(p), Some(q), _, err_t)) => {
                 t.hits += 1;
+                t.worst_t = t.worst_t.max(err_t);
                 let e = dist(p, q);
                 t.worst = t.worst.max(e);
                 if e > TOL {
@@ -123,12 +140,12 @@ fn compare(dem: &Dem, block: usize, rays: &[RaySpec]) -> Tally {
                     ));
                 }
             }
-            Ok((None, Some(q), _)) => {
+            Ok((None, Some(q), _, _)) => {
                 t.misses += 1;
                 t.failures
                     .push(format!("ray {k} {:?}: MISS, oracle {q:?}", rays[k]));
             }
-            Ok((Some(p), None, _)) => {
+            Ok((Some(p), None, _, _)) => {
                 t.false_hits += 1;
                 t.failures
                     .push(format!("ray {k} {:?}: FALSE HIT {p:?}", rays[k]));
@@ -140,8 +157,9 @@ fn compare(dem: &Dem, block: usize, rays: &[RaySpec]) -> Tally {
 
 fn report(name: &str, t: &Tally) -> usize {
     eprintln!(
-        "{name}: {} rays, {} hits, {} misses, {} false hits, {} beyond 1 µm, {} ambiguous within 1 µm, worst {:.3e} m",
-        t.rays, t.hits, t.misses, t.false_hits, t.far, t.ambiguous, t.worst
+        "{name}: {} rays, {} hits, {} misses, {} false hits, {} beyond 1 µm, {} ambiguous within 1 µm, worst {:.3e} m \
+         (pick_t unrefined: worst {:.3e} m)",
+        t.rays, t.hits, t.misses, t.false_hits, t.far, t.ambiguous, t.worst, t.worst_t
     );
     for f in t.failures.iter().take(5) {
         eprintln!("  {f}");

@@ -18,6 +18,8 @@ struct Row {
     block: usize,
     n: usize,
     ours: f64,
+    /// `pick_t` (t and cell only), rays/s.
+    ours_t: f64,
     parry: f64,
     brute: f64,
     hits: usize,
@@ -25,7 +27,14 @@ struct Row {
     max_dist: f64,
     tri_per_ray: f64,
     quads_per_ray: f64,
+    /// Rays where `pick_t`'s hit status or cell differs from `pick`'s.
+    t_differs: usize,
+    /// Largest `|t(pick_t) − t(pick)|·|d|`: what the refinement moves the hit.
+    t_refined_by: f64,
 }
+
+/// A kernel answer: the hit's `t` and cell, or a miss.
+type TCell = Option<(f64, [u32; 2])>;
 
 /// Leaf block sizes of our tree in the comparison: 8 × 8 cells (the faster on these scenes) and the command
 /// line's default 16 × 16 (the smaller tree).
@@ -116,8 +125,10 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
     md.push_str(&format!(
         "Nearest-hit picking of f64 rays against the contract's triangle surface (single thread, release build). \
          Ours: `curvicast::terrain::Picker` over the host's `DemStorage` with node boxes, leaf blocks of 8 × 8 \
-         and of 16 × 16 cells (the command line's default). parry: \
-         parry3d-f64 `TriMesh::cast_local_ray` (its BVH over the same ECEF triangles, built from the same f64 \
+         and of 16 × 16 cells (the command line's default); \
+         `pick` returns the refined hit with its geodetic coordinates, `pick_t` the same traversal's `t` and cell \
+         only (what parry's cast returns; the last distance column is how far the refinement moves the hit). \
+         parry: parry3d-f64 `TriMesh::cast_local_ray` (its BVH over the same ECEF triangles, built from the same f64 \
          vertices). Brute force: Möller–Trumbore over every triangle with precomputed vertices, timed on {n_brute} \
          rays per row (sampled). Synthetic terrain: {n_syn} × {n_syn}{}. Rays per second are wall-clock \
          figures: ours and parry run interleaved on the same rays, {PASSES} passes each, best pass kept, so their \
@@ -129,23 +140,27 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
             ""
         }
     ));
-    md.push_str("| scene | rays | ours: block | n | ours (rays/s) | parry (rays/s) | ours / parry | brute (rays/s) | ours / brute | hits | ours vs parry: status differs | max hit distance ours–parry | triangles tested / ray | quads / ray |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    md.push_str("| scene | rays | ours: block | n | ours: pick (rays/s) | ours: pick_t (rays/s) | parry (rays/s) | pick / parry | pick_t / parry | brute (rays/s) | ours / brute | hits | ours vs parry: status differs | max hit distance ours–parry | pick_t vs pick: status or cell differs | max pick_t–pick distance | triangles tested / ray | quads / ray |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for r in &rows {
         md.push_str(&format!(
-            "| {} | {} | {} × {} | {} | {:.0} | {:.0} | {:.2}× | {:.2} | {:.0}× | {} | {} | {:.2e} m | {:.1} | {:.1} |\n",
+            "| {} | {} | {} × {} | {} | {:.0} | {:.0} | {:.0} | {:.2}× | {:.2}× | {:.2} | {:.0}× | {} | {} | {:.2e} m | {} | {:.2e} m | {:.1} | {:.1} |\n",
             r.scene,
             r.rays,
             r.block,
             r.block,
             r.n,
             r.ours,
+            r.ours_t,
             r.parry,
             r.ours / r.parry,
+            r.ours_t / r.parry,
             r.brute,
             r.ours / r.brute,
             r.hits,
             r.disagree,
             r.max_dist,
+            r.t_differs,
+            r.t_refined_by,
             r.tri_per_ray,
             r.quads_per_ray,
         ));
@@ -182,6 +197,9 @@ fn measure(
         .map_err(|e| anyhow::anyhow!("{e}"))?;
     let n = rays.len();
     let mut best_ours = vec![f64::INFINITY; pickers.len()];
+    let mut best_t = vec![f64::INFINITY; pickers.len()];
+    let mut cells: Vec<Vec<Option<[u32; 2]>>> = vec![Vec::new(); pickers.len()];
+    let mut answers_t: Vec<Vec<TCell>> = vec![Vec::new(); pickers.len()];
     let mut best_parry = f64::INFINITY;
     let mut answers: Vec<Vec<Option<f64>>> = vec![Vec::new(); pickers.len()];
     let mut theirs: Vec<Option<f64>> = Vec::new();
@@ -190,20 +208,29 @@ fn measure(
         for (k, (_, picker)) in pickers.iter().enumerate() {
             let mut stats = PickStats::default();
             let t0 = Instant::now();
-            let got: Vec<Option<f64>> = kr
+            let got: Vec<TCell> = kr
                 .iter()
                 .map(|r| {
                     picker
                         .pick_with_stats(r, &mut stats)
-                        .map(|h| h.map(|h| h.t))
+                        .map(|h| h.map(|h| (h.t, h.cell)))
                 })
                 .collect::<Result<_, _>>()
                 .map_err(|e| anyhow::anyhow!("{scene}: {e}"))?;
             best_ours[k] = best_ours[k].min(t0.elapsed().as_secs_f64());
+            let t0 = Instant::now();
+            let got_t: Vec<TCell> = kr
+                .iter()
+                .map(|r| picker.pick_t(r))
+                .collect::<Result<_, _>>()
+                .map_err(|e| anyhow::anyhow!("{scene}: {e}"))?;
+            best_t[k] = best_t[k].min(t0.elapsed().as_secs_f64());
             if pass == 0 {
                 tris[k] = u64::from(stats.triangles_tested);
                 quads[k] = u64::from(stats.quads_visited);
-                answers[k] = got;
+                answers[k] = got.iter().map(|h| h.map(|h| h.0)).collect();
+                cells[k] = got.iter().map(|h| h.map(|h| h.1)).collect();
+                answers_t[k] = got_t;
             }
         }
         let t0 = Instant::now();
@@ -236,12 +263,29 @@ fn measure(
                 _ => disagree += 1,
             }
         }
+        let (mut t_differs, mut t_refined_by) = (0, 0.0_f64);
+        for (((t, c), a), r) in answers[k]
+            .iter()
+            .zip(&cells[k])
+            .zip(&answers_t[k])
+            .zip(rays)
+        {
+            match (t, c, a) {
+                (Some(t), Some(c), Some((ta, ca))) if c == ca => {
+                    let dl = (r.dir[0].powi(2) + r.dir[1].powi(2) + r.dir[2].powi(2)).sqrt();
+                    t_refined_by = t_refined_by.max((t - ta).abs() * dl);
+                }
+                (None, None, None) => {}
+                _ => t_differs += 1,
+            }
+        }
         out.push(Row {
             scene: scene.into(),
             rays: kind.into(),
             block: *block,
             n,
             ours: n as f64 / best_ours[k],
+            ours_t: n as f64 / best_t[k],
             parry: n as f64 / best_parry,
             brute: n_brute.min(n) as f64 / brute_t,
             hits,
@@ -249,6 +293,8 @@ fn measure(
             max_dist,
             tri_per_ray: tris[k] as f64 / n as f64,
             quads_per_ray: quads[k] as f64 / n as f64,
+            t_differs,
+            t_refined_by,
         });
     }
     Ok(out)

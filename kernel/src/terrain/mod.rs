@@ -192,7 +192,7 @@ use crate::geodesy::{
 };
 use crate::ray::{Ray, RayError};
 use crate::real::Real;
-use crate::surface::{Side, Surface};
+use crate::surface::{Side, Spheroid, Surface};
 use crate::vec3::V3;
 use boxes::{LocalFrame, NodeBox};
 use core::cell::Cell;
@@ -425,6 +425,8 @@ pub struct Picker<'s, T, S, const STACK: usize = 64, const ZONES: usize = 64> {
     grid: Grid<T>,
     /// Global height range over the zones.
     h_max: T,
+    /// The global clip `B^{h_max}` (§3.5), once there is a zone with data.
+    upper: Option<Spheroid<T>>,
     /// `(sin, cos)` of half a traced cell's longitude span, for cells of `2^k` grid steps.
     half_cells: [(T, T); 32],
     /// The coarsest level whose blocks may stand in for missing finer ones (§5).
@@ -468,6 +470,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             ellipsoid,
             grid,
             h_max: T::NEG_INFINITY,
+            upper: None,
             half_cells,
             min_level: 0,
             zones: [None; ZONES],
@@ -512,6 +515,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 *bbox = storage.node_box(id);
                 picker.zone_count = k.saturating_add(1);
             }
+        }
+        if picker.zone_count > 0 {
+            picker.upper = Some(upper_spheroid(&ellipsoid, picker.h_max)?);
         }
         Ok(picker)
     }
@@ -598,17 +604,55 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         Ok(self.nearest(ray, stats)?.map(|c| self.make_hit(ray, c)))
     }
 
+    /// The parameter `t` and the cell of the nearest hit as the traversal finds it, without [`Picker::pick`]'s
+    /// refinement and geodetic coordinates: what a general ray caster's cast returns, for callers that need only
+    /// the distance. The triangle is `pick`'s ([`Hit::cell`] is the same); `t` is the watertight test's on the
+    /// scalar vertices, which are off by a few ulps of their coordinates, so along a ray of elevation ε over the
+    /// triangle it errs by about that over `sin ε` (about 1e-9 m / sin ε at Earth scale in `f64`; `pick` removes
+    /// this, `refine.rs` explains how).
+    ///
+    /// ```
+    /// # use curvicast::geodesy::Ellipsoid;
+    /// # use curvicast::ray::Ray;
+    /// # use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainStorage};
+    /// # struct Flat;
+    /// # impl TerrainStorage<f64> for Flat {
+    /// #     fn ellipsoid(&self) -> Ellipsoid<f64> { Ellipsoid::wgs84() }
+    /// #     fn grid(&self) -> Grid<f64> {
+    /// #         Grid { lat0: -17.0, lon0: 179.99, dlat: 0.01, dlon: 0.01, rows: 3, cols: 3 }
+    /// #     }
+    /// #     fn zone_count(&self) -> usize { 1 }
+    /// #     fn zone(&self, k: usize) -> Option<NodeId> { (k == 0).then_some(NodeId(0)) }
+    /// #     fn node(&self, _: NodeId) -> Option<Node<f64>> {
+    /// #         Some(Node { rows: [0, 2], cols: [0, 2], heights: Some([100.0, 100.0]), children: [None; 4], level: 0 })
+    /// #     }
+    /// #     fn height(&self, i: u32, j: u32) -> Option<f64> { (i < 3 && j < 3).then_some(100.0) }
+    /// # }
+    /// // Flat terrain at 100 m (the grid of `pick`'s example), seen straight down from 1 km above it.
+    /// let picker: Picker<'_, f64, Flat> = Picker::new(&Flat)?;
+    /// let e = Ellipsoid::<f64>::wgs84();
+    /// let from = e.geodetic_deg_to_ecef(-16.99, 180.0, 1100.0);
+    /// let ray = Ray::new(from, e.normal((-16.99_f64).to_radians(), 180.0_f64.to_radians()).negated())?;
+    /// let (t, cell) = picker.pick_t(&ray)?.ok_or("no hit")?;
+    /// let hit = picker.pick(&ray)?.ok_or("no hit")?;
+    /// assert!((t - 1000.0).abs() < 1e-6 && cell == hit.cell);
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn pick_t(&self, ray: &Ray<T>) -> Result<Option<(T, [u32; 2])>, TerrainError> {
+        let mut stats = PickStats::default();
+        Ok(self.nearest(ray, &mut stats)?.map(|c| (c.t, c.cell)))
+    }
+
     /// The traversal (steps 1–4 of the module docs): the nearest triangle, before the refinement.
     fn nearest(
         &self,
         ray: &Ray<T>,
         stats: &mut PickStats,
     ) -> Result<Option<Candidate<T>>, TerrainError> {
-        if self.zone_count == 0 {
-            return Ok(None);
-        }
         // 1. Global clip to B^{h_max}: [t_enter, t_global_exit].
-        let upper = upper_spheroid(&self.ellipsoid, self.h_max)?;
+        let Some(upper) = &self.upper else {
+            return Ok(None); // no zone with data
+        };
         let cr = upper.crossings(ray);
         let inside0 = upper.side_of(V3::from(ray.at(ray.t_min()))) != Some(Side::Positive);
         let mut t_enter = if inside0 { Some(ray.t_min()) } else { None };

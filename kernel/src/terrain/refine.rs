@@ -14,18 +14,26 @@
 //! For the hit triangle only (the traversal's choice of triangle is kept), its three vertices are recomputed in
 //! double-double ([`crate::dd`]): the latitude `lat0 + i·dlat` and longitude `lon0 + j·dlon` as exact pairs,
 //! `sin`/`cos` and the ECEF conversion to a few `ε²` relative. The hit parameter then comes from the triangle's
-//! plane: `t = n·(v0 − o) / (n·d)`, with `v0 − o` and both dot products in pairs.
+//! plane (next section).
 //!
 //! The normal `n = (v1 − v0) × (v2 − v0)` is computed in plain scalars from the rounded edge vectors, and its
 //! error does not matter: the plane used still passes *exactly* (to pair precision) through `v0`, and a
 //! normal tilted by an angle of a few ε moves it, at the hit point, by a few ε times the distance from `v0` —
 //! the size of the triangle (a grid cell), not the size of the Earth, which is what the vertices' own rounding
-//! costs. Likewise a scalar `n·d` would lose `ε / sin ε` relatively at grazing incidence, which is why it is
-//! formed in pairs too.
+//! costs.
 //!
-//! The hit point `o + t·d` is formed in pairs from the pair `t` and rounded once per coordinate, so
-//! [`super::Hit::ecef`] is the correctly rounded point of the refined plane (and may differ from
-//! `ray.at(hit.t)` by the rounding of `t·d`).
+//! # The step
+//!
+//! The plane's parameter is reached in one step from a parameter `t_ref` near it (the traversal's): with
+//! `q = o + t_ref·d`, `t = t_ref + n·(v0 − q) / (n·d)`. The plane equation is linear in `t`, so the step is exact
+//! for any `t_ref`; what matters is the arithmetic. `q` (with `t_ref·d` exact by `two_prod`), `v0 − q` and the
+//! residual `n·(v0 − q)` are formed in pairs, so the residual, which is only a few vertex roundings δ long, is
+//! known far below an ulp. So is `n·d`, which at elevation ε over the plane cancels to `sin ε` of its terms
+//! (in scalars it would be off by `ε / sin ε` relatively). The step `dt` is then one scalar division, correct
+//! to a few ε relatively, and it is only as long as the traversal's error along the ray.
+//!
+//! The hit point `q + dt·d` is formed in pairs and rounded once per coordinate, so [`super::Hit::ecef`] is the
+//! correctly rounded point of the refined plane (and may differ from `ray.at(hit.t)` by the rounding of `t·d`).
 //!
 //! # Ties: the containment walk
 //!
@@ -182,6 +190,7 @@ fn plane_hit<T: Real, S: TerrainStorage<T> + ?Sized>(
     s: &S,
     g: &Grid<T>,
     ray: &Ray<T>,
+    t_ref: T,
     [i, j]: [u32; 2],
     tri: Tri,
 ) -> Option<PlaneHit<T>> {
@@ -198,7 +207,7 @@ fn plane_hit<T: Real, S: TerrainStorage<T> + ?Sized>(
         Tri::First => (row0.ecef(se, ce, height(i, j1)?), v11),
         Tri::Second => (v11, row1.ecef(sw, cw, height(i1, j)?)),
     };
-    plane_through(ray, &v0, &v1, &v2)
+    plane_through(ray, t_ref, &v0, &v1, &v2)
 }
 
 /// A [`Vtx`] in pairs.
@@ -221,9 +230,10 @@ fn vtx_dd<T: Real, S: TerrainStorage<T> + ?Sized>(
 }
 
 /// The intersection of the ray with the plane through `v0, v1, v2` (pairs), with the point's in-plane distances
-/// inside the three edges.
+/// inside the three edges, as a correction of a parameter `t_ref` near it (module docs, "The step").
 fn plane_through<T: Real>(
     ray: &Ray<T>,
+    t_ref: T,
     v0: &[Dd<T>; 3],
     v1: &[Dd<T>; 3],
     v2: &[Dd<T>; 3],
@@ -232,23 +242,38 @@ fn plane_through<T: Real>(
     let a = diff(v1, v0);
     let b = diff(v2, v0);
     let n = a.cross(b);
-    let o = ray.origin().to_array();
-    let d = ray.dir().to_array();
-    let mut num = Dd::from(T::ZERO);
-    let mut den = Dd::from(T::ZERO);
-    for (((vk, ok), nk), dk) in v0.iter().zip(o).zip(n.to_array()).zip(d) {
-        num = num.plus(vk.plus_t(-ok).times_t(nk));
-        den = den.plus(two_prod(nk, dk));
-    }
-    let t_dd = num.over(den);
-    let [o0, o1, o2] = o;
-    let [d0, d1, d2] = d;
-    let at = |ok: T, dk: T| t_dd.times_t(dk).plus_t(ok).value();
-    let p = [at(o0, d0), at(o1, d1), at(o2, d2)];
+    let [o0, o1, o2] = ray.origin().to_array();
+    let [d0, d1, d2] = ray.dir().to_array();
+    let [n0, n1, n2] = n.to_array();
+    let [v00, v01, v02] = *v0;
+    // `q = o + t_ref·d` and `v0 − q` in pairs, the plane's residual `n·(v0 − q)` in pairs, then one step.
+    let q = [
+        two_prod(t_ref, d0).plus_t(o0),
+        two_prod(t_ref, d1).plus_t(o1),
+        two_prod(t_ref, d2).plus_t(o2),
+    ];
+    let [q0, q1, q2] = q;
+    let gap = [v00.minus(q0), v01.minus(q1), v02.minus(q2)];
+    let [g0, g1, g2] = gap;
+    let residual = g0.times_t(n0).plus(g1.times_t(n1)).plus(g2.times_t(n2));
+    let den = two_prod(n0, d0)
+        .plus(two_prod(n1, d1))
+        .plus(two_prod(n2, d2))
+        .value();
+    let dt = residual.value() / den;
+    let t = t_ref + dt;
+    let p = [
+        q0.plus_t(dt * d0).value(),
+        q1.plus_t(dt * d1).value(),
+        q2.plus_t(dt * d2).value(),
+    ];
     // Barycentric coordinates of p: λ1 = (w × b)·n / |n|², λ2 = (a × w)·n / |n|², λ0 = 1 − λ1 − λ2; kept times
-    // |n|² (`PlaneHit::inside` turns them into in-plane distances inside each edge).
-    let [p0, p1, p2] = p;
-    let w = diff(&[Dd::from(p0), Dd::from(p1), Dd::from(p2)], v0);
+    // |n|² (`PlaneHit::inside` turns them into in-plane distances inside each edge). `w = p − v0 = dt·d − gap`.
+    let w = V3::new(
+        dt * d0 - g0.value(),
+        dt * d1 - g1.value(),
+        dt * d2 - g2.value(),
+    );
     let nn = n.length_squared();
     let n_len = nn.sqrt();
     let (c1, c2) = (w.cross(b).dot(n), a.cross(w).dot(n));
@@ -258,7 +283,6 @@ fn plane_through<T: Real>(
         b.length_squared(),
         a.length_squared(),
     ];
-    let t = t_dd.value();
     let finite = t.is_finite()
         && n_len > T::ZERO
         && n_len.is_finite()
@@ -266,7 +290,7 @@ fn plane_through<T: Real>(
     finite.then_some(PlaneHit {
         t,
         p,
-        slope: den.value().abs() / n_len,
+        slope: den.abs() / n_len,
         n_len,
         bary,
         edge2,
@@ -306,7 +330,7 @@ pub(super) fn refine<T: Real, S: TerrainStorage<T> + ?Sized>(
     tri: Tri,
     full_resolution: &impl Fn([u32; 2]) -> bool,
 ) -> Option<(T, [T; 3])> {
-    let first = plane_hit(s, g, ray, cell, tri)?;
+    let first = plane_hit(s, g, ray, t0, cell, tri)?;
     // Containment walk (module docs): at a tie the traversal may have chosen a triangle that the exact ray only
     // grazes past; step across the edge that the refined point lies beyond, to the triangle that contains it.
     let tol = T::from_f64(16.0) * T::EPSILON * V3::from(first.p).max_abs();
@@ -329,7 +353,7 @@ pub(super) fn refine<T: Real, S: TerrainStorage<T> + ?Sized>(
         let Some((nc, nt)) = across(g, c, tr, k).filter(|(nc, _)| full_resolution(*nc)) else {
             break;
         };
-        let Some(nh) = plane_hit(s, g, ray, nc, nt) else {
+        let Some(nh) = plane_hit(s, g, ray, t0, nc, nt) else {
             break;
         };
         cur = (nh, nc, nt);
@@ -363,7 +387,13 @@ pub(super) fn refine_vertices<T: Real, S: TerrainStorage<T> + ?Sized>(
     tri: [Vtx; 3],
 ) -> Option<(T, [T; 3])> {
     let [a, b, c] = tri;
-    let h = plane_through(ray, &vtx_dd(s, g, a)?, &vtx_dd(s, g, b)?, &vtx_dd(s, g, c)?)?;
+    let h = plane_through(
+        ray,
+        t0,
+        &vtx_dd(s, g, a)?,
+        &vtx_dd(s, g, b)?,
+        &vtx_dd(s, g, c)?,
+    )?;
     let tol = T::from_f64(16.0) * T::EPSILON * V3::from(h.p).max_abs();
     if !h.within(tol) {
         return None;
