@@ -1513,7 +1513,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// line and every meridian of a unit narrower than 180° (minus a column) is within 90° of the middle one, so
     /// the side of a meridian plane, `cos λ_j·y − sin λ_j·x ≥ 0` (east of it), is monotone over the unit's
     /// meridians. Each end's column is found by a binary search over those sides, from the storage's
-    /// trigonometry; the crossed columns lie between the two, plus one column of margin beyond a meridian that
+    /// trigonometry (the second end tries the first end's column before searching); the crossed columns lie between the two, plus one column of margin beyond a meridian that
     /// an end lies within rounding distance of (the cells beyond are convex hulls of vertices on or past that
     /// meridian, so an end clear of it keeps the segment out of them). Falls back to all columns otherwise.
     fn unit_columns(&self, u: &Unit, ray: &Ray<T>, t_in: T, t_out: T) -> (u32, u32) {
@@ -1536,8 +1536,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             * T::EPSILON
             * ((o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * t_in.abs().max(t_out.abs()));
         // The columns `[first, end)` around point `p`'s: its cell column (the last meridian `k ∈ [0, n]` it is
-        // east of; `n`: east of the unit), widened by one on a side whose meridian it is within `tol` of.
-        let columns = |p: V3<T>| -> Option<(u32, u32)> {
+        // east of; `n`: east of the unit), widened by one on a side whose meridian it is within `tol` of. With
+        // `hint` (the other end's column: a steep ray stays in it), that column is tried first.
+        let columns = |p: V3<T>, hint: Option<u32>| -> Option<(u32, u32, u32)> {
             if !(cm * p.x + sm * p.y > T::ZERO) {
                 return None;
             }
@@ -1545,27 +1546,44 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 let (sk, ck) = meridian(k);
                 ck * p.y - sk * p.x
             };
-            let (mut a, mut b) = (0u32, n);
-            if side(b) >= T::ZERO {
-                return Some((n.saturating_sub(1), n));
-            }
-            // Invariant: east of meridian `a` (or west of the unit when `a` is 0), not east of meridian `b`.
-            while b.saturating_sub(a) > 1 {
-                let m = a.wrapping_add(b.wrapping_sub(a).wrapping_shr(1));
-                if side(m) >= T::ZERO {
-                    a = m;
-                } else {
-                    b = m;
+            // `a < b = a + 1 ≤ n` with the point east of meridian `a` (or west of the unit when `a` is 0) and
+            // not east of meridian `b`, and the two sides: the columns, and `a`.
+            let cell = |a: u32, b: u32, sa: T, sb: T| {
+                let west = u32::from(!(sa > tol));
+                let east = u32::from(!(sb < -tol));
+                (a.saturating_sub(west), b.saturating_add(east), a)
+            };
+            if let Some(a) = hint.filter(|&a| a < n) {
+                let (sa, sb) = (side(a), side(a.saturating_add(1)));
+                if (a == 0 || sa >= T::ZERO) && sb < T::ZERO {
+                    return Some(cell(a, a.saturating_add(1), sa, sb));
                 }
             }
-            let west = u32::from(!(side(a) > tol));
-            let east = u32::from(!(side(b) < -tol));
-            Some((a.saturating_sub(west), b.saturating_add(east)))
+            let (mut a, mut b) = (0u32, n);
+            let mut sb = side(b);
+            if sb >= T::ZERO {
+                return Some((n.saturating_sub(1), n, n));
+            }
+            // Invariant: east of meridian `a` (or west of the unit when `a` is 0), not east of meridian `b`.
+            let mut sa = T::NAN;
+            while b.saturating_sub(a) > 1 {
+                let m = a.wrapping_add(b.wrapping_sub(a).wrapping_shr(1));
+                let s_m = side(m);
+                if s_m >= T::ZERO {
+                    (a, sa) = (m, s_m);
+                } else {
+                    (b, sb) = (m, s_m);
+                }
+            }
+            if a == 0 {
+                sa = side(0);
+            }
+            Some(cell(a, b, sa, sb))
         };
-        let (Some((fa, ea)), Some((fb, eb))) = (
-            columns(V3::from(ray.at(t_in))),
-            columns(V3::from(ray.at(t_out))),
-        ) else {
+        let Some((fa, ea, a)) = columns(V3::from(ray.at(t_in)), None) else {
+            return all;
+        };
+        let Some((fb, eb, _)) = columns(V3::from(ray.at(t_out)), Some(a)) else {
             return all;
         };
         (fa.min(fb), ea.max(eb).min(n))
