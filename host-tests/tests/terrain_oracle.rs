@@ -9,12 +9,16 @@
 //!
 //! Every ray also goes through `pick_t`, the same traversal without the refinement: it must report the same hit
 //! status and cell as `pick`; the worst distance of its unrefined point from the oracle's is reported beside.
+//! A hit's latitude, longitude (degrees, times 111 320 m) and height, seeded at its cell, must agree with the
+//! closed-form conversion of its point within 1e-8 m (`geodesy_oracle` holds both to the exact inversion).
 //!
 //! The default run checks every suite on a reduced number of rays; the `#[ignore]`d `*_full` tests bring the
 //! total above 100 000 rays (`cargo test -p curvicast-host --release --test terrain_oracle -- --include-ignored`).
 
 use curvicast::Ray;
+use curvicast::geodesy::Ellipsoid;
 use curvicast::terrain::Picker;
+use curvicast::vec3::V3;
 use curvicast_host::oracle::terrain::TerrainOracle;
 use curvicast_host::scenes::real_dem;
 use curvicast_host::scenes::spec::RaySpec;
@@ -66,6 +70,23 @@ fn compare(dem: &Dem, block: usize, rays: &[RaySpec]) -> Tally {
                     .pick(&ray)
                     .map_err(|e| format!("ray {k}: kernel error {e}"))?;
                 let ours = hit.map(|h| h.ecef);
+                // The hit's geodetic coordinates (seeded at its cell) against the closed form's of its point.
+                if let Some(h) = hit {
+                    let g = Ellipsoid::<f64>::wgs84().ecef_to_geodetic(V3::from(h.ecef));
+                    let dlon = (h.lon - g.lon.to_degrees() + 540.0).rem_euclid(360.0) - 180.0;
+                    let off = [h.lat - g.lat.to_degrees(), dlon].map(|d| d.abs() * 111_320.0);
+                    if off.iter().any(|&d| d > 1e-8) || (h.h - g.h).abs() > 1e-8 {
+                        return Err(format!(
+                            "ray {k}: hit ({}, {}, {}) vs closed form ({}, {}, {})",
+                            h.lat,
+                            h.lon,
+                            h.h,
+                            g.lat.to_degrees(),
+                            g.lon.to_degrees(),
+                            g.h
+                        ));
+                    }
+                }
                 let truth = oracle.pick(r).map(|h| h.point);
                 // `pick_t` is the same traversal without the refinement: the same status and cell as `pick`.
                 let fast = picker

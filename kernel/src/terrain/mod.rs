@@ -46,7 +46,9 @@
 //!    guard that keeps the traversal's `t` if the refinement is not sound (`refine.rs` documents all three).
 //!    [`Hit::cell`] and [`Hit::level`] are the traversal's; [`Hit::t`], [`Hit::ecef`] and the geodetic
 //!    coordinates are the refined ones. In `f64` the hit point is then within about 1e-9 m of the exact
-//!    surface's (the host oracle's worst over 187 000 rays: 3.5e-9 m).
+//!    surface's (the host oracle's worst over 187 000 rays: 3.5e-9 m). The geodetic coordinates come from
+//!    [`Ellipsoid::ecef_to_geodetic_near`] seeded at the hit cell's corner vertex (no arctangent or cube root;
+//!    the closed form where the seed does not apply). [`Picker::pick_t`] stops before this step.
 //!
 //! # No misses: what is proven
 //!
@@ -1608,14 +1610,27 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         };
         let (t, p) = refined.unwrap_or((c.t, ray.at(c.t)));
         let (cell, level) = (c.cell, c.unit.level);
-        let geo = self.ellipsoid.ecef_to_geodetic(V3::from(p));
-        let deg = T::from_f64(180.0) / T::PI;
+        // Geodetic coordinates from the cell's corner vertex as the seed (its trigonometry is the storage's),
+        // else by the closed form.
+        let [i, j] = cell;
+        let (sl, cl) = self.storage.row_sin_cos(i);
+        let (so, co) = self.storage.col_sin_cos(j);
+        let near = self.ellipsoid.ecef_to_geodetic_near(
+            V3::from(p),
+            (g.lat_deg(i), sl, cl),
+            (g.lon_deg(j), so, co),
+        );
+        let (lat, lon, h) = near.unwrap_or_else(|| {
+            let geo = self.ellipsoid.ecef_to_geodetic(V3::from(p));
+            let deg = T::from_f64(180.0) / T::PI;
+            (geo.lat * deg, geo.lon * deg, geo.h)
+        });
         Hit {
             t,
             ecef: p,
-            lat: geo.lat * deg,
-            lon: geo.lon * deg,
-            h: geo.h,
+            lat,
+            lon,
+            h,
             cell,
             level,
             stride: c.unit.stride,
