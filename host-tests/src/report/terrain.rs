@@ -198,10 +198,9 @@ fn measure(
     let n = rays.len();
     let mut best_ours = vec![f64::INFINITY; pickers.len()];
     let mut best_t = vec![f64::INFINITY; pickers.len()];
-    let mut cells: Vec<Vec<Option<[u32; 2]>>> = vec![Vec::new(); pickers.len()];
     let mut answers_t: Vec<Vec<TCell>> = vec![Vec::new(); pickers.len()];
     let mut best_parry = f64::INFINITY;
-    let mut answers: Vec<Vec<Option<f64>>> = vec![Vec::new(); pickers.len()];
+    let mut answers: Vec<Vec<TCell>> = vec![Vec::new(); pickers.len()];
     let mut theirs: Vec<Option<f64>> = Vec::new();
     let (mut tris, mut quads) = (vec![0u64; pickers.len()], vec![0u64; pickers.len()]);
     for pass in 0..PASSES {
@@ -228,8 +227,7 @@ fn measure(
             if pass == 0 {
                 tris[k] = u64::from(stats.triangles_tested);
                 quads[k] = u64::from(stats.quads_visited);
-                answers[k] = got.iter().map(|h| h.map(|h| h.0)).collect();
-                cells[k] = got.iter().map(|h| h.map(|h| h.1)).collect();
+                answers[k] = got;
                 answers_t[k] = got_t;
             }
         }
@@ -241,12 +239,10 @@ fn measure(
         }
     }
     let t0 = Instant::now();
-    let mut brute_hits = 0;
     for r in rays.iter().take(n_brute) {
-        brute_hits += usize::from(brute.pick(r).is_some());
+        std::hint::black_box(brute.pick(r));
     }
     let brute_t = t0.elapsed().as_secs_f64();
-    let _ = brute_hits;
     let mut out = Vec::new();
     for (k, (block, _)) in pickers.iter().enumerate() {
         let mut disagree = 0;
@@ -254,7 +250,7 @@ fn measure(
         let mut hits = 0;
         for ((a, b), r) in answers[k].iter().zip(&theirs).zip(rays) {
             match (a, b) {
-                (Some(x), Some(y)) => {
+                (Some((x, _)), Some(y)) => {
                     hits += 1;
                     let dl = (r.dir[0].powi(2) + r.dir[1].powi(2) + r.dir[2].powi(2)).sqrt();
                     max_dist = max_dist.max((x - y).abs() * dl);
@@ -264,18 +260,13 @@ fn measure(
             }
         }
         let (mut t_differs, mut t_refined_by) = (0, 0.0_f64);
-        for (((t, c), a), r) in answers[k]
-            .iter()
-            .zip(&cells[k])
-            .zip(&answers_t[k])
-            .zip(rays)
-        {
-            match (t, c, a) {
-                (Some(t), Some(c), Some((ta, ca))) if c == ca => {
+        for ((a, f), r) in answers[k].iter().zip(&answers_t[k]).zip(rays) {
+            match (a, f) {
+                (Some((t, c)), Some((tf, cf))) if c == cf => {
                     let dl = (r.dir[0].powi(2) + r.dir[1].powi(2) + r.dir[2].powi(2)).sqrt();
-                    t_refined_by = t_refined_by.max((t - ta).abs() * dl);
+                    t_refined_by = t_refined_by.max((t - tf).abs() * dl);
                 }
-                (None, None, None) => {}
+                (None, None) => {}
                 _ => t_differs += 1,
             }
         }

@@ -1515,9 +1515,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// line and every meridian of a unit narrower than 180° (minus a column) is within 90° of the middle one, so
     /// the side of a meridian plane, `cos λ_j·y − sin λ_j·x ≥ 0` (east of it), is monotone over the unit's
     /// meridians. Each end's column is found by a binary search over those sides, from the storage's
-    /// trigonometry (the second end tries the first end's column before searching); the crossed columns lie between the two, plus one column of margin beyond a meridian that
-    /// an end lies within rounding distance of (the cells beyond are convex hulls of vertices on or past that
-    /// meridian, so an end clear of it keeps the segment out of them). Falls back to all columns otherwise.
+    /// trigonometry (the second end tries the first end's column before searching); the crossed columns lie
+    /// between the two, plus one column of margin beyond a meridian that an end lies within rounding distance of
+    /// (the cells beyond are convex hulls of vertices on or past that meridian, so an end clear of it keeps the
+    /// segment out of them). Falls back to all columns otherwise.
     fn unit_columns(&self, u: &Unit, ray: &Ray<T>, t_in: T, t_out: T) -> (u32, u32) {
         let [c0, c1] = u.cols;
         let n = div_ceil_pow2(c1.saturating_sub(c0), u.stride);
