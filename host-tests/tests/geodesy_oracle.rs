@@ -33,6 +33,11 @@ fn bf(x: f64) -> BigFloat {
     BigFloat::from_f64(x, P)
 }
 
+/// An `f64` angle in degrees, in radians in 128 bits.
+fn deg(x: f64, cc: &mut Consts) -> BigFloat {
+    bf(x).mul(&cc.pi(P, RM), P, RM).div(&bf(180.0), P, RM)
+}
+
 fn to_f64(x: &BigFloat, cc: &mut Consts) -> f64 {
     x.format(Radix::Dec, RM, cc)
         .ok()
@@ -108,34 +113,9 @@ impl Reference {
         (s, c, h)
     }
 
-    /// Distance between the input (x, y, z) and the point (ψ, λ, h) given in f64 (angles in radians), in
-    /// 128-bit arithmetic.
+    /// Distance between the input (x, y, z) and the point (ψ, λ, h), angles in radians (128 bits, from the
+    /// kernel's `f64` values by [`bf`] or [`deg`]), in 128-bit arithmetic.
     fn round_trip_error(
-        &self,
-        p: [f64; 3],
-        lat: f64,
-        lon: f64,
-        h: f64,
-        cc: &mut Consts,
-    ) -> BigFloat {
-        self.round_trip_error_big(p, bf(lat), bf(lon), h, cc)
-    }
-
-    /// [`Reference::round_trip_error`] for angles in degrees, turned into radians in 128 bits.
-    fn round_trip_error_deg(
-        &self,
-        p: [f64; 3],
-        lat: f64,
-        lon: f64,
-        h: f64,
-        cc: &mut Consts,
-    ) -> BigFloat {
-        let rad = cc.pi(P, RM).div(&bf(180.0), P, RM);
-        let (lat, lon) = (bf(lat).mul(&rad, P, RM), bf(lon).mul(&rad, P, RM));
-        self.round_trip_error_big(p, lat, lon, h, cc)
-    }
-
-    fn round_trip_error_big(
         &self,
         p: [f64; 3],
         lat: BigFloat,
@@ -225,7 +205,10 @@ fn measure(kind: Kind, n: usize, seed: u64) -> (f64, f64, [f64; 3]) {
                     g.lat.is_finite() && g.lon.is_finite() && g.h.is_finite(),
                     "{p:?}"
                 );
-                let rt = to_f64(&r.round_trip_error(p, g.lat, g.lon, g.h, &mut cc), &mut cc);
+                let rt = to_f64(
+                    &r.round_trip_error(p, bf(g.lat), bf(g.lon), g.h, &mut cc),
+                    &mut cc,
+                );
                 let (_, _, h_ref) = r.solve(p[0].hypot(p[1]), p[2]);
                 let dh = to_f64(&bf(g.h).sub(&h_ref, P, RM), &mut cc).abs();
                 if rt > worst.0 {
@@ -339,7 +322,8 @@ fn reverse_near_a_seed_vertex_at_terrain_heights() {
                     continue;
                 };
                 assert!(glon > -180.0 && glon <= 180.0, "longitude {glon} for {lon}");
-                let rt = to_f64(&r.round_trip_error_deg(p, glat, glon, gh, &mut cc), &mut cc);
+                let (lat_r, lon_r) = (deg(glat, &mut cc), deg(glon, &mut cc));
+                let rt = to_f64(&r.round_trip_error(p, lat_r, lon_r, gh, &mut cc), &mut cc);
                 let (_, _, h_ref) = r.solve(p[0].hypot(p[1]), p[2]);
                 let dh = to_f64(&bf(gh).sub(&h_ref, P, RM), &mut cc).abs();
                 assert!(
