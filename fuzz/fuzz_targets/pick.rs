@@ -11,7 +11,8 @@
 //!
 //! Bit 3 of `rows` (unused by the grid size) makes the storage provide node boxes
 //! ([`TerrainStorage::node_box`]), built here from every vertex of each node, so that half of the inputs run the
-//! traversal's box tests and half its spheroidal volumes (the shipped seeds keep the volumes).
+//! traversal's box tests and half its spheroidal volumes (the shipped seeds keep the volumes); bits 4–7 choose
+//! which boxes are in their parent's box frame rather than their parent's own.
 #![no_main]
 
 use arbitrary::Arbitrary;
@@ -63,19 +64,28 @@ impl Tiny {
         out
     }
     /// The box of every node, from all of its vertices with data, as the storage's contract states it
-    /// (computed while the storage provides no boxes).
-    fn build_boxes(&self) -> Vec<Option<NodeBox>> {
+    /// (computed while the storage provides no boxes): a child's box in the frame of its parent's box where
+    /// bit `k % 4` of `share` is set (node `k`), else in its parent's own frame (a zone's in the grid's).
+    fn build_boxes(&self, share: u8) -> Vec<Option<NodeBox>> {
         let e = self.ellipsoid();
-        self.nodes
-            .iter()
-            .enumerate()
-            .map(|(k, n)| {
-                // The box is in the parent's frame (a zone's in the grid's).
-                let parent = self
-                    .nodes
-                    .iter()
-                    .find(|p| p.children.iter().flatten().any(|c| c.0 as usize == k));
-                NodeBox::of_vertices(self, &e, n, parent)
+        let parent = |k: usize| {
+            self.nodes
+                .iter()
+                .position(|p| p.children.iter().flatten().any(|c| c.0 as usize == k))
+        };
+        let shared = |k: usize| parent(k).is_some() && (share >> (k % 4)) & 1 == 1;
+        // The node whose own frame node k's box is in (`None`: the grid's).
+        let anchor = |k: usize| {
+            let mut c = k;
+            while shared(c) {
+                c = parent(c)?;
+            }
+            parent(c)
+        };
+        (0..self.nodes.len())
+            .map(|k| {
+                let a = anchor(k).map(|a| &self.nodes[a]);
+                NodeBox::of_vertices(self, &e, &self.nodes[k], a, shared(k))
             })
             .collect()
     }
@@ -245,7 +255,7 @@ fuzz_target!(|inp: Input| {
     }
     t.zones.push(NodeId(0));
     if inp.rows & 0x08 != 0 {
-        t.boxes = t.build_boxes();
+        t.boxes = t.build_boxes(inp.rows >> 4);
     }
     let e = Ellipsoid::<f64>::wgs84();
     let Ok(picker) = Picker::<'_, f64, Tiny>::new(&t) else {

@@ -28,7 +28,8 @@
 //! Bit 4 of `fine` (unused by the spacing) makes the storage provide node boxes
 //! ([`TerrainStorage::node_box`]), built here from every vertex of each node's range (not only its block's
 //! samples), so that half of the inputs run the traversal's box tests and half its spheroidal volumes (of the
-//! shipped seeds, the regression of the volumes' row walls keeps the volumes; `seed_1`–`seed_3` get boxes).
+//! shipped seeds, the regression of the volumes' row walls keeps the volumes; `seed_1`–`seed_3` get boxes); bits
+//! 5–7 choose which boxes are in their parent's box frame rather than their parent's own.
 #![no_main]
 
 use arbitrary::Arbitrary;
@@ -136,16 +137,24 @@ impl Tiny {
 
     /// The box of every node, from all of the vertices with data of its range (at the grid's own spacing,
     /// whatever its block's stride), as the storage's contract states it (computed while the storage provides
-    /// no boxes).
-    fn build_boxes(&self) -> Vec<Option<NodeBox>> {
+    /// no boxes): a child's box in the frame of its parent's box where bit `k % 3` of `share` is set (node
+    /// `k`), else in its parent's own frame (a zone's in the grid's).
+    fn build_boxes(&self, share: u8) -> Vec<Option<NodeBox>> {
         let e = self.ellipsoid();
-        self.nodes
-            .iter()
-            .zip(&self.parent)
-            .map(|(n, p)| {
-                // The box is in the parent's frame (a zone's in the grid's).
-                let parent = p.and_then(|p| self.nodes.get(p));
-                NodeBox::of_vertices(self, &e, n, parent)
+        let parent = |k: usize| self.parent.get(k).copied().flatten();
+        let shared = |k: usize| parent(k).is_some() && (share >> (k % 3)) & 1 == 1;
+        // The node whose own frame node k's box is in (`None`: the grid's).
+        let anchor = |k: usize| {
+            let mut c = k;
+            while shared(c) {
+                c = parent(c)?;
+            }
+            parent(c)
+        };
+        (0..self.nodes.len())
+            .map(|k| {
+                let a = anchor(k).and_then(|a| self.nodes.get(a));
+                NodeBox::of_vertices(self, &e, &self.nodes[k], a, shared(k))
             })
             .collect()
     }
@@ -630,7 +639,7 @@ fuzz_target!(|inp: Input| {
         })
         .collect();
     if inp.fine & 0x10 != 0 {
-        t.boxes = t.build_boxes();
+        t.boxes = t.build_boxes(inp.fine >> 5);
     }
     let depth = t.nodes.iter().map(|n| n.level).max().unwrap_or(0);
     let min_level = inp.min_level % (depth + 1);

@@ -41,17 +41,21 @@ fn node(s: &DemStorage<'_>, id: NodeId) -> Node<f64> {
     TerrainStorage::<f64>::node(s, id).unwrap_or_else(|| panic!("node {} is missing", id.0))
 }
 
-/// Every node reachable from the zones with its parent (whose frame its box is in; `None` for a zone), zones
-/// first.
+/// Every node reachable from the zones with the anchor of its box's frame (the node whose own frame the box is
+/// in, `None` for the grid's: [`LocalFrame::for_box`]), zones first. A zone's box is in the grid's frame; a
+/// child's in its parent's own frame, or, if the box says `shared_frame`, in the frame of its parent's box.
 fn all_nodes(s: &DemStorage<'_>) -> Vec<(NodeId, Node<f64>, Option<NodeId>)> {
     let mut stack: Vec<(NodeId, Option<NodeId>)> = (0..TerrainStorage::<f64>::zone_count(s))
         .map(|k| (TerrainStorage::<f64>::zone(s, k).expect("zone id"), None))
         .collect();
     let mut out = Vec::new();
-    while let Some((id, parent)) = stack.pop() {
+    while let Some((id, anchor)) = stack.pop() {
         let n = node(s, id);
-        stack.extend(n.children.iter().flatten().map(|&c| (c, Some(id))));
-        out.push((id, n, parent));
+        for &c in n.children.iter().flatten() {
+            let shared = TerrainStorage::<f64>::node_box(s, c).is_some_and(|b| b.shared_frame);
+            stack.push((c, if shared { anchor } else { Some(id) }));
+        }
+        out.push((id, n, anchor));
     }
     out
 }
@@ -71,7 +75,7 @@ fn check_boxes_contain_vertices(name: &str, dem: &Dem, s: &DemStorage<'_>) -> (u
     let mut seen = vec![false; dem.rows * dem.cols];
     let (mut checks, mut boxed) = (0usize, 0usize);
     let mut worst = f64::NEG_INFINITY; // largest excess of a vertex over its box (negative: inside)
-    for (id, n, parent) in all_nodes(s) {
+    for (id, n, anchor) in all_nodes(s) {
         let bx = TerrainStorage::<f64>::node_box(s, id);
         let Some(bx) = bx else {
             assert!(
@@ -84,7 +88,7 @@ fn check_boxes_contain_vertices(name: &str, dem: &Dem, s: &DemStorage<'_>) -> (u
             continue;
         };
         boxed += 1;
-        let frame = LocalFrame::<f64>::for_box(s, &e, parent.map(|p| node(s, p)).as_ref());
+        let frame = LocalFrame::<f64>::for_box(s, &e, anchor.map(|p| node(s, p)).as_ref());
         for i in n.rows[0]..=n.rows[1] {
             for j in n.cols[0]..=n.cols[1] {
                 let (i, j) = (i as usize, j as usize);
@@ -252,9 +256,11 @@ fn node_boxes_contain_every_vertex_of_their_node() {
 }
 
 #[test]
-fn leaf_boxes_of_trinidad_like_terrain_are_within_a_metre_of_the_height_range() {
+fn leaf_boxes_of_trinidad_like_terrain_share_the_grid_frame_and_hug_their_corners() {
     // 3″ spacing (1/1200°) from 38°N 106°W southwards, heights shifted to Trinidad's 1.4–4.3 km, 16-cell blocks:
-    // a leaf spans about 1.5 × 1.2 km, over which the Earth's curvature drops the ground by about 4 cm.
+    // a leaf spans about 1.5 × 1.2 km, over which the Earth's curvature drops the ground by about 4 cm. The DEM
+    // spans 0.27° × 0.4°, so every box is in the grid's frame (`shares_frame_with_children`), tilted against
+    // a leaf's horizon by at most 0.25°.
     let mut dem = synthetic(
         TerrainKind::Fractal,
         (38.0, -106.0, -1.0 / 1200.0, 1.0 / 1200.0),
@@ -266,68 +272,96 @@ fn leaf_boxes_of_trinidad_like_terrain_are_within_a_metre_of_the_height_range() 
     }
     let s = DemStorage::new(&dem, 16);
     let e = ellipsoid(&s);
-    let (mut leaves, mut worst_up, mut worst_side) = (0, f64::NEG_INFINITY, f64::NEG_INFINITY);
-    for (id, n, parent) in all_nodes(&s) {
+    let frame = LocalFrame::<f64>::for_box(&s, &e, None);
+    let (mut leaves, mut worst_hull, mut worst_up) = (0, f64::NEG_INFINITY, f64::NEG_INFINITY);
+    for (id, n, anchor) in all_nodes(&s) {
+        assert_eq!(anchor, None, "node {} is not in the grid's frame", id.0);
         if !n.is_leaf() {
             continue;
         }
         let [hmin, hmax] = n.heights.expect("no nodata here");
         let bx = TerrainStorage::<f64>::node_box(&s, id).expect("a leaf with data has a box");
-        let up = f64::from(bx.hi[2]) - f64::from(bx.lo[2]);
-        let slack = up - (hmax - hmin);
-        worst_up = worst_up.max(slack);
-        assert!(
-            slack <= 1.0,
-            "leaf {} (rows {:?}, cols {:?}): box up-extent {up} m for heights {hmin}..{hmax} m",
-            id.0,
-            n.rows,
-            n.cols
-        );
-        // The horizontal extents: at most the node's footprint (its corners at its lowest and highest heights,
-        // from this file's vertices; the frame's up leans against the normals at the corners, so a corner 4 km
-        // up lies half a metre farther out than at the ground) plus 10 cm.
+        // The hull of the leaf's corners at its lowest and highest heights (this file's vertices): the box may
+        // exceed it by the curvature of the ground between the corners (4 cm up, less sideways) and the f32
+        // rounding, 10 cm in all.
         let corner = |i: u32, j: u32, h: f64| {
             ecef(dem.a, dem.b, dem.lat(i as usize), dem.lon(j as usize), h)
         };
-        let frame = LocalFrame::<f64>::for_box(&s, &e, parent.map(|p| node(&s, p)).as_ref());
-        let mut foot = [
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-        ];
+        let mut hull = [[f64::INFINITY, f64::NEG_INFINITY]; 3];
         for i in n.rows {
             for j in n.cols {
                 for h in [hmin, hmax] {
                     let q = frame.coords(corner(i, j, h));
-                    foot = [
-                        foot[0].min(q.x),
-                        foot[1].max(q.x),
-                        foot[2].min(q.y),
-                        foot[3].max(q.y),
-                    ];
+                    for (k, v) in [q.x, q.y, q.z].into_iter().enumerate() {
+                        hull[k] = [hull[k][0].min(v), hull[k][1].max(v)];
+                    }
                 }
             }
         }
-        let (east, north) = (
-            f64::from(bx.hi[0]) - f64::from(bx.lo[0]),
-            f64::from(bx.hi[1]) - f64::from(bx.lo[1]),
-        );
-        let side = (east - (foot[1] - foot[0])).max(north - (foot[3] - foot[2]));
-        worst_side = worst_side.max(side);
+        for (k, [lo, hi]) in hull.into_iter().enumerate() {
+            let extent = f64::from(bx.hi[k]) - f64::from(bx.lo[k]);
+            let over = extent - (hi - lo);
+            worst_hull = worst_hull.max(over);
+            assert!(
+                over <= 0.1,
+                "leaf {} (rows {:?}, cols {:?}), axis {k}: box extent {extent} m for a corner hull of {} m",
+                id.0,
+                n.rows,
+                n.cols,
+                hi - lo
+            );
+        }
+        // The up extent against the height range: the tilt adds at most the leaf's width times the tilt.
+        let up = f64::from(bx.hi[2]) - f64::from(bx.lo[2]);
+        let width = (hull[0][1] - hull[0][0]).hypot(hull[1][1] - hull[1][0]);
+        worst_up = worst_up.max(up - (hmax - hmin));
         assert!(
-            side <= 0.1,
-            "leaf {}: box {east} × {north} m for a footprint {} × {} m",
-            id.0,
-            foot[1] - foot[0],
-            foot[3] - foot[2]
+            up - (hmax - hmin) <= 0.1 + width * 0.25_f64.to_radians(),
+            "leaf {}: box up-extent {up} m for heights {hmin}..{hmax} m",
+            id.0
         );
         leaves += 1;
     }
     assert_eq!(leaves, 20 * 30, "16-cell leaves of 320 × 480 cells");
     eprintln!(
-        "{leaves} leaves: up-extent exceeds the height range by at most {worst_up:.3} m, footprint by {worst_side:.3} m"
+        "{leaves} leaves: box extents exceed the corner hull by at most {worst_hull:.3} m; up-extent exceeds the \
+         height range by at most {worst_up:.3} m"
     );
+}
+
+#[test]
+fn wide_nodes_keep_their_own_frames_down_to_a_degree() {
+    // 0.02° cells, 8-cell leaves (0.16°), a grid of 4.8° × 6.4°: boxes are in their parents' own frames down to
+    // the children of nodes of at most a degree; below those, children share their parent's box frame, whose
+    // anchor spans at most 1°.
+    let dem = synthetic(
+        TerrainKind::Fractal,
+        (20.0, 30.0, 0.02, 0.02),
+        (241, 321),
+        12,
+    );
+    let s = DemStorage::new(&dem, 8);
+    let g = TerrainStorage::<f64>::grid(&s);
+    let (mut shared, mut own) = (0, 0);
+    for (id, _, anchor) in all_nodes(&s) {
+        let Some(a) = anchor else { continue };
+        let a = node(&s, a);
+        let span = |[x, y]: [u32; 2], step: f64| f64::from(y - x) * step.abs();
+        let b = TerrainStorage::<f64>::node_box(&s, id).expect("data everywhere");
+        if b.shared_frame {
+            shared += 1;
+            assert!(
+                span(a.rows, g.dlat) <= 1.0 && span(a.cols, g.dlon) <= 1.0,
+                "node {}: shares the frame of a {}° × {}° anchor",
+                id.0,
+                span(a.rows, g.dlat),
+                span(a.cols, g.dlon)
+            );
+        } else {
+            own += 1;
+        }
+    }
+    assert!(shared > 0 && own > 0, "{shared} shared, {own} own frames");
 }
 
 /// A random unit vector (uniform on the sphere).
@@ -400,13 +434,13 @@ where
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let nodes = all_nodes(s);
     let (mut checked, mut clipped) = (0, 0);
-    for (id, n, parent) in &nodes {
+    for (id, n, anchor) in &nodes {
         let Some(b) = TerrainStorage::<f64>::node_box(s, *id) else {
             continue;
         };
-        let frame = LocalFrame::<f64>::for_box(s, &e, parent.map(|p| node(s, p)).as_ref());
-        let parent_t = parent.map(|p| TerrainStorage::<T>::node(s, p).expect("node"));
-        let frame_t = LocalFrame::<T>::for_box(s, &e_t, parent_t.as_ref());
+        let frame = LocalFrame::<f64>::for_box(s, &e, anchor.map(|p| node(s, p)).as_ref());
+        let anchor_t = anchor.map(|p| TerrainStorage::<T>::node(s, p).expect("node"));
+        let frame_t = LocalFrame::<T>::for_box(s, &e_t, anchor_t.as_ref());
         for _ in 0..per_node {
             let q = point_in_box(&mut rng, &b);
             let p = frame.point(q);
@@ -434,7 +468,9 @@ where
                 .and_then(|r| r.with_interval(T::from_f64(t_lo), T::from_f64(t_hi)))
                 .expect("valid ray");
             let tt = T::from_f64(t);
-            let got = frame_t.ray(&ray, [ray.t_min(), ray.t_max()]).interval(&b);
+            let got = frame_t
+                .ray(&ray, [ray.t_min(), ray.t_max()])
+                .interval(&b, [ray.t_min(), ray.t_max()]);
             assert!(
                 got.is_some_and(|(lo, hi)| lo <= tt && tt <= hi),
                 "{name} ({}): node {} (rows {:?}, cols {:?}) box {b:?}: the ray from {o:?} along {dir:?} on \

@@ -791,7 +791,7 @@ pub struct DemStorage<'a> {
 }
 
 /// One node of a [`DemStorage`]: cell ranges, vertex height range (`[min, max]`, min > max when the node has
-/// no data), child ids (`u32::MAX`: none), level (zones are 0) and the node's box in its parent's frame: 72 bytes.
+/// no data), child ids (`u32::MAX`: none), level (zones are 0) and the node's box: 72 bytes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct NodeRecord {
     rows: [u32; 2],
@@ -799,7 +799,7 @@ struct NodeRecord {
     heights: [f32; 2],
     kids: [u32; 4],
     level: u8,
-    /// The node's box in its parent's frame (a zone's in the grid's; [`curvicast::terrain::boxes`]), `None` without
+    /// The node's box (in the frame [`DemStorage::build_boxes`] gives it; [`curvicast::terrain::boxes`]), `None` without
     /// data.
     bbox: Option<curvicast::terrain::boxes::NodeBox>,
 }
@@ -936,50 +936,77 @@ impl<'a> DemStorage<'a> {
         s
     }
 
-    /// Every node's box in its parent's frame ([`curvicast::terrain::boxes`]; a zone's in the grid's frame), in
-    /// one bottom-up pass over the tree reachable from the zones: a leaf's from its vertices, a parent's from the
-    /// corners of its children's boxes (which are in the parent's own frame; children have smaller ids). A box
-    /// thus contains its children's, so all of its vertices (the children cover every cell with data).
+    /// Every node's box ([`curvicast::terrain::boxes`]): a zone's in the grid's frame, a child's in the frame of
+    /// its parent's box where [`shares_frame_with_children`](curvicast::terrain::boxes::shares_frame_with_children)
+    /// allows it, else in its parent's own frame. The frames are assigned top-down over the tree reachable from
+    /// the zones; the boxes are built in one bottom-up pass: a leaf's from its vertices, a parent's from its
+    /// children's boxes (children have smaller ids) — their union where they share its frame, the corners
+    /// carried over from its own frame otherwise. A box thus contains its children's, so all of its vertices
+    /// (the children cover every cell with data).
     fn build_boxes(&mut self) {
-        use curvicast::terrain::TerrainStorage;
-        use curvicast::terrain::boxes::{BoxBuilder, LocalFrame, NodeBox};
+        use curvicast::terrain::boxes::{
+            BoxBuilder, LocalFrame, NodeBox, shares_frame_with_children,
+        };
+        use curvicast::terrain::{NodeId, TerrainStorage};
         let e: curvicast::geodesy::Ellipsoid<f64> = self.ellipsoid();
-        let mut parent: Vec<Option<u32>> = vec![None; self.records.len()];
-        let mut reachable = vec![false; self.records.len()];
-        let mut stack: Vec<u32> = self.zones.iter().map(|z| z.0).collect();
-        while let Some(k) = stack.pop() {
-            reachable[k as usize] = true;
+        let grid = TerrainStorage::<f64>::grid(self);
+        let node = |s: &Self, k: u32| TerrainStorage::<f64>::node(s, NodeId(k));
+        // Per reachable node: the anchor of its box's frame (`None`: the grid) and whether it is its parent's
+        // box frame.
+        let mut frame: Vec<Option<(Option<u32>, bool)>> = vec![None; self.records.len()];
+        let mut stack: Vec<(u32, Option<u32>, bool)> =
+            self.zones.iter().map(|z| (z.0, None, false)).collect();
+        while let Some((k, anchor, shared)) = stack.pop() {
+            frame[k as usize] = Some((anchor, shared));
+            let share =
+                shares_frame_with_children(&grid, anchor.and_then(|a| node(self, a)).as_ref());
             for &c in self.records[k as usize]
                 .kids
                 .iter()
                 .filter(|&&c| c != u32::MAX)
             {
-                parent[c as usize] = Some(k);
-                stack.push(c);
+                stack.push(if share {
+                    (c, anchor, true)
+                } else {
+                    (c, Some(k), false)
+                });
             }
         }
-        let node = |s: &Self, k: u32| TerrainStorage::<f64>::node(s, curvicast::terrain::NodeId(k));
         for k in 0..self.records.len() {
-            let Some(n) = node(self, k as u32).filter(|n| reachable[k] && n.heights.is_some())
-            else {
+            let (Some((anchor, shared)), Some(n)) = (
+                frame[k],
+                node(self, k as u32).filter(|n| n.heights.is_some()),
+            ) else {
                 continue;
             };
-            let p = parent[k].and_then(|p| node(self, p));
+            let a = anchor.and_then(|a| node(self, a));
             self.records[k].bbox = if n.is_leaf() {
-                NodeBox::of_vertices(self, &e, &n, p.as_ref())
+                NodeBox::of_vertices(self, &e, &n, a.as_ref(), shared)
             } else {
-                let frame = LocalFrame::for_box(self, &e, p.as_ref());
+                let frame = LocalFrame::for_box(self, &e, a.as_ref());
                 let own = LocalFrame::of(self, &e, &n);
-                let mut b = BoxBuilder::default();
+                let (mut b, mut union) = (BoxBuilder::default(), None::<NodeBox>);
                 for cid in n.children.iter().flatten() {
                     let Some(cb) = self.records[cid.0 as usize].bbox else {
                         continue;
                     };
-                    for q in cb.corners() {
-                        b.add_point(&frame, own.point(q));
+                    if cb.shared_frame {
+                        union = Some(union.map_or(cb, |u| u.union(&cb)));
+                    } else {
+                        for q in cb.corners() {
+                            b.add_point(&frame, own.point(q));
+                        }
                     }
                 }
-                b.finish()
+                let carried = b.finish();
+                match (union, carried) {
+                    (Some(u), Some(c)) => Some(u.union(&c)),
+                    (u, c) => u.or(c),
+                }
+                .map(|b| NodeBox {
+                    shared_frame: shared,
+                    ..b
+                })
             };
         }
     }

@@ -170,7 +170,8 @@ fn bevel_case<T: Real>(tol: f64) -> bool {
 }
 
 /// A 3 × 3-vertex DEM near (10°N, 20°E), flat at 0 m with the center vertex raised to 500 m: one zone split into
-/// four one-cell leaves, with or without node boxes (`boxes` by node id).
+/// four one-cell leaves, with or without node boxes (`boxes` by node id; two of the leaves' boxes share the
+/// zone's box frame).
 struct Peak {
     boxes: [Option<NodeBox>; 5],
 }
@@ -197,9 +198,14 @@ impl Peak {
         for (k, b) in boxes.iter_mut().enumerate() {
             let id = NodeId(u32::try_from(k).unwrap_or(u32::MAX));
             if let Some(n) = TerrainStorage::<f64>::node(&plain, id) {
-                // The zone's box is in the grid's frame, the leaves' in the zone's.
-                let parent = if k == 0 { None } else { zone.as_ref() };
-                *b = NodeBox::of_vertices(&plain, &e, &n, parent);
+                // The zone's box is in the grid's frame; leaves 1 and 3 share it, 2 and 4 are in the zone's.
+                let shared = k % 2 == 1;
+                let anchor = if k == 0 || shared {
+                    None
+                } else {
+                    zone.as_ref()
+                };
+                *b = NodeBox::of_vertices(&plain, &e, &n, anchor, shared);
             }
         }
         Peak { boxes }

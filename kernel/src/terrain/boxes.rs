@@ -1,19 +1,25 @@
 //! Node boxes (beyond the paper): a storage may give every node a box that contains all of the node's vertices,
-//! in the local frame of the node's **parent** ([`LocalFrame::for_box`]; a zone's box is in the grid's frame).
-//! Triangles are the convex hulls of their vertices, so the box contains every triangle the traversal can trace
-//! under the node — at any block stride and with the stitching fans of §6, whose vertices are the node's grid
-//! vertices and midpoints of its cells' diagonals — with no sagitta or bulge bound needed. The traversal moves
-//! the ray into a node's frame once and tests the node's children against their boxes with three slabs each
-//! (a small fraction of the cost of the spheroidal volume's relaxed test, [`crate::geodesy::relaxed_interval`]);
-//! for a node a few kilometres across the box is also the tighter of the two (its faces follow the local
-//! horizon; the volume's lower wall is a sphere). The no-miss argument of the module docs holds unchanged with
-//! the box as the node's volume.
+//! in a local frame ([`LocalFrame`]). Triangles are the convex hulls of their vertices, so the box contains every
+//! triangle the traversal can trace under the node — at any block stride and with the stitching fans of §6, whose
+//! vertices are the node's grid vertices and midpoints of its cells' diagonals — with no sagitta or bulge bound
+//! needed. The traversal moves the ray into a frame once and tests boxes with three slabs each (a small fraction
+//! of the cost of the spheroidal volume's relaxed test, [`crate::geodesy::relaxed_interval`]); for a node a few
+//! kilometres across the box is also the tighter of the two (its faces follow the local horizon; the volume's
+//! lower wall is a sphere). The no-miss argument of the module docs holds unchanged with the box as the node's
+//! volume.
+//!
+//! **Which frame.** A zone's box is in the frame of the whole grid. A child's box is in its parent's own frame
+//! ([`LocalFrame::of`]), or, when the box says so ([`NodeBox::shared_frame`]), in the frame its parent's box is
+//! in: a node narrow enough that a frame a little off its middle still fits it well passes its box's frame down,
+//! so that the traversal of a regional DEM moves the ray into one frame per ray instead of one per visited node
+//! ([`shares_frame_with_children`] is the rule the host's storage follows; the kernel only reads the flag).
+//! [`LocalFrame::for_box`] gives the frame from the *anchor*: the node whose own frame it is (`None`: the grid).
 //!
 //! A frame is east, north, up at a node's middle vertex ([`LocalFrame::of`]); the box is stored in `f32`,
 //! rounded outwards, and the kernel inflates it by the rounding of the ray's transformation and of the frame and
 //! vertices in the picker's scalar type (`f32` pickers included).
 
-use super::storage::{Node, TerrainStorage};
+use super::storage::{Grid, Node, TerrainStorage};
 use crate::geodesy::Ellipsoid;
 use crate::ray::Ray;
 use crate::real::Real;
@@ -43,14 +49,15 @@ impl<T: Real> LocalFrame<T> {
         Self::of_ranges(storage, ellipsoid, node.rows, node.cols)
     }
 
-    /// The frame a node's box is expressed in: its parent's ([`LocalFrame::of`]), or for a zone (no parent) the
+    /// The frame a node's box is expressed in, from its *anchor* (module docs): the anchor's own frame
+    /// ([`LocalFrame::of`]), or for `None` (a zone, or a node every ancestor of which passed its frame down) the
     /// frame of the whole grid.
     pub fn for_box<S: TerrainStorage<T> + ?Sized>(
         storage: &S,
         ellipsoid: &Ellipsoid<T>,
-        parent: Option<&Node<T>>,
+        anchor: Option<&Node<T>>,
     ) -> Self {
-        match parent {
+        match anchor {
             Some(p) => Self::of(storage, ellipsoid, p),
             None => {
                 let g = storage.grid();
@@ -121,8 +128,27 @@ impl<T: Real> LocalFrame<T> {
     }
 }
 
-/// A node's box in the [`LocalFrame`] of its parent ([`LocalFrame::for_box`]): `lo ≤ coords(V) ≤ hi` for every
-/// vertex `V` of the node with data (rows `rows[0] ..= rows[1]`, columns `cols[0] ..= cols[1]`), the vertices as
+/// The widest anchor, in degrees of latitude and of longitude, whose frame [`shares_frame_with_children`] keeps.
+pub const SHARED_FRAME_SPAN_DEG: f64 = 1.0;
+
+/// The rule the host's storage follows for [`NodeBox::shared_frame`] (the kernel only reads the flag): a node's
+/// children's boxes stay in the frame of the node's own box when that frame's anchor (`None`: the grid) spans at
+/// most [`SHARED_FRAME_SPAN_DEG`] of latitude and of longitude; otherwise they are in the node's own frame. The
+/// children lie inside the anchor, so their boxes' faces tilt against their local horizon by at most about that
+/// angle: a box 1.5 km wide is at most about 26 m thicker than in its parent's own frame, while a regional DEM's
+/// traversal moves the ray into one frame per zone (or per ray) instead of one per visited node.
+pub fn shares_frame_with_children<T: Real>(grid: &Grid<T>, anchor: Option<&Node<T>>) -> bool {
+    let (rows, cols) = match anchor {
+        Some(n) => (n.rows, n.cols),
+        None => ([0, grid.cell_rows()], [0, grid.cell_cols()]),
+    };
+    let span = |[a, b]: [u32; 2], step: T| T::from_f64(f64::from(b.saturating_sub(a))) * step.abs();
+    let lim = T::from_f64(SHARED_FRAME_SPAN_DEG);
+    span(rows, grid.dlat) <= lim && span(cols, grid.dlon) <= lim
+}
+
+/// A node's box in a [`LocalFrame`] (module docs, "Which frame"): `lo ≤ coords(V) ≤ hi` for every vertex `V` of
+/// the node with data (rows `rows[0] ..= rows[1]`, columns `cols[0] ..= cols[1]`), the vertices as
 /// [`super::vertex_ecef`] forms them in `f64`. Build it with [`NodeBox::of_vertices`] or [`BoxBuilder`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NodeBox {
@@ -130,19 +156,24 @@ pub struct NodeBox {
     pub lo: [f32; 3],
     /// Upper corner.
     pub hi: [f32; 3],
+    /// The box is in the frame of its parent's box, not in its parent's own frame (ignored for a zone, whose
+    /// box is in the grid's frame).
+    pub shared_frame: bool,
 }
 
 impl NodeBox {
-    /// The box of `node`'s vertices with data in the frame of its `parent` ([`LocalFrame::for_box`]), built in
-    /// `f64` from [`super::vertex_ecef`] (a storage's build step: it visits every vertex of the node). `None` if
-    /// the node has no vertex with data.
+    /// The box of `node`'s vertices with data in the frame of `anchor` ([`LocalFrame::for_box`]), built in
+    /// `f64` from [`super::vertex_ecef`] (a storage's build step: it visits every vertex of the node), with
+    /// [`NodeBox::shared_frame`] set to `shared_frame`: the anchor must be the parent (`false`) or the anchor of
+    /// the parent's box (`true`). `None` if the node has no vertex with data.
     pub fn of_vertices<S: TerrainStorage<f64> + ?Sized>(
         storage: &S,
         ellipsoid: &Ellipsoid<f64>,
         node: &Node<f64>,
-        parent: Option<&Node<f64>>,
+        anchor: Option<&Node<f64>>,
+        shared_frame: bool,
     ) -> Option<NodeBox> {
-        let frame = LocalFrame::for_box(storage, ellipsoid, parent);
+        let frame = LocalFrame::for_box(storage, ellipsoid, anchor);
         let mut b = BoxBuilder::default();
         for i in node.rows[0]..=node.rows[1] {
             for j in node.cols[0]..=node.cols[1] {
@@ -151,7 +182,21 @@ impl NodeBox {
                 }
             }
         }
-        b.finish()
+        b.finish().map(|b| NodeBox { shared_frame, ..b })
+    }
+
+    /// The smallest box containing both (the same frame assumed), keeping this box's flag.
+    pub fn union(&self, other: &NodeBox) -> NodeBox {
+        let mut b = *self;
+        for k in 0..3 {
+            if let (Some(l), Some(&o)) = (b.lo.get_mut(k), other.lo.get(k)) {
+                *l = l.min(o);
+            }
+            if let (Some(h), Some(&o)) = (b.hi.get_mut(k), other.hi.get(k)) {
+                *h = h.max(o);
+            }
+        }
+        b
     }
 
     /// The eight corners, in frame coordinates.
@@ -208,7 +253,7 @@ impl BoxBuilder {
         self.mag = self.mag.max(magnitude);
     }
 
-    /// The box of the points added, or `None` if there were none.
+    /// The box of the points added (not [`NodeBox::shared_frame`]), or `None` if there were none.
     pub fn finish(&self) -> Option<NodeBox> {
         if !self.lo.iter().zip(&self.hi).all(|(l, h)| l <= h) {
             return None;
@@ -228,6 +273,7 @@ impl BoxBuilder {
         let mut b = NodeBox {
             lo: [0.0; 3],
             hi: [0.0; 3],
+            shared_frame: false,
         };
         for k in 0..3 {
             if let (Some(o), Some(&l)) = (b.lo.get_mut(k), self.lo.get(k)) {
@@ -242,7 +288,8 @@ impl BoxBuilder {
 }
 
 impl<T: Real> LocalFrame<T> {
-    /// The ray in this frame, for testing boxes of the frame ([`FrameRay::interval`]) within `[lo, hi]`.
+    /// The ray in this frame, for testing boxes of the frame ([`FrameRay::interval`]) within `[lo, hi]` or any
+    /// part of it (the tolerance is sized for parameters up to `max(|lo|, |hi|)`).
     pub fn ray(&self, ray: &Ray<T>, [lo, hi]: [T; 2]) -> FrameRay<T> {
         let (o, d) = (ray.origin(), ray.dir());
         let t_abs = lo.abs().max(hi.abs());
@@ -256,15 +303,13 @@ impl<T: Real> LocalFrame<T> {
             q_hi: V3::new(q.x - tol, q.y - tol, q.z - tol),
             inv: V3::new(T::ONE / qd.x, T::ONE / qd.y, T::ONE / qd.z),
             bounded: tol.is_finite(),
-            lo,
-            hi,
         }
     }
 }
 
 /// A ray in a [`LocalFrame`], set up for its box tests: per axis its origin coordinate shifted by the
 /// tolerance `32 ε (|o|₁ + |t|·|d|₁ + a)` (ε of `T`, `t` over the ray's interval) towards each face, which
-/// inflates every box by that much, and its reciprocal direction; and its parameter interval.
+/// inflates every box by that much, and its reciprocal direction.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrameRay<T> {
     /// `q + tol` and `q − tol`: the origin against the boxes' low and high faces.
@@ -274,21 +319,18 @@ pub struct FrameRay<T> {
     inv: V3<T>,
     /// The tolerance is finite; otherwise no box can clip the interval.
     bounded: bool,
-    lo: T,
-    hi: T,
 }
 
 impl<T: Real> FrameRay<T> {
-    /// The hull of the ray's parameters inside box `b` (of the frame, inflated by the tolerance), or `None`.
-    /// The tolerance covers the rounding of the ray's frame coordinates, of the frame itself and of the vertices
+    /// The hull of the ray's parameters in `[lo, hi]` (within the interval the ray was formed for) inside box `b`
+    /// (of the frame, inflated by the tolerance), or `None`. The tolerance covers the rounding of the ray's frame coordinates, of the frame itself and of the vertices
     /// in `T`, and of the slab parameters.
     ///
     /// Per axis the slab is entered at the face the direction points away from. A zero direction component
     /// gives infinite parameters of the right signs (the origin inside the slab: no clip; outside: empty), or a
     /// NaN on a face itself, which compares false and so clips nothing.
     #[inline]
-    pub fn interval(&self, b: &NodeBox) -> Option<(T, T)> {
-        let (mut lo, mut hi) = (self.lo, self.hi);
+    pub fn interval(&self, b: &NodeBox, [mut lo, mut hi]: [T; 2]) -> Option<(T, T)> {
         if !self.bounded {
             return Some((lo, hi));
         }

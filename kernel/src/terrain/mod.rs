@@ -25,10 +25,11 @@
 //!    twice (one hull over both visits), and is what the no-miss proof below needs. Traversal ends when no
 //!    pending quad can be entered before the best hit, or at `t_global_exit`. When the storage gives node
 //!    boxes ([`TerrainStorage::node_box`]; beyond the paper), zones and children are tested against those
-//!    instead: a box around all of the node's vertices in its parent's local frame ([`boxes`]), so that the ray
-//!    is moved into a visited node's frame once and each child costs three slabs — a small fraction of the
-//!    relaxed test — and, for a node a few kilometres across, the tighter bound. (A global grid's zones, whose
-//!    boxes lie in one frame for the whole grid, are clipped by their volumes too.)
+//!    instead: a box around all of the node's vertices in a local frame ([`boxes`]: its parent's, or the one
+//!    its parent's box is in, down from nodes narrow enough to share one), so that the ray is moved into each
+//!    frame once and each child costs three slabs — a small fraction of the relaxed test — and, for a node a
+//!    few kilometres across, the tighter bound. (A global grid's zones, whose boxes lie in one frame for the
+//!    whole grid, are clipped by their volumes too.)
 //! 4. **Leaf blocks** (§4): in a leaf, each cell (triangle pair) has its own volume bounded by four *planes*: the
 //!    meridian planes of its two columns and, for each of its two rows, the plane through the spheroid normals at
 //!    the row's two grid vertices (both normals of one latitude pass through the latitude cone's apex, so they
@@ -129,7 +130,7 @@
 //! # Cost
 //!
 //! Per child of a visited quad, only along the part of the ray inside the parent: with node boxes, three slabs
-//! (the ray is rotated into the parent's frame once); without them, the child's walls on the parent's internal
+//! (the ray is rotated into a frame once, on a regional DEM once per zone or per ray); without them, the child's walls on the parent's internal
 //! partition: the internal meridian plane (a division), then the rest of the relaxed volume (the internal
 //! latitude plane, the upper spheroid, the lower sphere), each step only if the interval is still non-empty.
 //! Per leaf: a clip against two meridian planes per column (columns the ray misses are skipped), the rows the
@@ -196,7 +197,7 @@ use crate::ray::{Ray, RayError};
 use crate::real::Real;
 use crate::surface::{Side, Spheroid, Surface};
 use crate::vec3::V3;
-use boxes::{LocalFrame, NodeBox};
+use boxes::{FrameRay, LocalFrame, NodeBox};
 use core::cell::Cell;
 use refine::{Tri, Vtx};
 use triangle::WatertightRay;
@@ -414,12 +415,21 @@ struct Entry<T> {
     parent_stride: u32,
     /// The source inherited from the parent.
     src: Option<Source>,
+    /// Where the node's box was tested: its index in the traversal's frames (0: the grid's frame).
+    frame: u8,
+    /// The node's depth below its zone (0: the zone); its own frame goes to index `depth + 1`.
+    depth: u8,
 }
+
+/// The capacity of the traversal's stack of frames ([`boxes`], "Which frame"): node boxes in distinct frames
+/// along one path from a zone, the grid's frame included.
+const FRAMES: usize = 32;
 
 /// The picker: a borrowed storage plus the per-storage constants (global bound, zone volumes).
 ///
 /// `STACK` is the capacity of the traversal stack (up to 3 entries per tree level plus 4); `ZONES` the maximum
-/// number of zones. Both are fixed memory inside the picker and the call frame; exceeding them is an error.
+/// number of zones. Both are fixed memory inside the picker and the call frame; exceeding them is an error (as is
+/// a path with node boxes in more than 31 distinct frames below the grid's).
 #[derive(Debug, Clone)]
 pub struct Picker<'s, T, S, const STACK: usize = 64, const ZONES: usize = 64> {
     storage: &'s S,
@@ -699,9 +709,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             // The box in the grid's frame is tight for a regional grid; across a global one its faces tilt by up
             // to 180°, so the zone's own volume then clips what the box leaves.
             let interval = match bbox {
-                Some(b) if self.regional => grid_ray.interval(b),
+                Some(b) if self.regional => grid_ray.interval(b, [t_lo, t_hi]),
                 Some(b) => grid_ray
-                    .interval(b)
+                    .interval(b, [t_lo, t_hi])
                     .and_then(|(a, c)| clipped.with_interval(a, c).ok())
                     .and_then(|r| volume(&r)),
                 None => volume(&clipped),
@@ -732,6 +742,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 t_out: c,
                 parent_stride: u32::MAX,
                 src: None,
+                frame: 0,
+                depth: 0,
             };
             let mut walk = Walk {
                 ray,
@@ -740,7 +752,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 pending: &mut pending,
                 stats,
             };
-            self.traverse(root, &mut walk, &mut budget)?;
+            self.traverse(root, &grid_ray, &mut walk, &mut budget)?;
         }
         // A missing block matters only if it could hold a hit before the nearest one found.
         match (pending, &best) {
@@ -762,19 +774,32 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         Ok(self.nearest(&seg, &mut stats)?.is_none())
     }
 
-    /// Depth-first, nearest-child-first traversal of one zone with an explicit stack.
+    /// Depth-first, nearest-child-first traversal of one zone with an explicit stack. `grid_ray` is the ray in
+    /// the grid's frame, where the zones' boxes are.
+    ///
+    /// With node boxes, the ray is moved into each frame that boxes are in once ([`boxes`], "Which frame"): a
+    /// node's own frame is kept at index `depth + 1` of an array of frames and its children's entries refer to
+    /// the index their boxes were tested in ([`Entry::frame`]). Only nodes at depth `d` write index `d + 1`,
+    /// and a node at depth `d` is visited only after the whole subtree of every node visited before it at
+    /// depth `d` or deeper (those were pushed above it on the stack, or descend from nodes that were): so no
+    /// pending entry still refers to the index it overwrites.
     // Out of line (like `trace_unit` and `crossed_rows`): inlined into `nearest`, the three cost about 5 % more
     // instructions per pick (callgrind).
     #[inline(never)]
     fn traverse(
         &self,
         root: Entry<T>,
+        grid_ray: &FrameRay<T>,
         w: &mut Walk<'_, '_, T>,
         budget: &mut u64,
     ) -> Result<(), TerrainError> {
         let ray = w.ray;
         let mut stack: heapless::Vec<Entry<T>, STACK> = heapless::Vec::new();
         stack.push(root).map_err(|_| TerrainError::StackFull)?;
+        let mut frames: heapless::Vec<FrameRay<T>, FRAMES> = heapless::Vec::new();
+        frames
+            .push(*grid_ray)
+            .map_err(|_| TerrainError::StackFull)?;
         while let Some(e) = stack.pop() {
             let best_t = w.best_t();
             if e.t_in > best_t {
@@ -805,16 +830,33 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             // Children go straight onto the stack, then are sorted there, nearest entry on top.
             let span = [e.t_in.max(ray.t_min()), t_out.max(e.t_in).min(ray.t_max())];
             let first = stack.len();
-            // The ray in this node's frame, where its children's boxes are (formed at the first box).
-            let mut frame_ray = None;
+            let depth = e.depth.checked_add(1).ok_or(TerrainError::StackFull)?;
+            // This node's own frame, at index `depth` once a child's box needs it.
+            let mut own_ready = false;
             for cid in node.children.iter().flatten() {
-                let interval = match self.storage.node_box(*cid) {
+                let (interval, frame) = match self.storage.node_box(*cid) {
                     // The box holds all of the child's vertices, so every triangle traced under it.
-                    Some(b) => frame_ray
-                        .get_or_insert_with(|| {
-                            LocalFrame::of(self.storage, &self.ellipsoid, &node).ray(ray, span)
-                        })
-                        .interval(&b),
+                    Some(b) => {
+                        let k = if b.shared_frame { e.frame } else { depth };
+                        if !b.shared_frame && !own_ready {
+                            let k = usize::from(depth);
+                            frames.truncate(k);
+                            while frames.len() < k {
+                                // Filler below the own frame, never referred to.
+                                let last = *frames.last().ok_or(TerrainError::MalformedTree)?;
+                                frames.push(last).map_err(|_| TerrainError::StackFull)?;
+                            }
+                            let f = LocalFrame::of(self.storage, &self.ellipsoid, &node);
+                            frames
+                                .push(f.ray(ray, span))
+                                .map_err(|_| TerrainError::StackFull)?;
+                            own_ready = true;
+                        }
+                        let f = frames
+                            .get(usize::from(k))
+                            .ok_or(TerrainError::MalformedTree)?;
+                        (f.interval(&b, span), k)
+                    }
                     None => {
                         let child = self.storage.node(*cid).ok_or(TerrainError::MalformedTree)?;
                         check_child(node.rows, node.cols, &child)?;
@@ -824,7 +866,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                         let c_stride = self.stride_of(*cid, stride)?;
                         let [a, c] = span;
                         let sub = ray.with_interval(a, c)?;
-                        self.volume_interval(*cid, &child, &node, c_stride, src, lo, hi, &sub)?
+                        let v =
+                            self.volume_interval(*cid, &child, &node, c_stride, src, lo, hi, &sub)?;
+                        (v, e.frame)
                     }
                 };
                 if let Some((t_in, t_out)) = interval {
@@ -835,6 +879,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                         t_out,
                         parent_stride: stride,
                         src,
+                        frame,
+                        depth,
                     };
                     stack.push(child).map_err(|_| TerrainError::StackFull)?;
                 }

@@ -178,12 +178,13 @@ pub trait TerrainStorage<T: Real> {
     fn col_sin_cos_dd(&self, j: u32) -> (Dd<T>, Dd<T>) {
         super::col_sin_cos_dd(&self.grid(), j)
     }
-    /// Optional box of the node (beyond the paper; [`super::boxes`]): a box in its parent's local frame
-    /// ([`super::boxes::LocalFrame::for_box`]; a zone's in the grid's frame) that contains every vertex of the
-    /// node with data, as [`super::boxes::NodeBox::of_vertices`] forms it from [`super::vertex_ecef`] in `f64`
-    /// (or a box containing that one). The traversal then tests the node against its box instead of its
-    /// spheroidal volume, which is several times cheaper. It **must** contain those vertices (or be `None`): a
-    /// smaller box voids the no-miss guarantee.
+    /// Optional box of the node (beyond the paper; [`super::boxes`]): a box in its parent's own local frame, or
+    /// in the frame of its parent's box when [`super::boxes::NodeBox::shared_frame`] says so (a zone's in the
+    /// grid's frame; [`super::boxes::LocalFrame::for_box`]), that contains every vertex of the node with data, as
+    /// [`super::boxes::NodeBox::of_vertices`] forms it from [`super::vertex_ecef`] in `f64` (or a box containing
+    /// that one). The traversal then tests the node against its box instead of its spheroidal volume, which is
+    /// several times cheaper. It **must** contain those vertices (or be `None`): a smaller box voids the no-miss
+    /// guarantee.
     fn node_box(&self, _id: NodeId) -> Option<super::boxes::NodeBox> {
         None
     }

@@ -62,18 +62,29 @@ impl TestDem {
         d
     }
 
-    /// Gives every node its box ([`boxes`]), from all of its vertices.
-    fn with_boxes(mut self) -> Self {
-        self.boxes = self
-            .nodes
-            .iter()
-            .enumerate()
-            .map(|(k, n)| {
-                let parent = self
-                    .nodes
+    /// Gives every node its box ([`boxes`]), from all of its vertices: a child's box in the frame of its
+    /// parent's box when `share(its index)`, else in its parent's own frame (a zone's in the grid's).
+    fn with_boxes(mut self, share: impl Fn(usize) -> bool) -> Self {
+        let parent: Vec<Option<usize>> = (0..self.nodes.len())
+            .map(|k| {
+                self.nodes
                     .iter()
-                    .find(|p| p.children.iter().flatten().any(|c| c.0 as usize == k));
-                boxes::NodeBox::of_vertices(&self, &self.e, n, parent)
+                    .position(|p| p.children.iter().flatten().any(|c| c.0 as usize == k))
+            })
+            .collect();
+        let shared = |k: usize| parent[k].is_some() && share(k);
+        // The node whose own frame node k's box is in (`None`: the grid's).
+        let anchor = |k: usize| {
+            let mut c = k;
+            while shared(c) {
+                c = parent[c]?;
+            }
+            parent[c]
+        };
+        self.boxes = (0..self.nodes.len())
+            .map(|k| {
+                let a = anchor(k).map(|a| &self.nodes[a]);
+                boxes::NodeBox::of_vertices(&self, &self.e, &self.nodes[k], a, shared(k))
             })
             .collect();
         self
@@ -493,7 +504,11 @@ fn random_rays_agree_with_brute_force_on_rough_terrain() {
             .collect();
         // Spheroidal volumes, then node boxes, on the same rays.
         let plain = TestDem::new(g, hs.clone(), 2, 2, 2);
-        let boxed = TestDem::new(g, hs, 2, 2, 2).with_boxes();
+        // Boxes in their parents' frames, in one frame for the whole grid, and a mix of the two.
+        let boxed = TestDem::new(g, hs.clone(), 2, 2, 2).with_boxes(|_| false);
+        let one_frame = TestDem::new(g, hs.clone(), 2, 2, 2).with_boxes(|_| true);
+        let mixed = TestDem::new(g, hs, 2, 2, 2).with_boxes(|k| k % 3 != 1);
+        assert!(mixed.boxes.iter().flatten().any(|b| b.shared_frame));
         let e = plain.e;
         let rays: Vec<Ray<f64>> = (0..300)
             .map(|_| {
@@ -505,11 +520,16 @@ fn random_rays_agree_with_brute_force_on_rough_terrain() {
                 Ray::new(target.add_scaled(-dist, dir), dir).unwrap()
             })
             .collect();
-        for dem in [&plain, &boxed] {
+        for (name, dem) in [
+            ("volumes", &plain),
+            ("boxes", &boxed),
+            ("boxes in one frame", &one_frame),
+            ("boxes in mixed frames", &mixed),
+        ] {
             let p: Picker<'_, f64, TestDem> = Picker::new(dem).unwrap();
             for (k, ray) in rays.iter().enumerate() {
                 let got = p.pick(ray).unwrap().map(|h| (h.t, h.cell));
-                let what = std::format!("grid at {lat0}, boxes {}, ray {k}", !dem.boxes.is_empty());
+                let what = std::format!("grid at {lat0}, {name}, ray {k}");
                 same_hit(ray, got, dem.brute(ray), &what);
             }
         }
@@ -523,7 +543,8 @@ fn node_boxes_stand_in_for_the_volumes() {
     let hs: Vec<f64> = (0..81)
         .map(|k| if k % 9 == 4 { 1500.0 } else { 200.0 })
         .collect();
-    let dem = TestDem::new(g, hs, 2, 1, 2).with_boxes();
+    // Every other node's box in the frame of its parent's box.
+    let dem = TestDem::new(g, hs, 2, 1, 2).with_boxes(|k| k % 2 == 0);
     assert!(dem.boxes.iter().all(Option::is_some));
     let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
     let e = dem.e;
@@ -723,7 +744,7 @@ fn f32_picker_with_a_box_built_in_f64_still_finds_the_peak() {
     // The box is exact for the f64 vertices; the f32 picker's vertices and frame differ by f32 rounding (0.5 m
     // at Earth scale), which the box test's tolerance covers.
     let g = grid(47.0, 8.0, 0.01, 0.01, 3, 3);
-    let f64_dem = TestDem::new(g, PEAK.to_vec(), 2, 1, 1).with_boxes();
+    let f64_dem = TestDem::new(g, PEAK.to_vec(), 2, 1, 1).with_boxes(|_| false);
     let dem = TinyF32(PEAK.map(|h| h as f32), f64_dem.boxes[0]);
     assert!(dem.1.is_some());
     let p: Picker<'_, f32, TinyF32> = Picker::new(&dem).unwrap();
