@@ -2,7 +2,9 @@
 //! parry3d-f64's `TriMesh` BVH and brute force, on Trinidad (1201 × 2401) and a synthetic fractal terrain of
 //! 4096 × 4096 vertices (set `CURVICAST_TERRAIN_BENCH_N` for another size: parry's mesh needs about 170 bytes per
 //! triangle, 5.6 GB at 4096²), rays from a camera 2 km above ground and from orbit. Each iteration picks a batch
-//! of rays; throughput is in rays. `quadtree_block*` is `Picker::pick` (the refined hit with its geodetic
+//! of distinct rays; throughput is in rays. Two batch sizes: 256 rays (`_x256`), whose nodes stay in the caches
+//! between iterations, and 4096 (`_x4096`), closer to a stream of picks over the whole terrain, where the size
+//! of each structure shows. `quadtree_block*` is `Picker::pick` (the refined hit with its geodetic
 //! coordinates); `quadtree_t_block*` is `Picker::pick_t`, the same traversal returning `t` and the cell, which is
 //! what parry's `cast_local_ray` returns.
 //!
@@ -18,7 +20,8 @@ use curvicast_host::scenes::terrain::{Dem, DemStorage};
 use curvicast_host::scenes::terrain_cases::{TerrainKind, camera_rays, orbit_rays, synthetic};
 use std::hint::black_box;
 
-const BATCH: usize = 256;
+/// The batch sizes (distinct rays per iteration).
+const BATCHES: [usize; 2] = [256, 4096];
 
 fn bench_scene(c: &mut Criterion, name: &str, dem: &Dem) {
     // Leaf blocks of 8 × 8 cells (the faster) and 16 × 16 (the command line's default), with node boxes.
@@ -31,15 +34,18 @@ fn bench_scene(c: &mut Criterion, name: &str, dem: &Dem) {
     let brute = BruteForceTerrain::new(dem);
     let mut g = c.benchmark_group(format!("terrain/{name}"));
     g.sample_size(10);
-    for (kind, rays) in [
-        ("camera_2km", camera_rays(dem, BATCH, 2000.0, 1)),
-        ("orbit", orbit_rays(dem, BATCH, 2)),
-    ] {
+    for (kind, rays) in BATCHES.into_iter().flat_map(|n| {
+        [
+            (format!("camera_2km_x{n}"), camera_rays(dem, n, 2000.0, 1)),
+            (format!("orbit_x{n}"), orbit_rays(dem, n, 2)),
+        ]
+    }) {
+        let kind = kind.as_str();
         let kr: Vec<Ray<f64>> = rays
             .iter()
             .map(|r| Ray::new(r.origin, r.dir).expect("ray"))
             .collect();
-        g.throughput(Throughput::Elements(BATCH as u64));
+        g.throughput(Throughput::Elements(rays.len() as u64));
         for (block, picker) in &pickers {
             let id = BenchmarkId::new(format!("quadtree_block{block}"), kind);
             g.bench_with_input(id, &kr, |b, kr| {
@@ -70,11 +76,13 @@ fn bench_scene(c: &mut Criterion, name: &str, dem: &Dem) {
                 })
             },
         );
-        // Brute force is sampled: one ray per iteration.
-        g.throughput(Throughput::Elements(1));
-        g.bench_with_input(BenchmarkId::new("brute_force", kind), &rays[0], |b, r| {
-            b.iter(|| brute.pick(black_box(r)))
-        });
+        // Brute force is sampled: one ray per iteration (once per kind of ray).
+        if rays.len() == BATCHES[0] {
+            g.throughput(Throughput::Elements(1));
+            g.bench_with_input(BenchmarkId::new("brute_force", kind), &rays[0], |b, r| {
+                b.iter(|| brute.pick(black_box(r)))
+            });
+        }
     }
     g.finish();
 }

@@ -748,6 +748,11 @@ mod tests {
     }
 }
 
+/// The id slots of a pyramid level of `nr × nc` nodes stored by 2 × 2 groups ([`DemStorage`]'s ids).
+fn level_len(nr: usize, nc: usize) -> usize {
+    4 * nr.div_ceil(2) * nc.div_ceil(2)
+}
+
 /// The host's terrain storage for the kernel (seed 000 §3.5, §4): a [`Dem`] plus its [`HeightPyramid`], exposed
 /// through [`curvicast::terrain::TerrainStorage`].
 ///
@@ -759,9 +764,10 @@ mod tests {
 /// * Zones (the roots, §3.5) are the nodes of the lowest pyramid level that has at most 4 rows and 8 columns of
 ///   nodes — at most 8 × 4 = 32 zones bounded by parallels and meridians of the grid, whether the DEM is global
 ///   (ETOPO20: 3 × 5 zones) or regional (Trinidad: 3 × 5 zones of its own extent).
-/// * A node id is the node's index in the pyramid's level arrays (levels concatenated). Each node keeps one
-///   record formed at build time — cell ranges, height range, child ids, level, and the node's box in its parent's
-///   local frame ([`curvicast::terrain::boxes`], built bottom-up) — from which the kernel's
+/// * A node id is the node's slot in the pyramid's levels (concatenated from the leaves up; within a level by
+///   2 × 2 groups, so that siblings are adjacent: [`DemStorage::id`]). Each node keeps one record formed at
+///   build time — cell ranges, height range, child ids, level, and the node's box ([`curvicast::terrain::boxes`],
+///   built bottom-up) — from which the kernel's
 ///   [`curvicast::terrain::Node`] is copied when asked for ([`DemStorage::overhead_bytes`] counts them). A parent
 ///   whose only child covers the same cells is skipped (the kernel requires children strictly smaller than their
 ///   parent).
@@ -840,7 +846,7 @@ impl<'a> DemStorage<'a> {
         let mut acc = 0;
         for &(r, c) in &pyramid.dims {
             offsets.push(acc);
-            acc += r * c;
+            acc += level_len(r, c);
         }
         let zone_level = pyramid
             .dims
@@ -888,9 +894,17 @@ impl<'a> DemStorage<'a> {
             .iter()
             .enumerate()
             .map(|(k, &kids)| {
-                let (level, r, c) = s
-                    .locate(curvicast::terrain::NodeId(k as u32))
-                    .expect("node id in range");
+                let Some((level, r, c)) = s.locate(curvicast::terrain::NodeId(k as u32)) else {
+                    // A slot past the level's last row or column (see `id`): no node, no data.
+                    return NodeRecord {
+                        rows: [0; 2],
+                        cols: [0; 2],
+                        heights: [1.0, 0.0],
+                        kids,
+                        level: 0,
+                        bbox: None,
+                    };
+                };
                 let (rows, cols) = s.ranges(level, r, c);
                 let nc = s.pyramid.dims[level].1;
                 let (lo, hi) = (
@@ -1077,7 +1091,13 @@ impl<'a> DemStorage<'a> {
         self.offsets
             .get(self.zone_level + 1)
             .copied()
-            .unwrap_or_else(|| self.pyramid.dims.iter().map(|&(r, c)| r * c).sum())
+            .unwrap_or_else(|| {
+                self.pyramid
+                    .dims
+                    .iter()
+                    .map(|&(r, c)| level_len(r, c))
+                    .sum()
+            })
     }
 
     /// The depth of the tree: the level of the leaves below the zones (zones are level 0).
@@ -1104,11 +1124,18 @@ impl<'a> DemStorage<'a> {
         self.dem.heights.len() * std::mem::size_of::<f32>()
     }
 
+    /// The id of pyramid node (level, r, c): levels are concatenated from the leaves up, and within a level the
+    /// nodes are stored by 2 × 2 groups (row-major over the groups, then row-major inside a group), so that the
+    /// four children of a node — one group of the level below — have consecutive ids and records: the traversal
+    /// reads their boxes from adjacent cache lines. A level of `nr × nc` nodes has `level_len(nr, nc)` slots; the
+    /// slots past an odd last row or column hold no node.
     fn id(&self, level: usize, r: usize, c: usize) -> curvicast::terrain::NodeId {
-        let (_, nc) = self.pyramid.dims[level];
-        curvicast::terrain::NodeId((self.offsets[level] + r * nc + c) as u32)
+        let groups_per_row = self.pyramid.dims[level].1.div_ceil(2);
+        let slot = 4 * (groups_per_row * (r / 2) + c / 2) + 2 * (r % 2) + c % 2;
+        curvicast::terrain::NodeId((self.offsets[level] + slot) as u32)
     }
 
+    /// The pyramid node (level, r, c) of an id ([`DemStorage::id`]), `None` for an unused slot.
     fn locate(&self, id: curvicast::terrain::NodeId) -> Option<(usize, usize, usize)> {
         let k = id.0 as usize;
         let level = self.offsets.iter().rposition(|&o| o <= k)?;
@@ -1117,7 +1144,11 @@ impl<'a> DemStorage<'a> {
         }
         let (nr, nc) = self.pyramid.dims[level];
         let local = k - self.offsets[level];
-        (local < nr * nc).then_some((level, local / nc, local % nc))
+        let (group, inside) = (local / 4, local % 4);
+        let groups_per_row = nc.div_ceil(2);
+        let r = 2 * (group / groups_per_row) + inside / 2;
+        let c = 2 * (group % groups_per_row) + inside % 2;
+        (r < nr && c < nc).then_some((level, r, c))
     }
 
     /// Cell ranges `[r0, r1) × [c0, c1)` of pyramid node (level, r, c).

@@ -933,6 +933,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
 
     /// What to do at a node (module docs, "Multi-resolution"): `stride` is its block stride, `src` the source
     /// inherited from its parent.
+    #[inline(always)]
     fn step(
         &self,
         id: NodeId,
