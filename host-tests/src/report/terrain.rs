@@ -84,7 +84,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
             let storage = DemStorage::new(dem, block);
             let build = t0.elapsed().as_secs_f64();
             mem.push_str(&format!(
-                "| {name} | {block} × {block} | {triangles} | {} | {} ({:.2} % of the heights; {} nodes) | {:.3} s | {} ({:.1}× ours + heights) | {:.2} s | {} |\n",
+                "| {name} | {block} × {block} | {triangles} | {} | {} ({:.2} % of the heights; {} node records) | {:.3} s | {} ({:.1}× ours + heights) | {:.2} s | {} |\n",
                 mb(storage.heights_bytes()),
                 mb(storage.overhead_bytes()),
                 100.0 * storage.overhead_bytes() as f64 / storage.heights_bytes() as f64,
@@ -166,7 +166,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
         ));
     }
     md.push_str("\nMemory. Ours: one 72-byte record per quadtree node (cell ranges, height range, child ids, level, \
-                 the node's box in its parent's local frame as six f32) plus the zone list, the sine/cosine of every grid \
+                 the node's box in a local frame as six f32 and a flag; siblings' records adjacent) plus the zone list, the sine/cosine of every grid \
                  row and column (two f64 each) and their double-double forms for the refinement (64 bytes per \
                  row, 32 per column) — the heights themselves are the DEM's and are needed by every method. parry: \
                  its own `TriMesh::total_memory_size()` estimate (vertex array of f64 triples, index triples, BVH \

@@ -1086,7 +1086,8 @@ impl<'a> DemStorage<'a> {
         self.pyramid.block
     }
 
-    /// Number of quadtree nodes (all pyramid levels from the leaves up to the zones).
+    /// Number of node records: the id slots of all pyramid levels from the leaves up to the zones ([`DemStorage::id`];
+    /// a few slots past odd last rows and columns hold no node).
     pub fn node_count(&self) -> usize {
         self.offsets
             .get(self.zone_level + 1)

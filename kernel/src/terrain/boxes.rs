@@ -10,10 +10,11 @@
 //!
 //! **Which frame.** A zone's box is in the frame of the whole grid. A child's box is in its parent's own frame
 //! ([`LocalFrame::of`]), or, when the box says so ([`NodeBox::shared_frame`]), in the frame its parent's box is
-//! in: a node narrow enough that a frame a little off its middle still fits it well passes its box's frame down,
-//! so that the traversal of a regional DEM moves the ray into one frame per ray instead of one per visited node
-//! ([`shares_frame_with_children`] is the rule the host's storage follows; the kernel only reads the flag).
-//! [`LocalFrame::for_box`] gives the frame from the *anchor*: the node whose own frame it is (`None`: the grid).
+//! in. A frame is *anchored* at the node whose own frame it is (or at the grid); while the anchor is small, its
+//! frame fits every box below it nearly as well as their parents' own frames would, so a storage may pass it
+//! down, and the traversal of a regional DEM then moves the ray into one frame per ray or per zone instead of one
+//! per visited node ([`shares_frame_with_children`] is the rule the host's storage follows; the kernel only reads
+//! the flag). [`LocalFrame::for_box`] gives a box's frame from its anchor.
 //!
 //! A frame is east, north, up at a node's middle vertex ([`LocalFrame::of`]); the box is stored in `f32`,
 //! rounded outwards, and the kernel inflates it by the rounding of the ray's transformation and of the frame and

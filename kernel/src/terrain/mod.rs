@@ -130,9 +130,10 @@
 //! # Cost
 //!
 //! Per child of a visited quad, only along the part of the ray inside the parent: with node boxes, three slabs
-//! (the ray is rotated into a frame once, on a regional DEM once per zone or per ray); without them, the child's walls on the parent's internal
-//! partition: the internal meridian plane (a division), then the rest of the relaxed volume (the internal
-//! latitude plane, the upper spheroid, the lower sphere), each step only if the interval is still non-empty.
+//! (the ray is rotated into each frame once: on a regional DEM once per zone or per ray); without them, the
+//! child's walls on the parent's internal partition: the internal meridian plane (a division), then the rest of
+//! the relaxed volume (the internal latitude plane, the upper spheroid, the lower sphere), each step only if the
+//! interval is still non-empty.
 //! Per leaf: a clip against two meridian planes per column (columns the ray misses are skipped), the rows the
 //! column's segment can cross (a few plane signs from the previous column's row), two row planes per such
 //! cell, the height cull, and the triangle test for what is left. No trigonometry is needed per ray when the
@@ -779,10 +780,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     ///
     /// With node boxes, the ray is moved into each frame that boxes are in once ([`boxes`], "Which frame"): a
     /// node's own frame is kept at index `depth + 1` of an array of frames and its children's entries refer to
-    /// the index their boxes were tested in ([`Entry::frame`]). Only nodes at depth `d` write index `d + 1`,
-    /// and a node at depth `d` is visited only after the whole subtree of every node visited before it at
-    /// depth `d` or deeper (those were pushed above it on the stack, or descend from nodes that were): so no
-    /// pending entry still refers to the index it overwrites.
+    /// the index their boxes were tested in ([`Entry::frame`]). Only nodes at depth `d` write index `d + 1`
+    /// (below it they only fill slots that no entry refers to), and a node at depth `d` is visited only after
+    /// the whole subtree of every node visited before it at depth `d` or deeper (those were pushed above it on
+    /// the stack, or descend from nodes that were): so no pending entry still refers to the index it overwrites.
     // Out of line (like `trace_unit` and `crossed_rows`): inlined into `nearest`, the three cost about 5 % more
     // instructions per pick (callgrind).
     #[inline(never)]
