@@ -765,7 +765,7 @@ fn level_len(nr: usize, nc: usize) -> usize {
 ///   nodes — at most 8 × 4 = 32 zones bounded by parallels and meridians of the grid, whether the DEM is global
 ///   (ETOPO20: 3 × 5 zones) or regional (Trinidad: 3 × 5 zones of its own extent).
 /// * A node id is the node's slot in the pyramid's levels (concatenated from the leaves up; within a level by
-///   2 × 2 groups, so that siblings are adjacent: [`DemStorage::id`]). Each node keeps one record formed at
+///   2 × 2 groups, so that siblings are adjacent). Each node keeps one record formed at
 ///   build time — cell ranges, height range, child ids, level, and the node's box ([`curvicast::terrain::boxes`],
 ///   built bottom-up) — from which the kernel's
 ///   [`curvicast::terrain::Node`] is copied when asked for ([`DemStorage::overhead_bytes`] counts them). A parent
@@ -1086,8 +1086,8 @@ impl<'a> DemStorage<'a> {
         self.pyramid.block
     }
 
-    /// Number of node records: the id slots of all pyramid levels from the leaves up to the zones ([`DemStorage::id`];
-    /// a few slots past odd last rows and columns hold no node).
+    /// Number of node records: the id slots of all pyramid levels from the leaves up to the zones (levels are
+    /// stored by 2 × 2 groups, so a few slots past odd last rows and columns hold no node).
     pub fn node_count(&self) -> usize {
         self.offsets
             .get(self.zone_level + 1)
