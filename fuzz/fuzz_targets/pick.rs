@@ -18,7 +18,7 @@
 use arbitrary::Arbitrary;
 use curvicast::Ray;
 use curvicast::geodesy::Ellipsoid;
-use curvicast::terrain::boxes::NodeBox;
+use curvicast::terrain::boxes::{NodeBox, anchor_of};
 use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainStorage};
 use libfuzzer_sys::fuzz_target;
 
@@ -74,17 +74,10 @@ impl Tiny {
                 .position(|p| p.children.iter().flatten().any(|c| c.0 as usize == k))
         };
         let shared = |k: usize| parent(k).is_some() && (share >> (k % 4)) & 1 == 1;
-        // The node whose own frame node k's box is in (`None`: the grid's).
-        let anchor = |k: usize| {
-            let mut c = k;
-            while shared(c) {
-                c = parent(c)?;
-            }
-            parent(c)
-        };
-        (0..self.nodes.len())
+        let n = self.nodes.len();
+        (0..n)
             .map(|k| {
-                let a = anchor(k).map(|a| &self.nodes[a]);
+                let a = anchor_of(k, n, parent, shared).map(|a| &self.nodes[a]);
                 NodeBox::of_vertices(self, &e, &self.nodes[k], a, shared(k))
             })
             .collect()

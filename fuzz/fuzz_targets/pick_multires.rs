@@ -35,7 +35,7 @@
 use arbitrary::Arbitrary;
 use curvicast::Ray;
 use curvicast::geodesy::Ellipsoid;
-use curvicast::terrain::boxes::NodeBox;
+use curvicast::terrain::boxes::{NodeBox, anchor_of};
 use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainError, TerrainStorage};
 use libfuzzer_sys::fuzz_target;
 use std::collections::BTreeSet;
@@ -143,17 +143,10 @@ impl Tiny {
         let e = self.ellipsoid();
         let parent = |k: usize| self.parent.get(k).copied().flatten();
         let shared = |k: usize| parent(k).is_some() && (share >> (k % 3)) & 1 == 1;
-        // The node whose own frame node k's box is in (`None`: the grid's).
-        let anchor = |k: usize| {
-            let mut c = k;
-            while shared(c) {
-                c = parent(c)?;
-            }
-            parent(c)
-        };
-        (0..self.nodes.len())
+        let n = self.nodes.len();
+        (0..n)
             .map(|k| {
-                let a = anchor(k).and_then(|a| self.nodes.get(a));
+                let a = anchor_of(k, n, parent, shared).and_then(|a| self.nodes.get(a));
                 NodeBox::of_vertices(self, &e, &self.nodes[k], a, shared(k))
             })
             .collect()

@@ -148,6 +148,27 @@ pub fn shares_frame_with_children<T: Real>(grid: &Grid<T>, anchor: Option<&Node<
     span(rows, grid.dlat) <= lim && span(cols, grid.dlon) <= lim
 }
 
+/// The anchor of node `k`'s box frame ([`LocalFrame::for_box`]) for a storage's build step, from its tree's parent
+/// links and the flags it gives the boxes ([`NodeBox::shared_frame`]): up from `k` while the box shares its
+/// parent's box frame, then that node's parent; `None` for the grid's frame (a zone's, or a chain of shared frames
+/// up to a zone). At most `nodes` steps: only a cycle of parent links takes more, and gives `None`.
+pub fn anchor_of(
+    k: usize,
+    nodes: usize,
+    parent: impl Fn(usize) -> Option<usize>,
+    shared: impl Fn(usize) -> bool,
+) -> Option<usize> {
+    let mut c = k;
+    for _ in 0..=nodes {
+        let p = parent(c)?;
+        if !shared(c) {
+            return Some(p);
+        }
+        c = p;
+    }
+    None
+}
+
 /// A node's box in a [`LocalFrame`] (module docs, "Which frame"): `lo ≤ coords(V) ≤ hi` for every vertex `V` of
 /// the node with data (rows `rows[0] ..= rows[1]`, columns `cols[0] ..= cols[1]`), the vertices as
 /// [`super::vertex_ecef`] forms them in `f64`. Build it with [`NodeBox::of_vertices`] or [`BoxBuilder`].
@@ -394,6 +415,27 @@ mod tests {
         }
         // Not loose by more than an f32 ulp or two beyond the margin.
         assert!(f64::from(bx.hi[1]) - (98_765.432_1 + margin) < 0.02);
+    }
+
+    #[test]
+    fn anchor_follows_shared_frames_up_to_the_grid_and_stops_on_a_cycle() {
+        // 0 is a zone; 1 its child; 2 and 3 children of 1; 4 a child of 3.
+        let parent = |k: usize| {
+            [None, Some(0), Some(1), Some(1), Some(3)]
+                .get(k)
+                .copied()
+                .flatten()
+        };
+        let shared = |k: usize| k == 3 || k == 4;
+        assert_eq!(anchor_of(0, 5, parent, shared), None);
+        assert_eq!(anchor_of(1, 5, parent, shared), Some(0));
+        assert_eq!(anchor_of(2, 5, parent, shared), Some(1));
+        assert_eq!(anchor_of(3, 5, parent, shared), Some(0));
+        assert_eq!(anchor_of(4, 5, parent, shared), Some(0));
+        // Everything shared: the grid's frame.
+        assert_eq!(anchor_of(4, 5, parent, |_| true), None);
+        // A cycle of shared parent links ends after `nodes` steps.
+        assert_eq!(anchor_of(0, 2, |k| Some(1 - k), |_| true), None);
     }
 
     #[test]

@@ -840,9 +840,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     Some(b) => {
                         let k = if b.shared_frame { e.frame } else { depth };
                         if !b.shared_frame && !own_ready {
-                            let k = usize::from(depth);
-                            frames.truncate(k);
-                            while frames.len() < k {
+                            let own = usize::from(depth);
+                            frames.truncate(own);
+                            while frames.len() < own {
                                 // Filler below the own frame, never referred to.
                                 let last = *frames.last().ok_or(TerrainError::MalformedTree)?;
                                 frames.push(last).map_err(|_| TerrainError::StackFull)?;

@@ -72,18 +72,11 @@ impl TestDem {
                     .position(|p| p.children.iter().flatten().any(|c| c.0 as usize == k))
             })
             .collect();
+        let n = self.nodes.len();
         let shared = |k: usize| parent[k].is_some() && share(k);
-        // The node whose own frame node k's box is in (`None`: the grid's).
-        let anchor = |k: usize| {
-            let mut c = k;
-            while shared(c) {
-                c = parent[c]?;
-            }
-            parent[c]
-        };
-        self.boxes = (0..self.nodes.len())
+        self.boxes = (0..n)
             .map(|k| {
-                let a = anchor(k).map(|a| &self.nodes[a]);
+                let a = boxes::anchor_of(k, n, |c| parent[c], shared).map(|a| &self.nodes[a]);
                 boxes::NodeBox::of_vertices(&self, &self.e, &self.nodes[k], a, shared(k))
             })
             .collect();
