@@ -37,8 +37,11 @@ enum Command {
     /// Nearest hit of each ray with a DEM's triangle surface (ECEF meters; see the command-line contract).
     Pick {
         /// The TERRAIN.json file.
+        #[arg(long, required_unless_present = "dem", conflicts_with = "dem")]
+        terrain: Option<PathBuf>,
+        /// A DEM file instead of --terrain: SRTM .hgt, single-band geographic GeoTIFF, or .dem.cc.
         #[arg(long)]
-        terrain: PathBuf,
+        dem: Option<PathBuf>,
         /// Rays (JSON Lines); standard input without it.
         #[arg(long)]
         rays: Option<PathBuf>,
@@ -118,6 +121,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Pick {
             terrain,
+            dem,
             rays,
             min_level,
             block,
@@ -127,8 +131,12 @@ fn main() -> ExitCode {
             non_resident_region,
             no_paging,
         } => {
+            use curvicast_host::cli::pick::TerrainSource;
             let args = curvicast_host::cli::pick::PickArgs {
-                terrain,
+                terrain: match (terrain, dem) {
+                    (Some(t), _) => TerrainSource::Terrain(t),
+                    (None, d) => TerrainSource::Dem(d.unwrap_or_default()),
+                },
                 rays,
                 min_level,
                 block,

@@ -5,13 +5,15 @@
 //! indices), or `{"ray": i, "error": ".."}` for a ray that cannot be marched. A malformed grid file is a usage
 //! error (exit code 2, one line on stderr naming the file, nothing on stdout).
 
-use super::io::{UsageError, error_line, read_rays};
+use super::io::{RayLine, UsageError, error_line, stream_answers};
 use crate::scenes::spec::{GridSpec, RaySpec};
 use curvicast::F32Fast;
 use curvicast::ray::Ray;
 use curvicast::real::Real;
-use curvicast::spherical::{CellCrossing, CylindricalGrid, MarchError, PolarGrid, SphericalGrid};
-use std::io::{IsTerminal, Write};
+use curvicast::spherical::{
+    CellCrossing, CylindricalGrid, MarchError, PolarGrid, SerialMarch, SphericalGrid,
+};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// Which engine marches.
@@ -56,14 +58,14 @@ pub fn read_grid(path: &Path) -> Result<GridSpec, UsageError> {
         .map_err(|e| UsageError(format!("{}: invalid grid: {e}", path.display())))
 }
 
-/// Runs the command, writing the answers to `out`.
+/// Runs the command, writing the answers to `out` as the rays arrive (see [`super::io`] for the streaming rules).
 pub fn run(args: &MarchArgs, out: &mut dyn Write) -> anyhow::Result<()> {
     let spec = read_grid(&args.grid)?;
-    let rays = read_rays(args.rays.as_deref())?;
+    let rays = args.rays.as_deref();
     match args.precision {
-        Precision::F64 => run_in::<f64>(&spec, &args.grid, &rays, args.engine, out),
-        Precision::F32 => run_in::<f32>(&spec, &args.grid, &rays, args.engine, out),
-        Precision::F32Fast => run_in::<F32Fast>(&spec, &args.grid, &rays, args.engine, out),
+        Precision::F64 => run_in::<f64>(&spec, &args.grid, rays, args.engine, out),
+        Precision::F32 => run_in::<f32>(&spec, &args.grid, rays, args.engine, out),
+        Precision::F32Fast => run_in::<F32Fast>(&spec, &args.grid, rays, args.engine, out),
     }
 }
 
@@ -79,16 +81,12 @@ enum AnyGrid<'a, T> {
 }
 
 impl<T: Real + Send + Sync> AnyGrid<'_, T> {
-    fn serial(&self, ray: &Ray<T>) -> Result<Vec<CellCrossing<T>>, MarchError> {
-        let mut m = match self {
+    /// The serial march (seed 001 ch. 5): an iterator of crossings with constant-size state.
+    fn march(&self, ray: &Ray<T>) -> SerialMarch<'_, T> {
+        match self {
             AnyGrid::S(g) => g.march(ray),
             AnyGrid::C(g) => g.march(ray),
             AnyGrid::P(g) => g.march(ray),
-        };
-        let v: Vec<_> = m.by_ref().collect();
-        match m.error() {
-            Some(e) => Err(e),
-            None => Ok(v),
         }
     }
 
@@ -126,7 +124,7 @@ impl<T: Real + Send + Sync> AnyGrid<'_, T> {
 fn run_in<T: Real + Send + Sync>(
     spec: &GridSpec,
     path: &Path,
-    rays: &[Result<RaySpec, String>],
+    rays: Option<&Path>,
     engine: Engine,
     out: &mut dyn Write,
 ) -> anyhow::Result<()> {
@@ -187,25 +185,25 @@ fn run_in<T: Real + Send + Sync>(
     // Separable buffers: at most about two crossings per breakpoint per axis (ditone r and θ), plus ties.
     let longest = a.len().max(b.len()).max(c.len());
     let need = 2 * longest + 8;
-    let bar = (std::io::stderr().is_terminal() && rays.len() >= 10_000).then(|| {
-        let pb = indicatif::ProgressBar::with_draw_target(
-            Some(rays.len() as u64),
-            indicatif::ProgressDrawTarget::stderr(),
-        );
-        pb.set_message("march");
-        pb
-    });
-    let mut buf = std::io::BufWriter::new(out);
-    for (i, line) in rays.iter().enumerate() {
-        if let Some(pb) = &bar {
-            pb.inc(1);
-        }
-        let ray = match line {
-            Ok(r) => make_ray::<T>(r),
-            Err(e) => Err(e.clone()),
+    // A ray crosses each sphere or cone at most twice and each half-plane or plane once, plus the zero-length
+    // crossings at ties: a bound on one answer's length, which sizes the window of rays answered at once.
+    let bound = (2 * (a.len() + b.len() + c.len()) + 8).saturating_mul(CROSSING_BYTES);
+    let (window, spill) = if bound > STREAM_ONE_RAY_BYTES {
+        (1, SPILL_BYTES)
+    } else {
+        ((WINDOW_BYTES / bound).clamp(1, MAX_WINDOW), usize::MAX)
+    };
+    let answer = |i: usize, line: RayLine, w: &mut dyn Write| -> std::io::Result<()> {
+        let ray = match line.and_then(|r| make_ray::<T>(&r)) {
+            Ok(r) => r,
+            Err(e) => return writeln!(w, "{}", error_line(i, &e)),
         };
-        let result = ray.and_then(|ray| match engine {
-            Engine::Serial => grid.serial(&ray).map_err(|e| e.to_string()),
+        let result = match engine {
+            Engine::Serial => {
+                let mut m = grid.march(&ray);
+                let (rest, streamed) = write_crossings(i, m.by_ref(), polar, spill, w)?;
+                return finish_line(i, rest, streamed, m.error().map(|e| e.to_string()), w);
+            }
             Engine::Separable if need <= 256 => {
                 grid.separable::<256>(&ray).map_err(|e| e.to_string())
             }
@@ -213,18 +211,85 @@ fn run_in<T: Real + Send + Sync>(
                 grid.separable::<4096>(&ray).map_err(|e| e.to_string())
             }
             Engine::Separable => grid.separable_on_own_stack::<32768>(&ray),
-        });
-        let text = match result {
-            Ok(cs) => crossings_line(i, &cs, polar),
-            Err(e) => error_line(i, &e),
         };
-        writeln!(buf, "{text}")?;
-    }
-    if let Some(pb) = bar {
-        pb.finish_and_clear();
-    }
-    buf.flush()?;
+        match result {
+            Ok(cs) => {
+                let (rest, streamed) = write_crossings(i, cs.into_iter(), polar, spill, w)?;
+                finish_line(i, rest, streamed, None, w)
+            }
+            Err(e) => writeln!(w, "{}", error_line(i, &e)),
+        }
+    };
+    stream_answers(rays, out, window, "march", &answer)?;
     Ok(())
+}
+
+/// The most bytes one crossing takes in the output (`{"cell":[u32,u32,u32],"t_enter":f64,"t_exit":f64}`).
+const CROSSING_BYTES: usize = 120;
+/// Answers at most this long (by the grid's bound) are computed a window at a time in parallel.
+const STREAM_ONE_RAY_BYTES: usize = 1 << 20;
+/// The memory for one window of answers.
+const WINDOW_BYTES: usize = 32 << 20;
+/// The most rays in one window.
+const MAX_WINDOW: usize = 4096;
+/// When rays are answered one at a time, a ray's crossings are passed on to the output every this many bytes.
+const SPILL_BYTES: usize = 1 << 16;
+
+/// Writes `{"ray":i,"crossings":[` and the crossings to `out`, passing the text on every `spill` bytes; returns
+/// the text not yet passed on and whether some was.
+fn write_crossings<T: Real>(
+    i: usize,
+    crossings: impl Iterator<Item = CellCrossing<T>>,
+    polar: bool,
+    spill: usize,
+    out: &mut dyn Write,
+) -> std::io::Result<(Vec<u8>, bool)> {
+    let mut buf = Vec::with_capacity(256);
+    write!(buf, "{{\"ray\":{i},\"crossings\":[")?;
+    let mut streamed = false;
+    for (k, c) in crossings.enumerate() {
+        if k > 0 {
+            buf.push(b',');
+        }
+        let [ci, cj, ck] = c.cell;
+        if polar {
+            write!(buf, "{{\"cell\":[{ci},{cj}],\"t_enter\":")?;
+        } else {
+            write!(buf, "{{\"cell\":[{ci},{cj},{ck}],\"t_enter\":")?;
+        }
+        serde_json::to_writer(&mut buf, &c.t_enter.to_f64())?;
+        buf.extend_from_slice(b",\"t_exit\":");
+        serde_json::to_writer(&mut buf, &c.t_exit.to_f64())?;
+        buf.push(b'}');
+        if buf.len() >= spill {
+            out.write_all(&buf)?;
+            buf.clear();
+            streamed = true;
+        }
+    }
+    Ok((buf, streamed))
+}
+
+/// Ends a ray's line: `]}`; or, when the march failed, the contract's error line — unless part of the crossings
+/// was already written (a very long answer, see [`SPILL_BYTES`]): then the line keeps those crossings and gets
+/// an `"error"` field after them.
+fn finish_line(
+    i: usize,
+    mut rest: Vec<u8>,
+    streamed: bool,
+    error: Option<String>,
+    out: &mut dyn Write,
+) -> std::io::Result<()> {
+    match error {
+        None => rest.extend_from_slice(b"]}\n"),
+        Some(e) if !streamed => return writeln!(out, "{}", error_line(i, &e)),
+        Some(e) => {
+            rest.extend_from_slice(b"],\"error\":");
+            serde_json::to_writer(&mut rest, &e)?;
+            rest.extend_from_slice(b"}\n");
+        }
+    }
+    out.write_all(&rest)
 }
 
 /// The kernel ray for a rays-file line, or the message of the `{"ray": i, "error": ..}` line.
@@ -234,16 +299,4 @@ pub fn make_ray<T: Real>(r: &RaySpec) -> Result<Ray<T>, String> {
     Ray::new(v(r.origin), v(r.dir))
         .and_then(|ray| ray.with_interval(T::from_f64(r.t_min), t_max))
         .map_err(|e| e.to_string())
-}
-
-/// The output line of a marched ray.
-pub fn crossings_line<T: Real>(i: usize, cs: &[CellCrossing<T>], polar: bool) -> String {
-    let items: Vec<serde_json::Value> = cs
-        .iter()
-        .map(|c| {
-            let cell: Vec<u32> = if polar { c.cell[..2].to_vec() } else { c.cell.to_vec() };
-            serde_json::json!({"cell": cell, "t_enter": c.t_enter.to_f64(), "t_exit": c.t_exit.to_f64()})
-        })
-        .collect();
-    serde_json::json!({"ray": i, "crossings": items}).to_string()
 }

@@ -1,4 +1,5 @@
-//! `curvicast pick --terrain TERRAIN.json [--rays RAYS.jsonl] [--min-level N] [--block B]` (command-line contract):
+//! `curvicast pick (--terrain TERRAIN.json | --dem FILE) [--rays RAYS.jsonl] [--min-level N] [--block B]`
+//! (command-line contract):
 //! the nearest intersection of each ray with a DEM's triangle surface, through the kernel's
 //! [`curvicast::terrain::Picker`] over the host's [`DemStorage`] (seed 000 §3–§4).
 //!
@@ -8,6 +9,10 @@
 //! `level` (the quadtree depth of the node whose block answered, zones are 0) and `stride` (the traced cell's
 //! size in grid steps) are extra fields.
 //!
+//! `--dem FILE` reads an SRTM `.hgt` tile, a single-band geographic GeoTIFF or the project's `.dem.cc` format
+//! directly, with the georeference from the file ([`crate::scenes::dem_files`]); it builds the same model as
+//! `--terrain`, so the same heights give the same answers.
+//!
 //! Multi-resolution experiments (seed 000 §5): `--fine-region` and `--coarse-level` shape a tree whose branches
 //! end early outside a box, `--non-resident-levels` and `--non-resident-region` mark blocks as not in memory,
 //! and `--min-level` limits which coarser blocks may stand in for missing ones. With any of the first four, every
@@ -16,20 +21,38 @@
 //! `NeedsBlock`; per ray, so answers do not depend on the order of the rays), or with `--no-paging` an error
 //! line naming the node.
 
-use super::io::{UsageError, error_line, read_rays};
+use super::io::{RayLine, UsageError, error_line, stream_answers};
+use crate::scenes::dem_files::read_dem;
 use crate::scenes::spec::RaySpec;
 use crate::scenes::terrain::{DemStorage, MultiRes, load_terrain, pick_paging_in};
 use curvicast::Ray;
 use curvicast::terrain::{NodeId, Picker};
-use rayon::prelude::*;
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+/// Where the terrain comes from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum TerrainSource {
+    /// `--terrain TERRAIN.json`.
+    Terrain(PathBuf),
+    /// `--dem FILE`: an SRTM `.hgt`, a GeoTIFF or a `.dem.cc` file (see [`crate::scenes::dem_files`]).
+    Dem(PathBuf),
+}
+
+impl TerrainSource {
+    /// The file named on the command line.
+    pub fn path(&self) -> &Path {
+        match self {
+            TerrainSource::Terrain(p) | TerrainSource::Dem(p) => p,
+        }
+    }
+}
 
 /// The arguments of `curvicast pick`.
 #[derive(Debug, Clone)]
 pub struct PickArgs {
-    /// The `TERRAIN.json` file.
-    pub terrain: PathBuf,
+    /// The terrain: `--terrain` or `--dem`.
+    pub terrain: TerrainSource,
     /// The rays file (JSON Lines); standard input when `None`.
     pub rays: Option<PathBuf>,
     /// The coarsest quadtree level whose blocks may stand in for missing finer ones (seed 000 §5). Without the
@@ -124,8 +147,11 @@ pub fn answer(
     }
 }
 
-/// Runs the subcommand, writing the answer lines to `out`. Every file or argument problem is returned as a
-/// [`UsageError`] before anything is written.
+/// The most rays picked at once (in parallel); an answer line is about 250 bytes.
+const WINDOW: usize = 4096;
+
+/// Runs the subcommand, writing the answer lines to `out` as the rays arrive (see [`super::io`] for the streaming
+/// rules). Every file or argument problem is returned as a [`UsageError`] before anything is written.
 pub fn run(args: &PickArgs, out: &mut dyn Write) -> Result<(), UsageError> {
     if !(1..=1024).contains(&args.block) {
         return Err(UsageError(format!(
@@ -161,7 +187,11 @@ pub fn run(args: &PickArgs, out: &mut dyn Write) -> Result<(), UsageError> {
             "--coarse-level: must be between 0 and 30".into(),
         ));
     }
-    let dem = load_terrain(&args.terrain).map_err(|e| UsageError(e.to_string()))?;
+    let dem = match &args.terrain {
+        TerrainSource::Terrain(p) => load_terrain(p),
+        TerrainSource::Dem(p) => read_dem(p),
+    }
+    .map_err(|e| UsageError(e.to_string()))?;
     let storage = if m.any() {
         DemStorage::multi_resolution(
             &dem,
@@ -203,31 +233,21 @@ pub fn run(args: &PickArgs, out: &mut dyn Write) -> Result<(), UsageError> {
             }
         }
     }
-    let picker: Picker<'_, f64, DemStorage<'_>> = Picker::new(&storage)
-        .map_err(|e| UsageError(format!("{}: terrain rejected: {e}", args.terrain.display())))?;
+    let picker: Picker<'_, f64, DemStorage<'_>> = Picker::new(&storage).map_err(|e| {
+        UsageError(format!(
+            "{}: terrain rejected: {e}",
+            args.terrain.path().display()
+        ))
+    })?;
     let picker = picker.with_min_level(u8::try_from(args.min_level).unwrap_or(u8::MAX));
-    let rays = read_rays(args.rays.as_deref())?;
-    // A progress bar on stderr for long runs, only when stderr is a terminal (never on stdout).
-    let bar = (rays.len() >= 10_000 && std::io::IsTerminal::is_terminal(&std::io::stderr()))
-        .then(|| indicatif::ProgressBar::new(rays.len() as u64));
-    let lines: Vec<String> = rays
-        .par_iter()
-        .enumerate()
-        .map(|(k, r)| {
-            if let Some(b) = &bar {
-                b.inc(1);
-            }
-            match r {
-                Ok(r) => answer(&picker, &storage, !m.no_paging, k, r),
-                Err(e) => error_line(k, e),
-            }
-        })
-        .collect();
-    if let Some(b) = bar {
-        b.finish_and_clear();
-    }
-    for l in lines {
-        writeln!(out, "{l}").map_err(|e| UsageError(format!("<stdout>: {e}")))?;
-    }
+    let paging = !m.no_paging;
+    let answer = |k: usize, line: RayLine, w: &mut dyn Write| -> std::io::Result<()> {
+        let text = match line {
+            Ok(r) => answer(&picker, &storage, paging, k, &r),
+            Err(e) => error_line(k, &e),
+        };
+        writeln!(w, "{text}")
+    };
+    stream_answers(args.rays.as_deref(), out, WINDOW, "pick", &answer)?;
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! Scenes: the JSON input formats of the command-line contract, analytic fields, real datasets and generators of
 //! hard cases.
 
+pub mod dem_files;
 pub mod march_cases;
 pub mod real_dem;
 pub mod spec;
