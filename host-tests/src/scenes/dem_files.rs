@@ -583,3 +583,52 @@ pub fn write_geotiff_i16(
     w(t.write_tag(Tag::GdalNodata, "-32768"))?;
     img.write_data(&data).map_err(|e| e.to_string())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hgt_names_give_the_south_west_corner() {
+        let c = |n: &str| hgt_corner(Path::new(n));
+        assert_eq!(c("N36W118.hgt"), Some((36, -118)));
+        assert_eq!(c("dir/s01e010.HGT"), Some((-1, 10)));
+        assert_eq!(c("S90W180.hgt"), Some((-90, -180)));
+        assert_eq!(c("N89E179.hgt"), Some((89, 179)));
+        for bad in [
+            "N90E000.hgt",
+            "N00E180.hgt",
+            "X36W118.hgt",
+            "N3aW118.hgt",
+            "N36W118.tif",
+            "N36W118.hgt.gz",
+            "N36W11.hgt",
+            "",
+        ] {
+            assert_eq!(c(bad), None, "{bad}");
+        }
+    }
+
+    #[test]
+    fn geokey_directory_reads_shorts_and_doubles_and_rejects_short_directories() {
+        let dir = [1, 1, 0, 2, 1024, 0, 1, 2, 2057, 34736, 1, 1];
+        let keys = geo_keys(&dir, &[0.0, 6_378_000.0]).unwrap();
+        assert_eq!(
+            keys,
+            vec![
+                (1024, GeoKey::Short(2)),
+                (2057, GeoKey::Doubles(vec![6_378_000.0]))
+            ]
+        );
+        assert!(geo_keys(&dir[..10], &[0.0, 1.0]).is_err());
+        assert!(geo_keys(&dir, &[0.0]).is_err(), "points past the doubles");
+        assert!(geo_keys(&[2, 1, 0, 0], &[]).is_err(), "version 2");
+        let user = [
+            (2048, GeoKey::Short(32767)),
+            (2057, GeoKey::Doubles(vec![6_378_000.0])),
+            (2059, GeoKey::Doubles(vec![300.0])),
+        ];
+        let (a, b) = geotiff_ellipsoid(&user).unwrap();
+        assert_eq!((a, b), (6_378_000.0, 6_378_000.0 * (1.0 - 1.0 / 300.0)));
+    }
+}
