@@ -197,6 +197,11 @@ impl Progress {
                 None,
                 indicatif::ProgressDrawTarget::stderr(),
             );
+            if let Ok(style) = indicatif::ProgressStyle::with_template(
+                "{spinner} {msg}: {human_pos} rays answered",
+            ) {
+                pb.set_style(style);
+            }
             pb.set_message(self.label);
             self.bar = Some(pb);
         }

@@ -4,6 +4,13 @@
 //! `{"ray": i, "crossings": [{"cell": [i, j, k], "t_enter": .., "t_exit": ..}, ..]}` (polar cells have two
 //! indices), or `{"ray": i, "error": ".."}` for a ray that cannot be marched. A malformed grid file is a usage
 //! error (exit code 2, one line on stderr naming the file, nothing on stdout).
+//!
+//! Rays stream through (see [`super::io`]): they are answered in parallel windows sized so that a window's
+//! answers fit in about 32 MB by the grid's bound on one ray's crossings. On a grid so fine that one answer may
+//! exceed 1 MB (a million radii: over a million crossings for one ray), rays are answered one at a time and each
+//! one's crossings go to the output every 64 KiB as the serial engine produces them, so memory does not grow with
+//! the answer. If such a march fails after part of its crossings was written, its line keeps them and ends with
+//! an `"error"` field; otherwise a failed ray's line is the contract's `{"ray": i, "error": ".."}`.
 
 use super::io::{RayLine, UsageError, error_line, stream_answers};
 use crate::scenes::spec::{GridSpec, RaySpec};
