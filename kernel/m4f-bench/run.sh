@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# Builds the firmwares (opt-level 3 for the instruction counts, opt-level "s" for the code sizes), runs each under
+# QEMU's mps2-an386 (Cortex-M4F) with instruction counting, checks the f32 march firmware's code (VSQRT.F32
+# present, no soft double precision), prints the table and writes it to `embedded.md` next to this script.
+#
+# Needs: the thumbv7em-none-eabihf target, qemu-system-arm, and llvm-objdump / llvm-nm (rustup's llvm-tools
+# component, or the system's). Exits non-zero if a firmware fails its own checks or a code check fails.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")"
+
+TARGET=thumbv7em-none-eabihf
+QEMU=(qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic -semihosting-config enable=on,target=native
+      -icount shift=0 -kernel)
+FIRMWARES=(empty march-f32 march-f64 pick-f32 bevel-f32 sqrt-check)
+
+tool() {
+    local t
+    t="$(rustc --print sysroot)/lib/rustlib/$(rustc -vV | awk '/^host:/ { print $2 }')/bin/$1"
+    if [[ -x "$t" ]]; then echo "$t"; elif command -v "$1" >/dev/null; then command -v "$1"; else
+        echo "missing $1 (rustup component add llvm-tools)" >&2; return 1; fi
+}
+OBJDUMP=$(tool llvm-objdump)
+NM=$(tool llvm-nm)
+
+cargo build --release --bins
+cargo build --profile release-s --bins
+
+text() { size -A "target/$TARGET/$1/$2" | awk '$1 == ".text" { print $2 }'; }
+
+declare -A OUT
+status=0
+for f in "${FIRMWARES[@]}"; do
+    log=$(timeout 600 "${QEMU[@]}" "target/$TARGET/release/$f") || status=1
+    echo "$log"
+    OUT[$f]=$log
+    grep -q "^m4f-bench $f: status ok$" <<<"$log" || { echo "!!! $f failed"; status=1; }
+done
+
+# The f32 march firmware: the hardware square root is there, soft double precision is not.
+march32=target/$TARGET/release-s/march-f32
+vsqrt=$("$OBJDUMP" -d "$march32" | grep -c 'vsqrt.f32' || true)
+softf64=$("$NM" "$march32" | grep -cE '__(adddf3|muldf3|divdf3|subdf3|aeabi_dadd|aeabi_dmul)' || true)
+echo "march-f32: $vsqrt vsqrt.f32 instructions, $softf64 soft double-precision routines"
+[[ $vsqrt -gt 0 && $softf64 -eq 0 ]] || { echo "!!! march-f32: expected vsqrt.f32 and no soft f64"; status=1; }
+
+field() { grep -oE "$2 [-0-9.]+" <<<"${OUT[$1]}" | head -n "${3:-1}" | tail -n 1 | awk '{ print $2 }'; }
+grid() { grep -E "^m4f-bench $1: grid $2 " <<<"${OUT[$1]}" | grep -oE "$3 [-0-9.]+" | awk '{ print $2 }'; }
+
+empty_s=$(text release-s empty)
+empty_3=$(text release empty)
+march_s=$(( $(text release-s march-f32) - empty_s ))
+per_crossing=$(grid march-f32 both per_crossing)
+march_stack=$(field march-f32 march_stack_bytes)
+verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "met"; else echo "not met"; fi; }
+{
+    echo "### Embedded: the kernel on an emulated Cortex-M4F"
+    echo
+    echo "| firmware (minus the empty one) | \`.text\` opt \"s\" | \`.text\` opt 3 | instructions | stack |"
+    echo "|---|---|---|---|---|"
+    for f in march-f32 march-f64; do
+        echo "| $f, 16³ / 32³ / both grids | $(( $(text release-s "$f") - empty_s )) B | $(( $(text release "$f") - empty_3 )) B" \
+             "| $(grid "$f" '16\^3' per_crossing) / $(grid "$f" '32\^3' per_crossing) / $(grid "$f" both per_crossing) per crossing" \
+             "(set-up $(grid "$f" both setup) per ray; $(grid "$f" both rays) rays, $(grid "$f" both crossings) crossings)" \
+             "| $(field "$f" march_stack_bytes) B |"
+    done
+    if grep -q per_pick <<<"${OUT[pick-f32]}"; then
+        echo "| pick-f32 | $(( $(text release-s pick-f32) - empty_s )) B | $(( $(text release pick-f32) - empty_3 )) B" \
+             "| $(field pick-f32 per_pick) per pick ($(field pick-f32 picks) picks, $(field pick-f32 hits) hits) | $(field pick-f32 stack_bytes) B |"
+    fi
+    echo "| bevel-f32, level $(field bevel-f32 level) ($(field bevel-f32 faces) faces) | $(( $(text release-s bevel-f32) - empty_s )) B" \
+         "| $(( $(text release bevel-f32) - empty_3 )) B | $(field bevel-f32 per_bevel) per bevel | $(field bevel-f32 stack_bytes) B |"
+    echo
+    echo "Emulated Cortex-M4F (QEMU mps2-an386, \`-icount shift=0\`), instructions counted by SysTick:" \
+         "calibration $(field empty calibration_instructions) instructions = $(field empty calibration_ticks) ticks" \
+         "($(field empty instructions_per_tick) per tick); a delay loop of 2 instructions per iteration measures" \
+         "$(field empty loop_per_iteration). Per crossing: least-squares slope over the hitting rays (marginal), with" \
+         "its intercept as the set-up per ray. Stack: painted-stack high-water mark of one call." \
+         "The empty firmware (the measuring harness alone) is $empty_s B (opt \"s\") / $empty_3 B (opt 3)." \
+         "The f32 march firmware holds $vsqrt \`vsqrt.f32\` and $softf64 soft double-precision routines." \
+         "$(grep -oE 'checked [0-9]+ mismatches [0-9]+' <<<"${OUT[sqrt-check]}" | sed 's/^/VSQRT.F32 against libm: /')."
+    echo
+    echo "Targets for f32 marching: at most 150 instructions per crossing ($per_crossing on both grids:" \
+         "$(verdict "$per_crossing" 150)); march-only firmware at most 12 KiB of \`.text\` at opt \"s\"" \
+         "($march_s B: $(verdict "$march_s" 12288)); one march's stack at most 1 KiB ($march_stack B:" \
+         "$(verdict "$march_stack" 1024))."
+} > embedded.md
+echo
+cat embedded.md
+exit $status
