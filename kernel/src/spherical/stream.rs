@@ -30,7 +30,7 @@
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
 use crate::ray::Ray;
 use crate::real::Real;
-use crate::surface::{PlaneZ, Side, Spheroid, Surface};
+use crate::surface::{PlaneZ, Side, Surface, sphere_scaled_roots};
 use crate::vec3::V3;
 
 /// One event: the crossing's parameter and the band (or sector) entered.
@@ -108,7 +108,7 @@ impl<T: Real> At<T> {
         if e == 0 {
             return At { num, den, e };
         }
-        let folded = den.scalbn(e);
+        let folded = ray.t_to_scaled(den); // den · 2^e, exact
         if folded.is_finite() && folded >= T::MIN_POSITIVE {
             At {
                 num,
@@ -220,14 +220,14 @@ pub(crate) enum Stream<T> {
     },
 }
 
-/// The two roots of the ray with the sphere of radius `r` centred at the origin, in the caller's `t`
-/// (one square root; `None` when the line misses it or `r = 0`).
+/// The two roots of the ray with the sphere of squared radius `r2` centred at the origin, in the caller's `t`
+/// (one square root; `None` when the line misses it or `r2 = 0`).
 #[inline]
-fn sphere_roots<T: Real>(r: T, ray: &Ray<T>) -> Option<(T, T)> {
-    if !(r > T::ZERO) {
+fn sphere_roots<T: Real>(r2: T, ray: &Ray<T>) -> Option<(T, T)> {
+    if !(r2 > T::ZERO) {
         return None;
     }
-    let (a, b) = Spheroid::sphere(r).ok()?.scaled_roots(ray)?;
+    let (a, b) = sphere_scaled_roots(r2, ray)?;
     Some((ray.t_from_scaled(a), ray.t_from_scaled(b)))
 }
 
@@ -516,9 +516,9 @@ impl<T: Real> Stream<T> {
             let inner = band.checked_sub(1);
             let hit = match inner {
                 Some(j) if before_hinge(ray, *t_own) => axis
-                    .r
+                    .r2
                     .get(j as usize)
-                    .and_then(|&r| sphere_roots(r, ray))
+                    .and_then(|&r2| sphere_roots(r2, ray))
                     // a touch (double root) does not enter: the touching point has r = r_j, which belongs
                     // to the outer band (half-open cells)
                     .filter(|&(t_in, t_out)| t_in < t_out)
@@ -549,9 +549,9 @@ impl<T: Real> Stream<T> {
         let t_out = match *cache {
             Some((k, t)) if k == j => t,
             _ => axis
-                .r
+                .r2
                 .get(j as usize)
-                .and_then(|&r| sphere_roots(r, ray))
+                .and_then(|&r2| sphere_roots(r2, ray))
                 .map_or(*t_own, |(_, t_out)| t_out),
         };
         *cache = None;
