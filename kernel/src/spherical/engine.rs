@@ -127,6 +127,7 @@ struct Setup<T> {
     t0: T,
 }
 
+#[inline(always)]
 fn next_event<T: Real>(
     axes: &Axes<'_, T>,
     rays: &Rays<T>,
@@ -300,7 +301,7 @@ impl<T: Real> Emitter<T> {
     /// The event of `slot` entering `band`. Its parameter is divided (the one division of an azimuth or height
     /// crossing) only when a crossing of the domain ends or starts there; an event between two band sets that
     /// are both outside the domain (outside a wedge or a zenith band, or past a z facet) needs no `t`.
-    #[inline]
+    #[inline(always)]
     fn on(&mut self, at: At<T>, slot: usize, band: u32) -> Option<CellCrossing<T>> {
         let was_inside = self.outside == 0;
         let before = self.cell;

@@ -141,6 +141,12 @@ impl<T: Real> At<T> {
     /// parameter (never the reverse, which could underflow for huge directions).
     #[inline]
     pub(crate) fn lt(&self, other: &Self) -> bool {
+        if self.e == other.e {
+            // the common case (every exact t, and every fraction whose rescaling was folded into `den`):
+            // multiplying by a denominator of exactly 1 is exact, so this is the comparison of the values
+            // themselves whenever one side is already divided
+            return self.num * other.den < other.num * self.den;
+        }
         let mut l = if other.den == T::ONE {
             self.num
         } else {
@@ -152,14 +158,12 @@ impl<T: Real> At<T> {
             other.num * self.den
         };
         // self.num/self.den·2^-se < other.num/other.den·2^-oe  ⇔  l·2^oe < r·2^se
-        if self.e != other.e {
-            if self.e == 0 {
-                l = l.scalbn(other.e);
-            } else if other.e == 0 {
-                r = r.scalbn(self.e);
-            } else {
-                l = l.scalbn(other.e.saturating_sub(self.e));
-            }
+        if self.e == 0 {
+            l = l.scalbn(other.e);
+        } else if other.e == 0 {
+            r = r.scalbn(self.e);
+        } else {
+            l = l.scalbn(other.e.saturating_sub(self.e));
         }
         l < r
     }
