@@ -373,7 +373,9 @@ pub struct SerialMarch<'g, T> {
     axes: &'g Axes<'g, T>,
     rays: Option<Rays<T>>,
     streams: [Stream<T>; 3],
-    heads: [Option<Packed<T>>; 3],
+    /// Each coordinate's next event (valid where its bit of `live` is set).
+    heads: [Packed<T>; 3],
+    live: u8,
     em: Option<Emitter<T>>,
     t_max: T,
     steps: u32,
@@ -389,7 +391,8 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             axes,
             rays: None,
             streams: [Stream::Fixed; 3],
-            heads: [None; 3],
+            heads: [Packed::pack((At::exact(T::ZERO), 0)); 3],
+            live: 0,
             em: None,
             t_max: ray.t_max(),
             steps: 0,
@@ -401,9 +404,7 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             Ok(Some(s)) => {
                 let mut streams = s.streams;
                 for slot in 0..3 {
-                    if let Some(h) = m.heads.get_mut(slot) {
-                        *h = next_event(axes, &s.rays, &mut streams, slot).map(Packed::pack);
-                    }
+                    m.set_head(slot, next_event(axes, &s.rays, &mut streams, slot));
                 }
                 m.streams = streams;
                 m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0, ray.t_max()));
@@ -414,6 +415,13 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             Err(e) => m.error = Some(e),
         }
         m
+    }
+
+    fn set_head(&mut self, slot: usize, next: Option<Event<T>>) {
+        if let (Some(h), Some(e)) = (self.heads.get_mut(slot), next) {
+            *h = Packed::pack(e);
+            self.live |= 1 << slot;
+        }
     }
 
     /// Why the march stopped early, if it did: the ray could not be put into the grid's frame
@@ -434,9 +442,11 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
             if self.finished {
                 return em.pending.take();
             }
+            // the earliest of the live heads; the first slot on a tie
             let mut best: Option<(At<T>, u32, usize)> = None;
             for (slot, h) in self.heads.iter().enumerate() {
-                if let Some((t, b)) = h.map(Packed::unpack) {
+                if self.live & (1 << slot) != 0 {
+                    let (t, b) = h.unpack();
                     if best.is_none_or(|(bt, _, _)| t.lt(&bt)) {
                         best = Some((t, b, slot));
                     }
@@ -456,8 +466,15 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
                 continue;
             }
             let next = next_event(self.axes, rays, &mut self.streams, slot);
+            let ended = next.is_none();
             if let Some(h) = self.heads.get_mut(slot) {
-                *h = next.map(Packed::pack);
+                match next {
+                    Some(e) => {
+                        *h = Packed::pack(e);
+                        self.live |= 1 << slot;
+                    }
+                    None => self.live &= !(1 << slot),
+                }
             }
             let out = em.on(t, slot, band);
             if em.unrepresentable {
@@ -465,7 +482,7 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
                 self.finished = true;
                 continue;
             }
-            if slot == 0 && next.is_none() && em.beyond_outer_radius(band) {
+            if slot == 0 && ended && em.beyond_outer_radius(band) {
                 self.finished = true; // left the outer radius for good
             }
             if out.is_some() {

@@ -465,7 +465,9 @@ fn size_of_the_serial_iterator() {
     let s64 = core::mem::size_of::<SerialMarch<'static, f64>>();
     let s32 = core::mem::size_of::<SerialMarch<'static, f32>>();
     std::println!("size_of SerialMarch: f64 {s64} bytes, f32 {s32} bytes");
-    assert!(s64 <= 1024 && s32 <= 512, "{s64} {s32}");
+    // measured: 744 and 448 (the two rays in the grid's frame are 2 × 144 bytes of it in f64); the design goal
+    // of 192 and 128 needs a marcher state without stored rays (not reached yet)
+    assert!(s64 <= 744 && s32 <= 448, "{s64} {s32}");
 }
 
 #[test]
