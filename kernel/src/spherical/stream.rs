@@ -781,19 +781,24 @@ impl<T: Real> Stream<T> {
             return None;
         };
         let d = ray.scaled_dir();
+        let p = ray.origin();
+        // the cheap tests first: a line that passes the z axis clearly (every ordinary ray) ends here
+        let near_axis = ray.p_cross_d().z.abs()
+            <= sqrt_epsilon::<T>()
+                * T::from_f64(64.0)
+                * p.x.abs().max(p.y.abs()).max(axis.scale)
+                * d.x.abs().max(d.y.abs());
+        if !near_axis || walk.is_some() {
+            *self = Stream::Fixed;
+            return None;
+        }
         let target = axis.sector_of(d.x, d.y);
         let (way, steps) = walk_way(axis, *sector, target, Some(*ccw));
         let on_boundary = (0..axis.boundaries).any(|k| {
             let (c, s) = axis.dir_of(k);
             c * d.y - s * d.x == T::ZERO && c * d.x + s * d.y > T::ZERO
         });
-        let p = ray.origin();
-        let near_axis = ray.p_cross_d().z.abs()
-            <= sqrt_epsilon::<T>()
-                * T::from_f64(64.0)
-                * p.x.abs().max(p.y.abs()).max(axis.scale)
-                * d.x.abs().max(d.y.abs());
-        if steps == 0 || on_boundary || !near_axis || walk.is_some() {
+        if steps == 0 || on_boundary {
             *self = Stream::Fixed;
             return None;
         }
