@@ -125,6 +125,10 @@ fn run<T: Real>(inp: &Input) {
         .iter()
         .any(|x| !x.is_finite());
     let expected_error = far.then_some(MarchError::Ray(RayError::NonFiniteOrigin));
+    // a direction too short for its distance: crossings whose t overflows are a typed error
+    let error_ok = |e: Option<MarchError>| {
+        e == expected_error || (!far && e == Some(MarchError::Unrepresentable))
+    };
     let (a, b, c) = if sane {
         match kind {
             0 => (
@@ -157,7 +161,7 @@ fn run<T: Real>(inp: &Input) {
                 let Ok(g) = g.with_center(center) else { return };
                 let mut m = g.march(&ray);
                 let s: Vec<_> = m.by_ref().collect();
-                assert_eq!(m.error(), expected_error);
+                assert!(error_ok(m.error()), "{:?}", m.error());
                 (
                     s,
                     g.march_separable::<256>(&ray).map(|m| m.collect()),
@@ -172,7 +176,7 @@ fn run<T: Real>(inp: &Input) {
                 let Ok(g) = g.with_center(center) else { return };
                 let mut m = g.march(&ray);
                 let s: Vec<_> = m.by_ref().collect();
-                assert_eq!(m.error(), expected_error);
+                assert!(error_ok(m.error()), "{:?}", m.error());
                 (
                     s,
                     g.march_separable::<256>(&ray).map(|m| m.collect()),
@@ -189,7 +193,7 @@ fn run<T: Real>(inp: &Input) {
                 };
                 let mut m = g.march(&ray);
                 let s: Vec<_> = m.by_ref().collect();
-                assert_eq!(m.error(), expected_error);
+                assert!(error_ok(m.error()), "{:?}", m.error());
                 (
                     s,
                     g.march_separable::<256>(&ray).map(|m| m.collect()),

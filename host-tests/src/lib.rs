@@ -3,11 +3,13 @@
 //!
 //! * [`oracle`]: independent arbitrary-precision reference answers. The oracle never calls kernel code paths.
 //! * [`scenes`]: the input formats of the command-line contract, analytic fields, real datasets, hard cases.
+//! * [`batch`]: many rays marched at once across cores (rayon).
 //! * [`baselines`]: what a user would otherwise do (Cartesian resampling, a general mesh ray caster, brute force).
 //! * [`report`]: the speed-against-error report.
 //! * [`cli`]: the subcommands of `curvicast`.
 
 pub mod baselines;
+pub mod batch;
 pub mod cli;
 pub mod oracle;
 pub mod report;

@@ -69,6 +69,22 @@ pub struct Ray<T> {
     pd: T,
     /// `p × d` with the scaled direction.
     w: V3<T>,
+    /// `2^-e` and `2^e` when both are normal numbers (then a multiplication by them is the exact rescaling,
+    /// bit for bit what `scalbn` gives, without its call); `0` when either is not (a direction of subnormal or
+    /// near-maximal size), where the conversions fall back to `scalbn`.
+    to_t: T,
+    to_s: T,
+}
+
+/// `(2^k, 2^-k)` when both are normal numbers of `T`, else `(0, 0)`.
+#[inline]
+fn normal_powers_of_two<T: Real>(k: i32) -> (T, T) {
+    let (p, q) = (T::ONE.scalbn(k), T::ONE.scalbn(k.saturating_neg()));
+    if p.is_finite() && q.is_finite() && p >= T::MIN_POSITIVE && q >= T::MIN_POSITIVE {
+        (p, q)
+    } else {
+        (T::ZERO, T::ZERO)
+    }
 }
 
 impl<T: Real> Ray<T> {
@@ -90,11 +106,22 @@ impl<T: Real> Ray<T> {
         }
         // m = 2^ilogb(m) * [1, 2): dividing by 2^ilogb(m) is exact.
         let e = m.ilogb();
-        let d = dir.scalbn(e.saturating_neg());
+        let (to_t, to_s) = normal_powers_of_two::<T>(e.saturating_neg());
+        let d = if to_t == T::ZERO {
+            dir.scalbn(e.saturating_neg())
+        } else {
+            dir.scaled(to_t)
+        };
+        Ok(Self::with_scaled(origin, dir, d, e, to_t, to_s))
+    }
+
+    /// The ray from its origin, its direction as given and the exactly rescaled one.
+    #[inline]
+    fn with_scaled(origin: V3<T>, dir: V3<T>, d: V3<T>, e: i32, to_t: T, to_s: T) -> Self {
         let dd = d.length_squared();
         let pd = origin.dot(d);
         let w = origin.cross(d);
-        Ok(Ray {
+        Ray {
             origin,
             dir,
             t_min: T::ZERO,
@@ -104,7 +131,9 @@ impl<T: Real> Ray<T> {
             dd,
             pd,
             w,
-        })
+            to_t,
+            to_s,
+        }
     }
 
     /// The same ray restricted to `t_min <= t <= t_max` (either may be infinite).
@@ -134,7 +163,15 @@ impl<T: Real> Ray<T> {
 
     /// The same ray with its origin moved by `-center` (the ray in coordinates centred at `center`).
     pub fn relative_to(&self, center: impl Into<V3<T>>) -> Result<Self, RayError> {
-        Self::new(self.origin.minus(center.into()), self.dir)?.with_interval(self.t_min, self.t_max)
+        let origin = self.origin.minus(center.into());
+        if !origin.is_finite() {
+            return Err(RayError::NonFiniteOrigin);
+        }
+        // the direction and its rescaling are unchanged: only the origin's invariants are formed again
+        let mut r = Self::with_scaled(origin, self.dir, self.d, self.e, self.to_t, self.to_s);
+        r.t_min = self.t_min;
+        r.t_max = self.t_max;
+        Ok(r)
     }
 
     /// The origin `p`.
@@ -191,7 +228,11 @@ impl<T: Real> Ray<T> {
     /// Converts a parameter of the scaled direction to the caller's `t` (exact: a multiplication by a power of 2).
     #[inline]
     pub fn t_from_scaled(&self, s: T) -> T {
-        s.scalbn(self.e.saturating_neg())
+        if self.to_t == T::ZERO {
+            s.scalbn(self.e.saturating_neg())
+        } else {
+            s * self.to_t
+        }
     }
     /// The exponent `e` of the exact rescaling: `t = t_scaled · 2^-e` (see [`Ray::t_from_scaled`]).
     #[inline]
@@ -201,7 +242,11 @@ impl<T: Real> Ray<T> {
     /// Converts the caller's `t` to the parameter of the scaled direction (exact).
     #[inline]
     pub fn t_to_scaled(&self, t: T) -> T {
-        t.scalbn(self.e)
+        if self.to_s == T::ZERO {
+            t.scalbn(self.e)
+        } else {
+            t * self.to_s
+        }
     }
 
     /// The hinge of `r`: the `t` of the closest approach to the origin, `−⟨p|d⟩/‖d‖²` (seed 001, Lemma 8).
@@ -256,6 +301,56 @@ mod tests {
             let t = 0.75_f32 / s;
             assert_eq!(r.t_from_scaled(r.t_to_scaled(t)), t);
         }
+    }
+
+    #[test]
+    fn subnormal_direction_components_give_exactly_scaled_crossings_in_every_solver() {
+        use crate::surface::{AxialCone, HalfPlane, PlaneZ, Spheroid, Surface};
+        // Everything 2^-53 the unit size, the direction 2^-1030 (subnormal components, exactly representable):
+        // every solver's t is the unit case's times 2^977, bit for bit.
+        let (o, d) = ([-1.5_f64, 0.25, -0.375], [1.0, 0.125, 0.09375]);
+        let (ks, kd) = (2f64.powi(-53), f64::from_bits(1 << 44)); // 2^-1030 (subnormal)
+        let unit = Ray::new(o, d).unwrap();
+        let tiny = Ray::new(o.map(|x| x * ks), d.map(|x| x * kd)).unwrap();
+        assert!(tiny.dir().z < f64::MIN_POSITIVE && tiny.dir().z > 0.0);
+        let k = 2f64.powi(977);
+        let check = |name: &str,
+                     a: &[crate::surface::Crossing<f64>],
+                     b: &[crate::surface::Crossing<f64>]| {
+            assert!(!a.is_empty(), "{name}");
+            assert_eq!(a.len(), b.len());
+            for (x, y) in a.iter().zip(b) {
+                assert_eq!((x.t * k, x.into), (y.t, y.into), "{name}");
+            }
+        };
+        let sphere = |r: f64| Spheroid::sphere(r).unwrap();
+        check(
+            "sphere",
+            &sphere(1.0).crossings(&unit),
+            &sphere(ks).crossings(&tiny),
+        );
+        let spheroid = |a: f64, b: f64| Spheroid::new(a, b).unwrap();
+        check(
+            "spheroid",
+            &spheroid(1.0, 0.75).crossings(&unit),
+            &spheroid(ks, 0.75 * ks).crossings(&tiny),
+        );
+        let cone = AxialCone::from_zenith(0.0, 1.5).unwrap();
+        check("cone", &cone.crossings(&unit), &cone.crossings(&tiny));
+        let offset = |k: f64| AxialCone::from_zenith(-0.25 * k, 1.52).unwrap();
+        check(
+            "offset cone",
+            &offset(1.0).crossings(&unit),
+            &offset(ks).crossings(&tiny),
+        );
+        let half = HalfPlane::from_azimuth(1.0).unwrap();
+        check("half-plane", &half.crossings(&unit), &half.crossings(&tiny));
+        let plane = |z: f64| PlaneZ::new(z).unwrap();
+        check(
+            "plane",
+            &plane(-0.125).crossings(&unit),
+            &plane(-0.125 * ks).crossings(&tiny),
+        );
     }
 
     #[test]

@@ -74,8 +74,6 @@ pub(crate) fn unit_scaled<T: Real>(q: V3<T>) -> V3<T> {
 /// Radius breakpoints (`r` of a sphere grid, `ρ` of a cylinder grid, `r` of a polar grid) with their squares.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct RadialAxis<'a, T> {
-    /// The radii as given.
-    pub r: &'a [T],
     /// `r²`, the pseudospherical form (seed 001 §2, §4.1).
     pub r2: &'a [T],
     /// Number of breakpoints.
@@ -97,7 +95,7 @@ impl<'a, T: Real> RadialAxis<'a, T> {
                 return Err(GridError::OutOfRange { axis, index });
             }
         }
-        Ok(RadialAxis { r, r2: out, len })
+        Ok(RadialAxis { r2: out, len })
     }
 
     /// The band of a point at squared distance `r2` from the center.

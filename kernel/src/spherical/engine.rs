@@ -10,6 +10,7 @@ use super::stream::{At, Event, Packed, Stream};
 use super::{Axis, CellCrossing, MarchError};
 use crate::ray::Ray;
 use crate::real::Real;
+use crate::surface::sphere_scaled_roots;
 use crate::vec3::V3;
 
 /// Which coordinate a slot of the cell index holds.
@@ -44,33 +45,18 @@ pub(crate) struct CellRule {
 }
 
 impl CellRule {
+    /// The cell index of `band` in `slot`, or `None` when that band is outside the domain (band 0 and the top
+    /// band of a banded coordinate, the outside sector of a wedge).
     #[inline]
-    fn cell(&self, bands: [u32; 3]) -> Option<[u32; 3]> {
-        let mut out = [0u32; 3];
-        for ((o, &b), (&k, &n)) in out
-            .iter_mut()
-            .zip(bands.iter())
-            .zip(self.slots.iter().zip(self.lens.iter()))
-        {
-            *o = match k {
-                SlotKind::Absent => 0,
-                SlotKind::Azimuth => {
-                    if b < n {
-                        b
-                    } else {
-                        return None;
-                    }
-                }
-                _ => {
-                    if b >= 1 && b < n {
-                        b.saturating_sub(1)
-                    } else {
-                        return None;
-                    }
-                }
-            };
+    fn index(&self, slot: usize, band: u32) -> Option<u32> {
+        let (Some(&k), Some(&n)) = (self.slots.get(slot), self.lens.get(slot)) else {
+            return Some(0);
+        };
+        match k {
+            SlotKind::Absent => Some(0),
+            SlotKind::Azimuth => (band < n).then_some(band),
+            _ => (band >= 1 && band < n).then(|| band.saturating_sub(1)),
         }
-        Some(out)
     }
 }
 
@@ -141,6 +127,7 @@ struct Setup<T> {
     t0: T,
 }
 
+#[inline(always)]
 fn next_event<T: Real>(
     axes: &Axes<'_, T>,
     rays: &Rays<T>,
@@ -154,6 +141,30 @@ fn next_event<T: Real>(
         SlotKind::Azimuth => s.next_azimuth(&axes.azimuth, &rays.rel, rays.t_max),
         SlotKind::Height => s.next_height(axes.height.as_ref()?, &rays.rel, rays.t_max),
         SlotKind::Absent => None,
+    }
+}
+
+/// False when the line crosses the outer radius (sphere, or cylinder for the flat ray) and the ray's interval
+/// reaches a part of it where `t` is not finite: the scaled roots are finite, but `t = s·2^-e` overflows (a
+/// direction too short for its distance). Every crossing of the domain lies within the outer radius, so
+/// otherwise each `t` an engine reports is finite.
+fn outer_ball_representable<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>, t_min: T, t_max: T) -> bool {
+    let Some(&r2) = axes.radial.r2.last() else {
+        return true;
+    };
+    // Cheap bound first (no square root, no division): a point of the ball has |s| ≤ |p| + R (the scaled
+    // direction is at least 1 long), and |p| + R ≤ 2 max|p_i| + max(1, R²); with a factor 2 for rounding.
+    let bound = (ray.origin().max_abs() * T::TWO + r2.max(T::ONE)) * T::TWO;
+    if ray.t_from_scaled(bound).is_finite() {
+        return true;
+    }
+    match sphere_scaled_roots(r2, ray) {
+        Some((s_in, s_out)) if s_in < s_out => {
+            let (t_in, t_out) = (ray.t_from_scaled(s_in), ray.t_from_scaled(s_out));
+            !((t_out == T::INFINITY && t_max == T::INFINITY)
+                || (t_in == T::NEG_INFINITY && t_min == T::NEG_INFINITY))
+        }
+        _ => true,
     }
 }
 
@@ -179,6 +190,9 @@ fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, 
         t_max: ray.t_max(),
     };
     let t_min = rel.t_min();
+    if radial_moves && !outer_ball_representable(axes, rays.radial(), t_min, rays.t_max) {
+        return Err(MarchError::Unrepresentable);
+    }
     let mut streams = [Stream::Fixed; 3];
     let mut bands = [0u32; 3];
     let (mut rs, mut rband) = if radial_moves {
@@ -195,6 +209,10 @@ fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, 
                 rband = b;
             }
             None => return Ok(None),
+        }
+        if !t0.is_finite() {
+            // the line enters the outer radius where t overflows: a crossing that t cannot express
+            return Err(MarchError::Unrepresentable);
         }
     }
     if !radial_moves && rband == 0 {
@@ -232,44 +250,88 @@ fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, 
 
 /// Turns band changes into cell crossings. Holds back one finished crossing so that a zero-length excursion out
 /// of the domain (a touch of its boundary from inside) that returns to the same cell is merged away.
+///
+/// The cell is kept up to date one slot at a time: `cell[s]` is the index of slot `s`'s band and bit `s` of
+/// `outside` is set while that band is outside the domain, so an event costs one band lookup, not a
+/// re-evaluation of the whole cell rule.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Emitter<T> {
     rule: CellRule,
-    bands: [u32; 3],
+    cell: [u32; 3],
+    outside: u8,
     seg_start: T,
     t_max: T,
     pending: Option<CellCrossing<T>>,
+    /// Set when an event inside the domain has a `t` that is not finite (see [`MarchError::Unrepresentable`]).
+    unrepresentable: bool,
 }
 
 impl<T: Real> Emitter<T> {
     fn new(rule: CellRule, bands: [u32; 3], t0: T, t_max: T) -> Self {
-        Emitter {
+        let mut em = Emitter {
             rule,
-            bands,
+            cell: [0; 3],
+            outside: 0,
             seg_start: t0,
             t_max,
             pending: None,
+            unrepresentable: false,
+        };
+        for (slot, &b) in bands.iter().enumerate() {
+            em.set(slot, b);
+        }
+        em
+    }
+
+    /// Slot `slot` enters `band`.
+    #[inline]
+    fn set(&mut self, slot: usize, band: u32) {
+        let bit = 1u8 << (slot & 7);
+        match self.rule.index(slot, band) {
+            Some(i) => {
+                if let Some(c) = self.cell.get_mut(slot) {
+                    *c = i;
+                }
+                self.outside &= !bit;
+            }
+            None => self.outside |= bit,
         }
     }
 
     /// The event of `slot` entering `band`. Its parameter is divided (the one division of an azimuth or height
     /// crossing) only when a crossing of the domain ends or starts there; an event between two band sets that
     /// are both outside the domain (outside a wedge or a zenith band, or past a z facet) needs no `t`.
+    #[inline(always)]
     fn on(&mut self, at: At<T>, slot: usize, band: u32) -> Option<CellCrossing<T>> {
-        let before = self.rule.cell(self.bands);
-        if before.is_none() {
-            let mut after = self.bands;
-            if let Some(b) = after.get_mut(slot) {
-                *b = band;
-            }
-            if self.rule.cell(after).is_none() {
-                self.bands = after;
-                return None;
-            }
+        let was_inside = self.outside == 0;
+        let before = self.cell;
+        self.set(slot, band);
+        if !was_inside && self.outside != 0 {
+            return None;
         }
-        self.record(before, at.t(), slot, band)
+        // Events are ordered by their undivided parameters; two that agree within rounding may come out of
+        // their divisions in the other order, or a hair past t_max: clamp (a zero-length crossing at worst).
+        // (seg_start is the last t computed: an event outside the domain leaves it where it was)
+        let t = at.t();
+        if !t.is_finite() {
+            // the scaled parameter is finite (the solvers return no other) but t = s·2^-e overflows
+            self.unrepresentable = true;
+            return None;
+        }
+        let t = t.max(self.seg_start).min(self.t_max).max(self.seg_start);
+        let mut out = None;
+        if was_inside {
+            out = self.push(CellCrossing {
+                cell: before,
+                t_enter: self.seg_start,
+                t_exit: t,
+            });
+        }
+        self.seg_start = t;
+        out
     }
 
+    #[inline]
     fn push(&mut self, c: CellCrossing<T>) -> Option<CellCrossing<T>> {
         match self.pending.as_mut() {
             Some(p) if p.cell == c.cell && p.t_exit == c.t_enter => {
@@ -280,50 +342,23 @@ impl<T: Real> Emitter<T> {
         }
     }
 
-    /// Records the event at `t`; `before` is the cell the bands give before it.
-    fn record(
-        &mut self,
-        before: Option<[u32; 3]>,
-        t: T,
-        slot: usize,
-        band: u32,
-    ) -> Option<CellCrossing<T>> {
-        // Events are ordered by their undivided parameters; two that agree within rounding may come out of
-        // their divisions in the other order, or a hair past t_max: clamp (a zero-length crossing at worst).
-        let t = t.max(self.seg_start).min(self.t_max).max(self.seg_start);
-        // (seg_start is the last t computed: an event outside the domain leaves it where it was)
-        if let Some(b) = self.bands.get_mut(slot) {
-            *b = band;
-        }
-        let mut out = None;
-        if let Some(cell) = before {
-            out = self.push(CellCrossing {
-                cell,
-                t_enter: self.seg_start,
-                t_exit: t,
-            });
-        }
-        self.seg_start = t;
-        out
-    }
-
     fn finish(&mut self, t_end: T) -> Option<CellCrossing<T>> {
-        match self.rule.cell(self.bands) {
-            Some(cell) => {
-                let t_exit = t_end.max(self.seg_start);
-                self.bands = [u32::MAX; 3];
-                self.push(CellCrossing {
-                    cell,
-                    t_enter: self.seg_start,
-                    t_exit,
-                })
-            }
-            None => None,
+        if self.outside != 0 {
+            return None;
         }
+        let t_exit = t_end.max(self.seg_start);
+        self.outside = 0xff;
+        self.push(CellCrossing {
+            cell: self.cell,
+            t_enter: self.seg_start,
+            t_exit,
+        })
     }
 
-    fn radial_band(&self) -> u32 {
-        self.bands.first().copied().unwrap_or(0)
+    /// True while the radius band (slot 0) is at or beyond the outer radius.
+    #[inline]
+    fn beyond_outer_radius(&self, band: u32) -> bool {
+        self.rule.lens.first().is_some_and(|&n| band >= n)
     }
 }
 
@@ -338,10 +373,14 @@ pub struct SerialMarch<'g, T> {
     axes: &'g Axes<'g, T>,
     rays: Option<Rays<T>>,
     streams: [Stream<T>; 3],
-    heads: [Option<Packed<T>>; 3],
+    /// Each coordinate's next event (valid where its bit of `live` is set).
+    heads: [Packed<T>; 3],
+    live: u8,
     em: Option<Emitter<T>>,
     t_max: T,
     steps: u32,
+    /// The iteration bound (`Axes::max_events`).
+    bound: u32,
     finished: bool,
     error: Option<MarchError>,
 }
@@ -352,10 +391,12 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             axes,
             rays: None,
             streams: [Stream::Fixed; 3],
-            heads: [None; 3],
+            heads: [Packed::pack((At::exact(T::ZERO), 0)); 3],
+            live: 0,
             em: None,
             t_max: ray.t_max(),
             steps: 0,
+            bound: axes.max_events(),
             finished: true,
             error: None,
         };
@@ -363,9 +404,7 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             Ok(Some(s)) => {
                 let mut streams = s.streams;
                 for slot in 0..3 {
-                    if let Some(h) = m.heads.get_mut(slot) {
-                        *h = next_event(axes, &s.rays, &mut streams, slot).map(Packed::pack);
-                    }
+                    m.set_head(slot, next_event(axes, &s.rays, &mut streams, slot));
                 }
                 m.streams = streams;
                 m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0, ray.t_max()));
@@ -376,6 +415,13 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             Err(e) => m.error = Some(e),
         }
         m
+    }
+
+    fn set_head(&mut self, slot: usize, next: Option<Event<T>>) {
+        if let (Some(h), Some(e)) = (self.heads.get_mut(slot), next) {
+            *h = Packed::pack(e);
+            self.live |= 1 << slot;
+        }
     }
 
     /// Why the march stopped early, if it did: the ray could not be put into the grid's frame
@@ -396,9 +442,11 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
             if self.finished {
                 return em.pending.take();
             }
+            // the earliest of the live heads; the first slot on a tie
             let mut best: Option<(At<T>, u32, usize)> = None;
             for (slot, h) in self.heads.iter().enumerate() {
-                if let Some((t, b)) = h.map(Packed::unpack) {
+                if self.live & (1 << slot) != 0 {
+                    let (t, b) = h.unpack();
                     if best.is_none_or(|(bt, _, _)| t.lt(&bt)) {
                         best = Some((t, b, slot));
                     }
@@ -412,17 +460,29 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
                 continue;
             };
             self.steps = self.steps.saturating_add(1);
-            if self.steps > self.axes.max_events() {
+            if self.steps > self.bound {
                 self.error = Some(MarchError::IterationBound);
                 self.finished = true;
                 continue;
             }
             let next = next_event(self.axes, rays, &mut self.streams, slot);
+            let ended = next.is_none();
             if let Some(h) = self.heads.get_mut(slot) {
-                *h = next.map(Packed::pack);
+                match next {
+                    Some(e) => {
+                        *h = Packed::pack(e);
+                        self.live |= 1 << slot;
+                    }
+                    None => self.live &= !(1 << slot),
+                }
             }
             let out = em.on(t, slot, band);
-            if slot == 0 && next.is_none() && em.radial_band() >= self.axes.radial.len {
+            if em.unrepresentable {
+                self.error = Some(MarchError::Unrepresentable);
+                self.finished = true;
+                continue;
+            }
+            if slot == 0 && ended && em.beyond_outer_radius(band) {
                 self.finished = true; // left the outer radius for good
             }
             if out.is_some() {
@@ -444,6 +504,7 @@ pub struct SeparableMarch<T, const N: usize> {
     em: Option<Emitter<T>>,
     t_max: T,
     finished: bool,
+    error: Option<MarchError>,
 }
 
 impl<T: Real, const N: usize> SeparableMarch<T, N> {
@@ -458,6 +519,7 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
             em: None,
             t_max: ray.t_max(),
             finished: true,
+            error: None,
         };
         let Some(s) = setup(axes, ray)? else {
             return Ok(m);
@@ -489,6 +551,13 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
         m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0, ray.t_max()));
         m.finished = false;
         Ok(m)
+    }
+
+    /// Why the march stopped early, if it did: a crossing whose `t` is not representable
+    /// ([`MarchError::Unrepresentable`]; the other errors are returned at construction). The crossings returned
+    /// before an error are correct, and the serial engine stops at the same point with the same error.
+    pub fn error(&self) -> Option<MarchError> {
+        self.error
     }
 
     /// The number of crossings listed per coordinate (for sizing `N`).
@@ -528,8 +597,14 @@ impl<T: Real, const N: usize> Iterator for SeparableMarch<T, N> {
             if let Some(p) = self.pos.get_mut(slot) {
                 *p = p.saturating_add(1);
             }
-            if let Some(c) = em.on(t, slot, band) {
-                return Some(c);
+            let out = em.on(t, slot, band);
+            if em.unrepresentable {
+                self.error = Some(MarchError::Unrepresentable);
+                self.finished = true;
+                continue;
+            }
+            if out.is_some() {
+                return out;
             }
         }
     }

@@ -224,6 +224,10 @@ pub enum MarchError {
     IterationBound,
     /// The ray could not be expressed relative to the grid's center (it overflows).
     Ray(RayError),
+    /// The ray crosses the domain, but its parameter `t` there is beyond the largest finite value of the scalar
+    /// type (a direction so short, like `[1e-308, 0, 0]` from a few units away, that `t = distance / |d|`
+    /// overflows). Answered as an error rather than as a miss or as crossings at `t = ∞`.
+    Unrepresentable,
 }
 
 impl core::fmt::Display for MarchError {
@@ -236,6 +240,9 @@ impl core::fmt::Display for MarchError {
             ),
             MarchError::IterationBound => f.write_str("march exceeded its iteration bound"),
             MarchError::Ray(e) => write!(f, "ray relative to the grid center: {e}"),
+            MarchError::Unrepresentable => f.write_str(
+                "the ray crosses the grid where its t exceeds the largest finite value (direction too short)",
+            ),
         }
     }
 }

@@ -30,7 +30,7 @@
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
 use crate::ray::Ray;
 use crate::real::Real;
-use crate::surface::{PlaneZ, Side, Spheroid, Surface};
+use crate::surface::{PlaneZ, Side, Surface, sphere_scaled_roots};
 use crate::vec3::V3;
 
 /// One event: the crossing's parameter and the band (or sector) entered.
@@ -108,7 +108,7 @@ impl<T: Real> At<T> {
         if e == 0 {
             return At { num, den, e };
         }
-        let folded = den.scalbn(e);
+        let folded = ray.t_to_scaled(den); // den · 2^e, exact
         if folded.is_finite() && folded >= T::MIN_POSITIVE {
             At {
                 num,
@@ -141,6 +141,12 @@ impl<T: Real> At<T> {
     /// parameter (never the reverse, which could underflow for huge directions).
     #[inline]
     pub(crate) fn lt(&self, other: &Self) -> bool {
+        if self.e == other.e {
+            // the common case (every exact t, and every fraction whose rescaling was folded into `den`):
+            // multiplying by a denominator of exactly 1 is exact, so this is the comparison of the values
+            // themselves whenever one side is already divided
+            return self.num * other.den < other.num * self.den;
+        }
         let mut l = if other.den == T::ONE {
             self.num
         } else {
@@ -152,14 +158,12 @@ impl<T: Real> At<T> {
             other.num * self.den
         };
         // self.num/self.den·2^-se < other.num/other.den·2^-oe  ⇔  l·2^oe < r·2^se
-        if self.e != other.e {
-            if self.e == 0 {
-                l = l.scalbn(other.e);
-            } else if other.e == 0 {
-                r = r.scalbn(self.e);
-            } else {
-                l = l.scalbn(other.e.saturating_sub(self.e));
-            }
+        if self.e == 0 {
+            l = l.scalbn(other.e);
+        } else if other.e == 0 {
+            r = r.scalbn(self.e);
+        } else {
+            l = l.scalbn(other.e.saturating_sub(self.e));
         }
         l < r
     }
@@ -220,14 +224,14 @@ pub(crate) enum Stream<T> {
     },
 }
 
-/// The two roots of the ray with the sphere of radius `r` centred at the origin, in the caller's `t`
-/// (one square root; `None` when the line misses it or `r = 0`).
+/// The two roots of the ray with the sphere of squared radius `r2` centred at the origin, in the caller's `t`
+/// (one square root; `None` when the line misses it or `r2 = 0`).
 #[inline]
-fn sphere_roots<T: Real>(r: T, ray: &Ray<T>) -> Option<(T, T)> {
-    if !(r > T::ZERO) {
+fn sphere_roots<T: Real>(r2: T, ray: &Ray<T>) -> Option<(T, T)> {
+    if !(r2 > T::ZERO) {
         return None;
     }
-    let (a, b) = Spheroid::sphere(r).ok()?.scaled_roots(ray)?;
+    let (a, b) = sphere_scaled_roots(r2, ray)?;
     Some((ray.t_from_scaled(a), ray.t_from_scaled(b)))
 }
 
@@ -516,9 +520,9 @@ impl<T: Real> Stream<T> {
             let inner = band.checked_sub(1);
             let hit = match inner {
                 Some(j) if before_hinge(ray, *t_own) => axis
-                    .r
+                    .r2
                     .get(j as usize)
-                    .and_then(|&r| sphere_roots(r, ray))
+                    .and_then(|&r2| sphere_roots(r2, ray))
                     // a touch (double root) does not enter: the touching point has r = r_j, which belongs
                     // to the outer band (half-open cells)
                     .filter(|&(t_in, t_out)| t_in < t_out)
@@ -549,9 +553,9 @@ impl<T: Real> Stream<T> {
         let t_out = match *cache {
             Some((k, t)) if k == j => t,
             _ => axis
-                .r
+                .r2
                 .get(j as usize)
-                .and_then(|&r| sphere_roots(r, ray))
+                .and_then(|&r2| sphere_roots(r2, ray))
                 .map_or(*t_own, |(_, t_out)| t_out),
         };
         *cache = None;
@@ -777,19 +781,24 @@ impl<T: Real> Stream<T> {
             return None;
         };
         let d = ray.scaled_dir();
+        let p = ray.origin();
+        // the cheap tests first: a line that passes the z axis clearly (every ordinary ray) ends here
+        let near_axis = ray.p_cross_d().z.abs()
+            <= sqrt_epsilon::<T>()
+                * T::from_f64(64.0)
+                * p.x.abs().max(p.y.abs()).max(axis.scale)
+                * d.x.abs().max(d.y.abs());
+        if !near_axis || walk.is_some() {
+            *self = Stream::Fixed;
+            return None;
+        }
         let target = axis.sector_of(d.x, d.y);
         let (way, steps) = walk_way(axis, *sector, target, Some(*ccw));
         let on_boundary = (0..axis.boundaries).any(|k| {
             let (c, s) = axis.dir_of(k);
             c * d.y - s * d.x == T::ZERO && c * d.x + s * d.y > T::ZERO
         });
-        let p = ray.origin();
-        let near_axis = ray.p_cross_d().z.abs()
-            <= sqrt_epsilon::<T>()
-                * T::from_f64(64.0)
-                * p.x.abs().max(p.y.abs()).max(axis.scale)
-                * d.x.abs().max(d.y.abs());
-        if steps == 0 || on_boundary || !near_axis || walk.is_some() {
+        if steps == 0 || on_boundary {
             *self = Stream::Fixed;
             return None;
         }

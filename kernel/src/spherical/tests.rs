@@ -465,5 +465,93 @@ fn size_of_the_serial_iterator() {
     let s64 = core::mem::size_of::<SerialMarch<'static, f64>>();
     let s32 = core::mem::size_of::<SerialMarch<'static, f32>>();
     std::println!("size_of SerialMarch: f64 {s64} bytes, f32 {s32} bytes");
-    assert!(s64 <= 1024 && s32 <= 512, "{s64} {s32}");
+    // measured: 744 and 448 (the two rays in the grid's frame are 2 × 144 bytes of it in f64); the design goal
+    // of 192 and 128 needs a marcher state without stored rays (not reached yet)
+    assert!(s64 <= 744 && s32 <= 448, "{s64} {s32}");
+}
+
+#[test]
+fn tiny_direction_whose_t_overflows_is_an_error_not_a_miss() {
+    // The line along +x from (-3, 0.1, 0.2) crosses the unit ball, but at t ≈ 2.2e308 and beyond: not finite.
+    let ray = Ray::new([-3.0, 0.1, 0.2], [1e-308, 0.0, 0.0]).unwrap();
+    let mut ws = [0.0; 64];
+    let g = SphericalGrid::new(&R, &TH, &PH, &mut ws).unwrap();
+    let mut m = g.march(&ray);
+    let got: Vec<_> = m.by_ref().collect();
+    assert_eq!(
+        (got.as_slice(), m.error()),
+        (&[][..], Some(MarchError::Unrepresentable))
+    );
+    assert_eq!(
+        g.march_separable::<32>(&ray).err(),
+        Some(MarchError::Unrepresentable)
+    );
+}
+
+#[test]
+fn vertical_tiny_direction_in_a_cylinder_stops_with_an_error_at_the_first_unrepresentable_t() {
+    // A vertical line inside the cylinder (its radius never changes): z = 0 at t = 5e307, z = 4 at t = 4.5e308,
+    // beyond the largest f64. The first crossing is correct and finite; the second cannot be expressed.
+    let (rho, phi, z) = ([0.0, 1.0, 2.0], [0.0, PI, 2.0 * PI], [-1.0, 0.0, 4.0]);
+    let mut ws = [0.0; 64];
+    let g = CylindricalGrid::new(&rho, &phi, &z, &mut ws).unwrap();
+    let ray = Ray::new([0.5, 0.5, -0.5], [0.0, 0.0, 1e-308]).unwrap();
+    let mut m = g.march(&ray);
+    let serial: Vec<_> = m.by_ref().collect();
+    assert_eq!(m.error(), Some(MarchError::Unrepresentable));
+    let mut s = g.march_separable::<32>(&ray).unwrap();
+    let separable: Vec<_> = s.by_ref().collect();
+    assert_eq!(s.error(), Some(MarchError::Unrepresentable));
+    assert_eq!(serial, separable);
+    assert_eq!(
+        serial,
+        [CellCrossing {
+            cell: [0, 0, 0],
+            t_enter: 0.0,
+            t_exit: 0.5 / 1e-308
+        }]
+    );
+}
+
+#[test]
+fn tiny_direction_from_inside_the_ball_is_an_error() {
+    // Starts inside the inner ball; it leaves that at t ≈ 1e308 (finite) and the outer ball at t ≈ 2.2e308
+    // (not): the march is refused as a whole (the outer ball's exit is checked when the march starts).
+    let ray = Ray::new([0.1, 0.1, 0.1], [4e-309, 0.0, 0.0]).unwrap();
+    let mut ws = [0.0; 64];
+    let g = SphericalGrid::new(&R, &TH, &PH, &mut ws).unwrap();
+    let mut m = g.march(&ray);
+    assert_eq!(m.by_ref().count(), 0);
+    assert_eq!(m.error(), Some(MarchError::Unrepresentable));
+    assert_eq!(
+        g.march_separable::<32>(&ray).err(),
+        Some(MarchError::Unrepresentable)
+    );
+}
+
+#[test]
+fn subnormal_direction_with_representable_t_marches_exactly_like_a_unit_one() {
+    // A grid 2^-53 the size of the unit one and a direction 2^-1030 (components subnormal, all exact): every t is
+    // the unit march's t times 2^977, bit for bit, and the cells are the same.
+    let small = |v: &[f64]| -> Vec<f64> { v.iter().map(|x| x * 2f64.powi(-53)).collect() };
+    let (o, d) = ([-1.5, -0.25, -0.125], [1.0, 0.125, 0.09375]);
+    let base = march_s(&R, &TH, &PH, &Ray::new(o, d).unwrap());
+    assert!(base.len() >= 5, "{base:?}");
+    let tiny = Ray::new(
+        o.map(|x| x * 2f64.powi(-53)),
+        d.map(|x| x * f64::from_bits(1 << 44)), // 2^-1030
+    )
+    .unwrap();
+    assert!(tiny.dir().x < f64::MIN_POSITIVE);
+    let c = march_s(&small(&R), &TH, &PH, &tiny);
+    let k = 2f64.powi(977);
+    let scaled: Vec<_> = base
+        .iter()
+        .map(|b| CellCrossing {
+            cell: b.cell,
+            t_enter: b.t_enter * k,
+            t_exit: b.t_exit * k,
+        })
+        .collect();
+    assert_eq!(c, scaled);
 }

@@ -80,31 +80,46 @@ impl<T: Real> Spheroid<T> {
     /// the line misses it. Costs one square root and two divisions (plus the scaling of z for `a ≠ b`).
     #[inline]
     pub(crate) fn scaled_roots(&self, ray: &Ray<T>) -> Option<(T, T)> {
-        let (p, dd, pd, w) = if self.is_sphere() {
-            (ray.origin(), ray.dd(), ray.pd(), ray.p_cross_d())
-        } else {
+        if self.is_sphere() {
+            return sphere_scaled_roots(self.a2, ray);
+        }
+        let (p, dd, pd, w) = {
             let mut p = ray.origin();
             let mut d = ray.scaled_dir();
             p.z *= self.k;
             d.z *= self.k;
             (p, d.length_squared(), p.dot(d), p.cross(d))
         };
-        // ⟨p|d⟩² − ‖d‖²(‖p‖² − R²) = ‖d‖² R² − |p × d|²: closest approach from the cross product.
-        let disc = dd * self.a2 - w.length_squared();
-        if !(disc >= T::ZERO) {
-            return None;
-        }
-        let c = p.length_squared() - self.a2;
-        // ‖d‖² grows toward outside ⇒ the root where the quadratic decreases is the entry into the ball.
-        let (s_in, s_out) = stable_quadratic(dd, pd, c, disc.sqrt());
-        // Near tangency the two roots are equal within rounding, and the two roundings (q/a, c/q) can put them in
-        // reverse order: that is a touch, reported at their midpoint (the tangency convention of `surface`).
-        if s_in > s_out {
-            let mid = s_in * T::HALF + s_out * T::HALF;
-            return Some((mid, mid));
-        }
-        Some((s_in, s_out))
+        quadratic_roots(self.a2, p, dd, pd, w)
     }
+}
+
+/// The roots of the ray with the origin-centred sphere of squared radius `r2 > 0` (finite), in the ray's scaled
+/// parameter: [`Spheroid::scaled_roots`] for a sphere, bit for bit, without building the surface (the spherical
+/// marcher keeps its radii squared, seed 001 §2, and solves one sphere per radius crossing).
+#[inline]
+pub(crate) fn sphere_scaled_roots<T: Real>(r2: T, ray: &Ray<T>) -> Option<(T, T)> {
+    quadratic_roots(r2, ray.origin(), ray.dd(), ray.pd(), ray.p_cross_d())
+}
+
+/// `‖d‖² s² + 2⟨p|d⟩ s + ‖p‖² − R² = 0` with the discriminant through the closest approach.
+#[inline]
+fn quadratic_roots<T: Real>(a2: T, p: V3<T>, dd: T, pd: T, w: V3<T>) -> Option<(T, T)> {
+    // ⟨p|d⟩² − ‖d‖²(‖p‖² − R²) = ‖d‖² R² − |p × d|²: closest approach from the cross product.
+    let disc = dd * a2 - w.length_squared();
+    if !(disc >= T::ZERO) {
+        return None;
+    }
+    let c = p.length_squared() - a2;
+    // ‖d‖² grows toward outside ⇒ the root where the quadratic decreases is the entry into the ball.
+    let (s_in, s_out) = stable_quadratic(dd, pd, c, disc.sqrt());
+    // Near tangency the two roots are equal within rounding, and the two roundings (q/a, c/q) can put them in
+    // reverse order: that is a touch, reported at their midpoint (the tangency convention of `surface`).
+    if s_in > s_out {
+        let mid = s_in * T::HALF + s_out * T::HALF;
+        return Some((mid, mid));
+    }
+    Some((s_in, s_out))
 }
 
 impl<T: Real> Surface<T> for Spheroid<T> {

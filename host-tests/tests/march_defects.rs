@@ -1,0 +1,149 @@
+//! Regression tests for two defects of the marchers: the last crossing of a ray that ends inside the domain exits
+//! at the ray's `t_max` bit for bit, and a ray whose crossings lie where `t` overflows (a tiny direction) is a
+//! typed error — in the kernel and as an error line of `curvicast march` — never a miss or a `null` t.
+
+use curvicast_host::scenes::march_cases::{
+    Engine, Precision, partial_grid, random_grid, random_ray, run_engine,
+};
+use rand::{Rng, SeedableRng};
+use std::io::Write;
+use std::process::{Command, Stdio};
+
+/// The neighbours of `t` by `k` units in the last place of the precision's type.
+fn ulps(p: Precision, t: f64, k: i64) -> f64 {
+    match p {
+        Precision::F64 => f64::from_bits((t.to_bits() as i64 + k) as u64),
+        _ => f32::from_bits(((t as f32).to_bits() as i64 + k) as u32) as f64,
+    }
+}
+
+/// A ray that ends inside the domain: its last crossing's `t_exit` is the ray's `t_max`, bit for bit, in every
+/// precision and both engines. Random grids (partial ones included) and the partial hard-case grid; `t_max` is
+/// placed strictly inside a crossing of the unclipped ray, at random or one ulp inside either end, or exactly
+/// on an event between two cells of the domain.
+#[test]
+fn last_crossing_of_a_ray_ending_inside_exits_at_t_max_exactly() {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0x0016_7a4a);
+    let mut checked = 0;
+    let mut bad = Vec::new();
+    for n in 0..3000 {
+        let g = if n % 2 == 0 {
+            partial_grid()
+        } else {
+            random_grid(&mut rng)
+        };
+        let mut ray = random_ray(&mut rng, &g);
+        ray.t_max = None;
+        for p in [Precision::F64, Precision::F32, Precision::F32Fast] {
+            let rp = p.round_ray(&ray);
+            let gp = p.round_grid(&g);
+            let Ok(full) = run_engine(&gp, &rp, Engine::Serial, p) else {
+                continue;
+            };
+            if full.is_empty() {
+                continue;
+            }
+            let i = rng.random_range(0..full.len());
+            let c = full[i];
+            if c.t_exit <= c.t_enter || !c.t_exit.is_finite() {
+                continue;
+            }
+            let t_max = match rng.random_range(0..4) {
+                0 => ulps(p, c.t_exit, -1),
+                1 => ulps(p, c.t_enter, 1),
+                2 if full.get(i + 1).is_some_and(|d| d.t_enter == c.t_exit) => c.t_exit,
+                _ => c.t_enter + rng.random_range(0.0..1.0) * (c.t_exit - c.t_enter),
+            };
+            let mut clipped = rp;
+            clipped.t_max = Some(t_max);
+            let clipped = p.round_ray(&clipped);
+            let want = clipped.t_max.unwrap();
+            let inside = full.iter().any(|d| d.t_enter < want && want < d.t_exit)
+                || full
+                    .windows(2)
+                    .any(|w| w[0].t_exit == want && w[1].t_enter == want);
+            if !inside || want < clipped.t_min {
+                continue;
+            }
+            for e in [Engine::Serial, Engine::Separable] {
+                let got = run_engine(&gp, &clipped, e, p).unwrap();
+                checked += 1;
+                match got.last() {
+                    Some(l) if l.t_exit.to_bits() == want.to_bits() => {}
+                    other => bad.push(format!("{} {e:?} {gp:?} {clipped:?}: {other:?}", p.name())),
+                }
+            }
+        }
+    }
+    assert!(checked > 5000, "{checked}");
+    assert!(
+        bad.is_empty(),
+        "{} of {checked}: {:?}",
+        bad.len(),
+        &bad[..bad.len().min(5)]
+    );
+}
+
+fn run_cli(args: &[&str], stdin: &str) -> String {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_curvicast"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(stdin.as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// `[1e-308, 0, 0]` from three units away crosses the unit ball at t ≈ 2e308..4e308, beyond the largest f64:
+/// the CLI answers with an error line (both engines), and the same line with a direction a thousand times
+/// longer has ordinary, finite crossings.
+#[test]
+fn tiny_direction_whose_t_overflows_is_an_error_line_not_a_miss() {
+    let dir = std::env::temp_dir().join(format!("curvicast-march-defects-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let grid = dir.join("sphere.json");
+    std::fs::write(
+        &grid,
+        r#"{"kind": "spherical", "r": [0.0, 0.5, 1.0], "theta": [0.0, 1.5707963267948966, 3.141592653589793], "phi": [0.0, 3.141592653589793, 6.283185307179586]}"#,
+    )
+    .unwrap();
+    let rays = concat!(
+        "{\"origin\": [-3, 0.1, 0.2], \"dir\": [1e-308, 0, 0]}\n",
+        "{\"origin\": [-3, 0.1, 0.2], \"dir\": [1e-305, 0, 0]}\n",
+    );
+    for engine in ["serial", "separable"] {
+        let out = run_cli(
+            &[
+                "march",
+                "--grid",
+                grid.to_str().unwrap(),
+                "--engine",
+                engine,
+            ],
+            rays,
+        );
+        let lines: Vec<serde_json::Value> = out
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        assert_eq!(lines.len(), 2, "{out}");
+        let msg = lines[0]["error"].as_str().unwrap_or_default();
+        assert!(msg.contains("largest finite"), "{engine}: {out}");
+        let cs = lines[1]["crossings"].as_array().unwrap();
+        assert!(cs.len() >= 3, "{out}");
+        assert!(
+            cs.iter()
+                .all(|c| c["t_enter"].is_f64() && c["t_exit"].is_f64()),
+            "{out}"
+        );
+    }
+}
