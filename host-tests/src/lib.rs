@@ -4,11 +4,13 @@
 //! * [`oracle`]: independent arbitrary-precision reference answers. The oracle never calls kernel code paths.
 //! * [`scenes`]: the input formats of the command-line contract, analytic fields, real datasets, hard cases.
 //! * [`baselines`]: what a user would otherwise do (Cartesian resampling, a general mesh ray caster, brute force).
+//! * [`render`]: images of fields on spherical grids, native and Cartesian (`curvicast render`).
 //! * [`report`]: the speed-against-error report.
 //! * [`cli`]: the subcommands of `curvicast`.
 
 pub mod baselines;
 pub mod cli;
 pub mod oracle;
+pub mod render;
 pub mod report;
 pub mod scenes;
