@@ -42,6 +42,22 @@ pub fn finite_range(values: &[f64]) -> [f64; 2] {
     }
 }
 
+/// The smallest finite value and the `q`-quantile of the finite values (`q` in (0, 1]): a colour range that a few
+/// extreme pixels (the limb of a thin shell) do not wash out.
+pub fn quantile_range(values: &[f64], q: f64) -> [f64; 2] {
+    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return [0.0, 1.0];
+    }
+    v.sort_by(f64::total_cmp);
+    let hi = v[((v.len() - 1) as f64 * q.clamp(0.0, 1.0)).round() as usize];
+    if hi > v[0] {
+        [v[0], hi]
+    } else {
+        finite_range(values)
+    }
+}
+
 /// Maps `values` (row-major, `width × height`) linearly from `range` onto the colour map; NaN is mid grey.
 pub fn colorize(
     values: &[f64],

@@ -8,11 +8,13 @@
 //! * [`field`]: the grid, the analytic fields as exact cell averages, their closed-form projections, coarsening;
 //! * [`sampler`]: projection, travel time, emission–absorption;
 //! * [`cartesian`]: the resampled voxels and their Amanatides–Woo march;
+//! * [`data`]: the shipped ocean temperature and PREM as spherical fields, and PREM's quadrature truth;
 //! * [`image`]: colour maps and PNG;
 //! * [`scene`]: the scene file, SCENE.json.
 
 pub mod camera;
 pub mod cartesian;
+pub mod data;
 pub mod field;
 pub mod image;
 pub mod sampler;

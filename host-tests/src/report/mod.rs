@@ -3,6 +3,8 @@
 //! Each section lives in its own module and returns a [`Section`]; [`run`] runs them in order.
 
 pub mod march;
+pub mod plot;
+pub mod render;
 pub mod surfaces;
 pub mod terrain;
 pub mod terrain_multires;
@@ -38,6 +40,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
         terrain::section,
         terrain_multires::section,
         tessellate::section,
+        render::section,
     ];
     let mut done = Vec::new();
     let mut md = String::from("# curvicast report\n\n");
