@@ -336,3 +336,31 @@ fn bad_scene_files_exit_2_with_one_line_naming_the_file_and_write_nothing() {
         assert!(!out.exists(), "{name}: wrote {}", out.display());
     }
 }
+
+#[test]
+fn single_precision_native_projection_is_close_to_f64() {
+    let (w, h) = (24, 24);
+    let mut base = Vec::new();
+    for precision in ["f64", "f32", "f32-fast"] {
+        let d = dir(&format!("prec-{precision}"));
+        let scene = serde_json::json!({"grid": grid(8, 6, 6), "field": {"analytic": "r2"}, "camera": ortho(),
+            "pixels": [w, h], "precision": precision});
+        let (code, err) = render(&d, &scene);
+        assert_eq!(code, 0, "{err}");
+        let v = read_f64(&d.join("out/values.f64"));
+        let meta: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(d.join("out/render.json")).unwrap())
+                .unwrap();
+        assert_eq!(meta["precision"], precision);
+        if base.is_empty() {
+            base = v;
+        } else {
+            let worst = v
+                .iter()
+                .zip(&base)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(worst < 1e-4 && worst > 0.0, "{precision}: {worst:e}");
+        }
+    }
+}

@@ -615,7 +615,7 @@ fn real_renders(opts: &Options) -> anyhow::Result<String> {
         );
     }
     let model = data::prem()?;
-    let (g, v) = model.grid(8, 90, 180);
+    let (g, v) = model.grid(4, 45, 90);
     let r = g.outer_radius();
     let pixels = [side, side];
     let scene = Scene {
@@ -651,7 +651,9 @@ fn real_renders(opts: &Options) -> anyhow::Result<String> {
     let _ = writeln!(
         md,
         "![PREM travel times](prem_travel_time.png)\n\nPREM: straight-ray P travel time through the whole Earth \
-         (perspective view; {lo:.0} s to {hi:.0} s, viridis), {side}×{side} pixels in {} natively.\n",
+         (perspective view; {} cells, each linear piece of the model cut in 4; {lo:.0} s to {hi:.0} s, viridis), \
+         {side}×{side} pixels in {} natively.\n",
+        cells_label(&scene.grid),
         ms(out.seconds)
     );
     Ok(md)
