@@ -679,7 +679,8 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
         "{reps} run{}. Errors are over the pixels whose ray meets the field: RMS relative = RMS of the absolute \
          error over the RMS of the truth, max relative = largest absolute error over the largest truth (a \
          per-pixel relative error would be dominated by the limb, §6.2). The camera is oblique, not aligned \
-         with the voxel axes.\n\n",
+         with the voxel axes. Times are wall-clock on the machine that runs the report: where other work shares \
+         it, a rung can come out slower than a finer one, and the ratios below move with it; the errors do not.\n\n",
         if reps > 1 { "s" } else { "" }
     );
     let studies = [
