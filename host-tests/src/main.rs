@@ -104,6 +104,15 @@ enum Command {
         #[arg(long, value_enum, default_value = "f64")]
         precision: curvicast_host::cli::march::Precision,
     },
+    /// Render one view of a field on a spherical grid: DIR/image.png, values.f32 and render.json.
+    Render {
+        /// The SCENE.json file.
+        #[arg(long)]
+        scene: PathBuf,
+        /// The output directory.
+        #[arg(long)]
+        out: PathBuf,
+    },
 }
 
 fn main() -> ExitCode {
@@ -183,6 +192,12 @@ fn main() -> ExitCode {
             },
             &mut std::io::stdout().lock(),
         ),
+        Command::Render { scene, out } => {
+            curvicast_host::cli::render::run(&curvicast_host::cli::render::RenderArgs {
+                scene,
+                out,
+            })
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -10,9 +10,7 @@
 /// A spherical grid resampled onto an `n³` voxel grid covering its bounding cube.
 #[derive(Debug, Clone)]
 pub struct VoxelGrid {
-    n: usize,
-    lo: [f64; 3],
-    h: f64,
+    cube: VoxelCube,
     /// Per voxel: the spherical cell `[i, j, k]` of its center, or `None` outside the domain.
     cells: Vec<Option<[u32; 3]>>,
 }
@@ -48,45 +46,16 @@ impl VoxelGrid {
         phi: &[f64],
         n: usize,
     ) -> VoxelGrid {
-        let rmax = r[r.len() - 1];
-        let lo = center.map(|c| c - rmax);
-        let h = 2.0 * rmax / n as f64;
-        let full = phi[phi.len() - 1] - phi[0] >= std::f64::consts::TAU;
-        let mut cells = Vec::with_capacity(n * n * n);
-        for iz in 0..n {
-            for iy in 0..n {
-                for ix in 0..n {
-                    let x = lo[0] + (ix as f64 + 0.5) * h - center[0];
-                    let y = lo[1] + (iy as f64 + 0.5) * h - center[1];
-                    let z = lo[2] + (iz as f64 + 0.5) * h - center[2];
-                    let rr = (x * x + y * y + z * z).sqrt();
-                    let th = if rr > 0.0 {
-                        (z / rr).clamp(-1.0, 1.0).acos()
-                    } else {
-                        0.0
-                    };
-                    let mut ph = y.atan2(x);
-                    // into [phi0, phi0 + 2π)
-                    ph -= std::f64::consts::TAU * ((ph - phi[0]) / std::f64::consts::TAU).floor();
-                    let k = if full {
-                        locate(phi, ph).or(Some((phi.len() - 2) as u32))
-                    } else {
-                        locate(phi, ph)
-                    };
-                    let c = match (locate(r, rr), locate(theta, th), k) {
-                        (Some(i), Some(j), Some(k)) => Some([i, j, k]),
-                        _ => None,
-                    };
-                    cells.push(c);
-                }
-            }
-        }
-        VoxelGrid { n, lo, h, cells }
+        let cube = VoxelCube::around(center, r[r.len() - 1], n);
+        let cells = (0..n * n * n)
+            .map(|v| spherical_cell_of(center, r, theta, phi, cube.voxel_center(v)))
+            .collect();
+        VoxelGrid { cube, cells }
     }
 
     /// Voxels per side.
     pub fn n(&self) -> usize {
-        self.n
+        self.cube.n()
     }
 
     /// Marches the ray `origin + t dir`, `t ∈ [t_min, t_max]`, through the voxels (Amanatides–Woo), mapping each
@@ -100,6 +69,95 @@ impl VoxelGrid {
         out: &mut Vec<VoxelCrossing>,
     ) {
         out.clear();
+        self.cube
+            .traverse(origin, dir, t_min, t_max, |v, t, t_exit| {
+                if let Some(cell) = self.cells[v] {
+                    match out.last_mut() {
+                        Some(last) if last.cell == cell && last.t_exit == t => last.t_exit = t_exit,
+                        _ => out.push(VoxelCrossing {
+                            cell,
+                            t_enter: t,
+                            t_exit,
+                        }),
+                    }
+                }
+                true
+            });
+    }
+}
+
+/// The spherical cell `[i, j, k]` (half-open, as in the contract; φ modulo 2π) containing the point `p`, or `None`
+/// outside the domain of the grid `r`, `theta`, `phi` centred at `center`.
+pub fn spherical_cell_of(
+    center: [f64; 3],
+    r: &[f64],
+    theta: &[f64],
+    phi: &[f64],
+    p: [f64; 3],
+) -> Option<[u32; 3]> {
+    let (x, y, z) = (p[0] - center[0], p[1] - center[1], p[2] - center[2]);
+    let rr = (x * x + y * y + z * z).sqrt();
+    let th = if rr > 0.0 {
+        (z / rr).clamp(-1.0, 1.0).acos()
+    } else {
+        0.0
+    };
+    let mut ph = y.atan2(x);
+    // into [phi0, phi0 + 2π)
+    ph -= std::f64::consts::TAU * ((ph - phi[0]) / std::f64::consts::TAU).floor();
+    let full = phi[phi.len() - 1] - phi[0] >= std::f64::consts::TAU;
+    let k = if full {
+        locate(phi, ph).or(Some((phi.len() - 2) as u32))
+    } else {
+        locate(phi, ph)
+    };
+    match (locate(r, rr), locate(theta, th), k) {
+        (Some(i), Some(j), Some(k)) => Some([i, j, k]),
+        _ => None,
+    }
+}
+
+/// An axis-aligned cube of `n³` equal voxels, numbered `x + n (y + n z)`, and the Amanatides–Woo walk through it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VoxelCube {
+    n: usize,
+    lo: [f64; 3],
+    h: f64,
+}
+
+impl VoxelCube {
+    /// The cube `[center − half, center + half]³` cut into `n³` voxels.
+    pub fn around(center: [f64; 3], half: f64, n: usize) -> VoxelCube {
+        VoxelCube {
+            n,
+            lo: center.map(|c| c - half),
+            h: 2.0 * half / n as f64,
+        }
+    }
+
+    /// Voxels per side.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// The center of voxel `v` (numbered `x + n (y + n z)`).
+    pub fn voxel_center(&self, v: usize) -> [f64; 3] {
+        let n = self.n;
+        let idx = [v % n, (v / n) % n, v / (n * n)];
+        [0, 1, 2].map(|a| self.lo[a] + (idx[a] as f64 + 0.5) * self.h)
+    }
+
+    /// Walks the ray `origin + t dir`, `t ∈ [t_min, t_max]`, through the voxels in order (Amanatides–Woo), calling
+    /// `visit(voxel, t_enter, t_exit)` for each voxel crossed over a positive length; `visit` returns `false` to
+    /// stop early. At most `3 n + 3` steps.
+    pub fn traverse(
+        &self,
+        origin: [f64; 3],
+        dir: [f64; 3],
+        t_min: f64,
+        t_max: f64,
+        mut visit: impl FnMut(usize, f64, f64) -> bool,
+    ) {
         let n = self.n as i64;
         let size = self.h * self.n as f64;
         // clip to the cube (slabs)
@@ -157,17 +215,8 @@ impl VoxelGrid {
             };
             let t_exit = t_next[a].min(t1);
             let vi = (idx[2] * n * n + idx[1] * n + idx[0]) as usize;
-            if let Some(cell) = self.cells[vi] {
-                if t_exit > t {
-                    match out.last_mut() {
-                        Some(last) if last.cell == cell && last.t_exit == t => last.t_exit = t_exit,
-                        _ => out.push(VoxelCrossing {
-                            cell,
-                            t_enter: t,
-                            t_exit,
-                        }),
-                    }
-                }
+            if t_exit > t && !visit(vi, t, t_exit) {
+                return;
             }
             if t_next[a] >= t1 {
                 break;

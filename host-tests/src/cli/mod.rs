@@ -6,4 +6,5 @@
 pub mod io;
 pub mod march;
 pub mod pick;
+pub mod render;
 pub mod tessellate;

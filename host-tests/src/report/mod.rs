@@ -1,8 +1,11 @@
-//! The report: speed-against-error tables for every mode of the kernel, written to stdout and `DIR/report.md`.
+//! The report: speed-against-error tables for every mode of the kernel, written to stdout and `DIR/report.md`,
+//! with the SVG charts ([`plot`]) and PNG images it links written beside it.
 //!
 //! Each section lives in its own module and returns a [`Section`]; [`run`] runs them in order.
 
 pub mod march;
+pub mod plot;
+pub mod render;
 pub mod surfaces;
 pub mod terrain;
 pub mod terrain_multires;
@@ -30,6 +33,7 @@ pub struct Options {
 
 /// Runs every section, prints each to stdout as it completes, and writes `report.md` into `opts.out_dir`.
 pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
+    let started = std::time::Instant::now();
     std::fs::create_dir_all(&opts.out_dir)?;
     type SectionFn = fn(&Options) -> anyhow::Result<Section>;
     let sections: &[SectionFn] = &[
@@ -38,6 +42,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
         terrain::section,
         terrain_multires::section,
         tessellate::section,
+        render::section,
     ];
     let mut done = Vec::new();
     let mut md = String::from("# curvicast report\n\n");
@@ -51,6 +56,13 @@ pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
         md.push_str(&format!("## {}\n\n{}\n", s.title, s.markdown));
         done.push(s);
     }
+    let total = format!(
+        "The whole report took {:.1} s of wall-clock time ({} mode).\n",
+        started.elapsed().as_secs_f64(),
+        if opts.quick { "quick" } else { "full" }
+    );
+    println!("{total}");
+    md.push_str(&total);
     write(&opts.out_dir.join("report.md"), &md)?;
     Ok(done)
 }

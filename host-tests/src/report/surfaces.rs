@@ -778,12 +778,20 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
     ));
     md.push_str("| surface | mode | ns / intersection | max forward error (ε·S) | max backward error (ε·S) | crossings (in band) | mismatches |\n");
     md.push_str("| --- | --- | ---: | ---: | ---: | ---: | ---: |\n");
+    // per mode: (ns, relative forward error, kind) for the chart
+    let mut chart: Vec<Vec<(f64, f64, String)>> = vec![Vec::new(); Mode::ALL.len()];
     for kind in Kind::ALL {
         let time_cases = random_cases(kind, n_time, 2026);
         let err_cases = random_cases(kind, n_err, 2027);
         let stats = evaluate(&err_cases, &Mode::ALL);
-        for (mode, st) in Mode::ALL.iter().zip(stats) {
+        for (m, (mode, st)) in Mode::ALL.iter().zip(stats).enumerate() {
             let ns = median_ns(kind, *mode, &time_cases, reps);
+            let eps = if *mode == Mode::F64 {
+                f64::EPSILON
+            } else {
+                f64::from(f32::EPSILON)
+            };
+            chart[m].push((ns, st.max_forward.0 * eps, kind.name().to_string()));
             md.push_str(&format!(
                 "| {} | {} | {:.1} | {:.2} | {:.2} | {} ({}) | {} |\n",
                 kind.name(),
@@ -797,6 +805,30 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
             ));
         }
     }
+    let series: Vec<super::plot::Series> = Mode::ALL
+        .iter()
+        .zip(chart)
+        .map(|(mode, pts)| super::plot::Series {
+            name: mode.name().to_string(),
+            points: pts.iter().map(|p| (p.0, p.1)).collect(),
+            labels: pts.into_iter().map(|p| p.2).collect(),
+        })
+        .collect();
+    super::plot::loglog_svg(
+        &opts.out_dir.join("surfaces_speed_error.svg"),
+        super::plot::Labels {
+            title: "Ray–surface solvers: speed against error, per precision",
+            x: "ns per intersection (median)",
+            y: "largest forward error / S (relative)",
+        },
+        &series,
+    )?;
+    md.push_str(
+        "\n![surface solvers: ns per intersection against the largest relative forward error, per precision]\
+         (surfaces_speed_error.svg)\n\nOne point per surface kind and precision: the median time against the \
+         largest forward error outside the near-tangent band, relative to the scale S (the table's column times \
+         the mode's ε); a zero error is not drawn on the log axis.\n",
+    );
     Ok(Section {
         title: "Ray–surface intersections".into(),
         markdown: md,

@@ -148,6 +148,39 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
             r.max
         ));
     }
+    let mut series = Vec::new();
+    let mut kinds: Vec<&str> = rows.iter().map(|r| r.rays).collect();
+    kinds.dedup();
+    for kind in kinds {
+        let of = |stat: fn(&Row) -> f64, what: &str| super::plot::Series {
+            name: format!("{kind}: {what}"),
+            points: rows
+                .iter()
+                .filter(|r| r.rays == kind)
+                .map(|r| (r.us_per_ray, stat(r)))
+                .collect(),
+            labels: rows
+                .iter()
+                .filter(|r| r.rays == kind)
+                .map(|r| format!("min_level {}", r.min_level))
+                .collect(),
+        };
+        series.push(of(|r| r.median, "median"));
+        series.push(of(|r| r.p95, "95th percentile"));
+    }
+    super::plot::loglog_svg(
+        &opts.out_dir.join("terrain_min_level.svg"),
+        super::plot::Labels {
+            title: "min_level: distance to the full-resolution hit against time per ray",
+            x: "µs per ray",
+            y: "distance to the full-resolution hit (m)",
+        },
+        &series,
+    )?;
+    md.push_str(
+        "\n![min_level trade-off: median and 95th-percentile distance against µs per ray](terrain_min_level.svg)\n\n\
+         Points at zero distance (answers from full-resolution blocks) are not drawn on the log axis.\n",
+    );
     Ok(Section {
         title: "Multi-resolution terrain: min_level against accuracy".into(),
         markdown: md,

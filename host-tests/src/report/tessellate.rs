@@ -110,6 +110,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
             "| level | faces | max deviation | a priori bound | min dihedral ° | build ms | UV faces | UV deviation | deviation × faces (bevel / UV) |\n\
              | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
         );
+        let (mut bevel_pts, mut uv_pts) = (Vec::new(), Vec::new());
         for level in 0..=top {
             let mesh = build(shape, level)?;
             let dev = max_deviation(&mesh, shape);
@@ -122,6 +123,8 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
             let faces = mesh.faces.len();
             let n = ((faces as f64 / 2.0).sqrt().round() as usize).max(2);
             let (uv_faces, uv_dev) = uv_sphere(axes, n);
+            bevel_pts.push((faces as f64, dev));
+            uv_pts.push((uv_faces as f64, uv_dev));
             writeln!(
                 md,
                 "| {level} | {faces} | {dev:.4e} | {a_priori:.4e} | {dih:.4} | {:.3} | {uv_faces} | {uv_dev:.4e} | {:.3e} / {:.3e} |",
@@ -130,6 +133,32 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
                 uv_dev * uv_faces as f64
             )?;
         }
+        let svg = format!(
+            "tessellation_{}.svg",
+            if axes[0] == axes[2] {
+                "sphere"
+            } else {
+                "wgs84"
+            }
+        );
+        let series = |name: &str, points: Vec<(f64, f64)>| super::plot::Series {
+            name: name.into(),
+            labels: vec![String::new(); points.len()],
+            points,
+        };
+        super::plot::loglog_svg(
+            &opts.out_dir.join(&svg),
+            super::plot::Labels {
+                title: &format!("{name}: largest deviation against faces"),
+                x: "faces",
+                y: "largest deviation from the surface",
+            },
+            &[
+                series("edge-beveled", bevel_pts),
+                series("UV sphere", uv_pts),
+            ],
+        )?;
+        writeln!(md, "\n![deviation against faces, {name}]({svg})")?;
         md.push('\n');
     }
     md.push_str(
