@@ -253,6 +253,25 @@ fn shipped_dem_cc_files_read_with_their_own_header_as_the_shipped_loaders() {
     assert_dem_agrees_with_terrain(&file, &e, &d, 100);
 }
 
+#[test]
+fn dem_cc_with_missing_vertices_agrees_with_terrain_json_with_the_same_holes() {
+    let d = dir("holes-cc");
+    let mut dem = trinidad_crop(444, 553, 64, 64);
+    for i in 10..30 {
+        for j in 20..26 {
+            dem.heights[i * dem.cols + j] = f32::NAN;
+        }
+    }
+    dem.heights[0] = f32::NAN;
+    let file = d.join("holes.dem.cc");
+    std::fs::write(&file, encode(&dem, 1).unwrap()).unwrap();
+    let back = read_dem(&file).unwrap();
+    let bits = |h: &[f32]| h.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&back.heights), bits(&dem.heights));
+    assert_eq!((back.height(0, 0), back.height(15, 22)), (None, None));
+    assert_dem_agrees_with_terrain(&file, &dem, &d, 200);
+}
+
 /// Runs `pick --dem FILE` and checks the contract's usage error: exit 2, nothing on stdout, one stderr line that
 /// names `names` and says `what`.
 fn assert_bad_dem(file: &Path, names: &Path, what: &str) {

@@ -57,6 +57,9 @@ fn predictor(q: &[i64], k: usize, cols: usize) -> i64 {
 /// (NaN) vertices get a nodata q below every present one.
 pub fn encode(dem: &Dem, scale: u32) -> Result<Vec<u8>, String> {
     let (rows, cols) = (dem.rows, dem.cols);
+    if scale == 0 {
+        return Err("scale must be positive".into());
+    }
     if dem.heights.len() != rows * cols || cols == 0 {
         return Err(format!(
             "expected {} heights, got {}",
@@ -64,23 +67,16 @@ pub fn encode(dem: &Dem, scale: u32) -> Result<Vec<u8>, String> {
             dem.heights.len()
         ));
     }
-    let scaled = |h: f32| f64::from(h) * f64::from(scale);
-    let present = dem.heights.iter().filter(|h| !h.is_nan());
-    let nodata = if dem.heights.iter().any(|h| h.is_nan()) {
-        present.map(|&h| scaled(h)).fold(0.0, f64::min) as i64 - 1
-    } else {
-        NO_NODATA
-    };
-    let q: Vec<i64> = dem
+    let present: Vec<Option<i64>> = dem
         .heights
         .iter()
         .enumerate()
         .map(|(k, &h)| {
-            let x = scaled(h);
+            let x = f64::from(h) * f64::from(scale);
             if h.is_nan() {
-                Ok(nodata)
+                Ok(None)
             } else if x.abs() <= Q_MAX && x == x.round() && (x / f64::from(scale)) as f32 == h {
-                Ok(x as i64)
+                Ok(Some(x as i64))
             } else {
                 Err(format!(
                     "height {h} at index {k} is not a multiple of 1/{scale} (or too large)"
@@ -88,6 +84,12 @@ pub fn encode(dem: &Dem, scale: u32) -> Result<Vec<u8>, String> {
             }
         })
         .collect::<Result<_, _>>()?;
+    let nodata = if present.contains(&None) {
+        present.iter().flatten().fold(0, |m, &v| m.min(v)) - 1
+    } else {
+        NO_NODATA
+    };
+    let q: Vec<i64> = present.iter().map(|v| v.unwrap_or(nodata)).collect();
     let decoded: Vec<f32> = dem
         .heights
         .iter()
