@@ -75,11 +75,15 @@ pub fn encode(dem: &Dem, scale: u32) -> Result<Vec<u8>, String> {
             let x = f64::from(h) * f64::from(scale);
             if h.is_nan() {
                 Ok(None)
-            } else if x.abs() <= Q_MAX && x == x.round() && (x / f64::from(scale)) as f32 == h {
+            } else if x.abs() <= Q_MAX
+                && x == x.round()
+                && ((x as i64 as f64 / f64::from(scale)) as f32).to_bits() == h.to_bits()
+            {
+                // The bit comparison is decode's own conversion: it also turns away -0.0, which would decode as +0.0.
                 Ok(Some(x as i64))
             } else {
                 Err(format!(
-                    "height {h} at index {k} is not a multiple of 1/{scale} (or too large)"
+                    "height {h:?} at index {k} is not stored exactly as a multiple of 1/{scale}"
                 ))
             }
         })
@@ -280,6 +284,9 @@ mod tests {
             encode(&dem, 8).is_err(),
             "1/16 steps are not multiples of 1/8"
         );
+        let mut negative_zero = dem.clone();
+        negative_zero.heights[3] = -0.0;
+        assert!(encode(&negative_zero, 16).unwrap_err().contains("-0.0"));
     }
 
     #[test]
