@@ -1,6 +1,7 @@
 //! `curvicast pick --dem FILE` (command-line contract): SRTM `.hgt`, single-band geographic GeoTIFF and the
-//! project's `.dem.cc` read with their own georeference, answering exactly as `--terrain` does on the same
-//! heights; every malformed file is exit 2 with one stderr line naming it and nothing on stdout.
+//! project's `.dem.cc` (the georeference in its `CCDEM2` header) read with their own georeference, answering
+//! exactly as `--terrain` does on the same heights; every malformed file is exit 2 with one stderr line naming it
+//! and nothing on stdout.
 
 use curvicast_host::scenes::dem_files::{RasterType, read_dem, write_geotiff_i16};
 use curvicast_host::scenes::real_dem::{data_dir, encode, etopo20, trinidad};
@@ -232,11 +233,43 @@ fn srtm_one_arc_second_tile_has_3601_nodes_per_side() {
 }
 
 #[test]
-fn shipped_dem_cc_files_read_with_their_sidecar_as_the_shipped_loaders() {
-    let t = read_dem(&data_dir().join("trinidad_dem/trinidad.dem.cc")).unwrap();
-    assert_eq!(t, trinidad().unwrap());
-    let e = read_dem(&data_dir().join("etopo20/etopo20.dem.cc")).unwrap();
-    assert_eq!(e, etopo20().unwrap());
+fn shipped_dem_cc_files_read_with_their_own_header_as_the_shipped_loaders() {
+    let d = dir("shipped-cc");
+    let file = data_dir().join("trinidad_dem/trinidad.dem.cc");
+    let t = trinidad().unwrap();
+    assert_eq!(read_dem(&file).unwrap(), t);
+    assert_eq!(
+        (t.lat0, t.lon0, t.dlat, t.dlon),
+        (38.0, -106.0, -1.0 / 1200.0, 1.0 / 1200.0)
+    );
+    assert_dem_agrees_with_terrain(&file, &t, &d, 100);
+    let file = data_dir().join("etopo20/etopo20.dem.cc");
+    let e = etopo20().unwrap();
+    assert_eq!(read_dem(&file).unwrap(), e);
+    assert_eq!(
+        (e.lat0, e.lon0, e.dlat, e.dlon),
+        (90.0 - 1.0 / 6.0, 20.0 + 1.0 / 6.0, -1.0 / 3.0, 1.0 / 3.0)
+    );
+    assert_dem_agrees_with_terrain(&file, &e, &d, 100);
+}
+
+#[test]
+fn dem_cc_with_missing_vertices_agrees_with_terrain_json_with_the_same_holes() {
+    let d = dir("holes-cc");
+    let mut dem = trinidad_crop(444, 553, 64, 64);
+    for i in 10..30 {
+        for j in 20..26 {
+            dem.heights[i * dem.cols + j] = f32::NAN;
+        }
+    }
+    dem.heights[0] = f32::NAN;
+    let file = d.join("holes.dem.cc");
+    std::fs::write(&file, encode(&dem, 1).unwrap()).unwrap();
+    let back = read_dem(&file).unwrap();
+    let bits = |h: &[f32]| h.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&back.heights), bits(&dem.heights));
+    assert_eq!((back.height(0, 0), back.height(15, 22)), (None, None));
+    assert_dem_agrees_with_terrain(&file, &dem, &d, 200);
 }
 
 /// Runs `pick --dem FILE` and checks the contract's usage error: exit 2, nothing on stdout, one stderr line that
@@ -425,29 +458,41 @@ fn malformed_geotiffs_exit_2_naming_the_file() {
 fn malformed_dem_cc_files_exit_2_naming_the_file() {
     let d = dir("bad-cc");
     let heights: Vec<f32> = (0..12).map(|k| 100.0 + k as f32).collect();
-    let bytes = encode(3, 4, 1, &heights).unwrap();
-    let side =
-        r#"{"ellipsoid": "WGS84", "lat0": 37.0, "lon0": -118.0, "dlat": -0.001, "dlon": 0.001}"#;
+    let dem = Dem::wgs84((37.0, -118.0, -0.001, 0.001), (3, 4), heights).unwrap();
+    let bytes = encode(&dem, 1).unwrap();
     let ok = d.join("ok.dem.cc");
     std::fs::write(&ok, &bytes).unwrap();
-    std::fs::write(d.join("ok.dem.cc.json"), side).unwrap();
-    let dem = read_dem(&ok).unwrap();
-    assert_eq!(
-        (dem.rows, dem.cols, dem.lat0, dem.height(2, 3)),
-        (3, 4, 37.0, Some(111.0))
-    );
-    let nosidecar = d.join("alone.dem.cc");
-    std::fs::write(&nosidecar, &bytes).unwrap();
-    assert_bad_dem(&nosidecar, &nosidecar, "no georeference");
-    let cut = d.join("cut.dem.cc");
-    std::fs::write(&cut, &bytes[..bytes.len() - 3]).unwrap();
-    std::fs::write(d.join("cut.dem.cc.json"), side).unwrap();
-    assert_bad_dem(&cut, &cut, "truncated");
-    let badside = d.join("badside.dem.cc");
-    std::fs::write(&badside, &bytes).unwrap();
-    let sidecar = d.join("badside.dem.cc.json");
-    std::fs::write(&sidecar, r#"{"ellipsoid": "WGS84", "lat0": 37.0}"#).unwrap();
-    assert_bad_dem(&badside, &sidecar, "invalid georeference");
+    assert_eq!(read_dem(&ok).unwrap(), dem);
+    assert_eq!(dem.height(2, 3), Some(111.0));
+    let write = |name: &str, b: &[u8]| {
+        let p = d.join(name);
+        std::fs::write(&p, b).unwrap();
+        p
+    };
+    // The georeference's f64 fields a, b, lat0, lon0, dlat, dlon start at bytes 20, 28, .., 60.
+    let with = |name: &str, offset: usize, v: f64| {
+        let mut b = bytes.clone();
+        b[offset..offset + 8].copy_from_slice(&v.to_le_bytes());
+        write(name, &b)
+    };
+    let cut = write("cut.dem.cc", &bytes[..bytes.len() - 3]);
+    assert_bad_dem(&cut, &cut, "truncated data");
+    let short = write("short.dem.cc", &bytes[..40]);
+    assert_bad_dem(&short, &short, "truncated header");
+    let f = with("dlon-negative.dem.cc", 60, -0.001);
+    assert_bad_dem(&f, &f, "dlon must be positive");
+    let f = with("dlon-zero.dem.cc", 60, 0.0);
+    assert_bad_dem(&f, &f, "dlon must be positive");
+    let f = with("dlon-nan.dem.cc", 60, f64::NAN);
+    assert_bad_dem(&f, &f, "dlon must be a finite number");
+    let f = with("lat0-past-pole.dem.cc", 36, 95.0);
+    assert_bad_dem(&f, &f, "outside [-90, 90]");
+    let f = with("b-above-a.dem.cc", 28, 7.0e6);
+    assert_bad_dem(&f, &f, "semi-axes");
+    let mut v1 = bytes.clone();
+    v1[5] = b'1';
+    let f = write("version1.dem.cc", &v1);
+    assert_bad_dem(&f, &f, "no georeference");
 }
 
 #[test]

@@ -14,17 +14,16 @@
 //!   half a pixel in from it; pixel-is-point puts it on the sample. GDAL_NODATA marks missing samples. The
 //!   ellipsoid is the CRS's (WGS84 for EPSG:4326, GRS80 for 4269/4258/4283, Clarke 1866 for 4267, or the axes of a
 //!   user-defined one).
-//! - **The project's own `.dem.cc`** (see [`super::real_dem`]): the heights from the file, the georeference from
-//!   the sidecar `NAME.dem.cc.json` next to it — `{"ellipsoid": "WGS84", "lat0": .., "lon0": .., "dlat": ..,
-//!   "dlon": ..}` in the terms of `TERRAIN.json` (grid nodes; rows and columns come from the `.dem.cc` header).
+//! - **The project's own `.dem.cc`** (see [`super::real_dem`]): a `CCDEM2` header with the grid size, the
+//!   ellipsoid's semi-axes, the grid nodes' `lat0, lon0, dlat, dlon` (the terms of `TERRAIN.json`) and a nodata
+//!   code, then the lossless heights. A `CCDEM1` file (no georeference in it) is an error saying to re-encode it.
 //!
 //! Heights are taken as meters above the ellipsoid (as the contract says for `--dem`). The format is told by the
-//! file's first bytes (TIFF, `CCDEM1`), else by the `.hgt` extension. Every error names the file.
+//! file's first bytes (TIFF, `CCDEM`), else by the `.hgt` extension. Every error names the file.
 
-use super::terrain::{Dem, EllipsoidSpec, TerrainError, WGS84_A, WGS84_B};
-use serde::{Deserialize, Serialize};
+use super::terrain::{Dem, TerrainError, WGS84_A, WGS84_B};
 use std::io::{Read, Seek};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use tiff::tags::Tag;
 
 fn err(file: &Path, message: impl Into<String>) -> TerrainError {
@@ -147,61 +146,10 @@ pub fn read_hgt(path: &Path) -> Result<Dem, TerrainError> {
     .map_err(|m| err(path, m))
 }
 
-/// The georeference of a `.dem.cc` file, in its sidecar `NAME.dem.cc.json` (grid nodes, as in `TERRAIN.json`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct DemCcGeoreference {
-    /// `"WGS84"` or `{"a": .., "b": ..}`.
-    pub ellipsoid: EllipsoidSpec,
-    /// Latitude of row 0 (degrees).
-    pub lat0: f64,
-    /// Longitude of column 0 (degrees).
-    pub lon0: f64,
-    /// Latitude step per row (degrees; negative for north-up).
-    pub dlat: f64,
-    /// Longitude step per column (degrees, positive).
-    pub dlon: f64,
-}
-
-/// The sidecar that holds a `.dem.cc` file's georeference: the file's path with `.json` appended.
-pub fn dem_cc_sidecar(path: &Path) -> PathBuf {
-    let mut s = path.as_os_str().to_owned();
-    s.push(".json");
-    PathBuf::from(s)
-}
-
-/// Reads a `.dem.cc` file and its georeference sidecar.
+/// Reads a `.dem.cc` file: heights, ellipsoid and grid all from the file (see [`super::real_dem`]).
 pub fn read_dem_cc(path: &Path) -> Result<Dem, TerrainError> {
-    let side = dem_cc_sidecar(path);
-    let text = std::fs::read_to_string(&side).map_err(|e| {
-        err(
-            path,
-            format!(
-                "no georeference: cannot read its sidecar {}: {e}",
-                side.display()
-            ),
-        )
-    })?;
-    let g: DemCcGeoreference = serde_json::from_str(&text)
-        .map_err(|e| err(&side, format!("invalid georeference: {e}")))?;
-    let (a, b) = match &g.ellipsoid {
-        EllipsoidSpec::Named(n) if n.eq_ignore_ascii_case("WGS84") => (WGS84_A, WGS84_B),
-        EllipsoidSpec::Named(n) => {
-            return Err(err(&side, format!("unknown ellipsoid {n:?}")));
-        }
-        EllipsoidSpec::Axes { a, b } => (*a, *b),
-    };
     let bytes = std::fs::read(path).map_err(|e| err(path, format!("cannot read: {e}")))?;
-    let (rows, cols, heights) = super::real_dem::decode(&bytes).map_err(|m| err(path, m))?;
-    Dem::new(
-        a,
-        b,
-        (g.lat0, g.lon0, g.dlat, g.dlon),
-        (rows, cols),
-        heights,
-        None,
-    )
-    .map_err(|m| err(path, m))
+    super::real_dem::decode(&bytes).map_err(|m| err(path, m))
 }
 
 /// GeoKey ids (GeoTIFF 1.1, OGC 19-008r4 §7).
