@@ -7,7 +7,7 @@
 //!   model along the straight ray, written apart from the renderer.
 
 use super::field::SphericalCells;
-use crate::scenes::real_dem::{data_dir, decode};
+use crate::scenes::real_dem::{data_dir, decode_packed};
 use std::f64::consts::{PI, TAU};
 
 /// The Earth's radius used by both scenes, meters.
@@ -19,23 +19,29 @@ pub const LEVITUS_DEPTH_EDGES_M: [f64; 21] = [
     1100.0, 1350.0, 1750.0, 2500.0, 3500.0, 4500.0, 5000.0,
 ];
 
-/// The value standing for "no data" in the packed ocean file (below every temperature in it).
-const OCEAN_NODATA: f32 = -100.0;
-
 /// The ocean temperature (°C) on its spherical grid: `r` = Earth radius − depth edges (increasing), θ from the
 /// north pole in 1° steps (row 0 of the data is 90°N–89°N), φ east from 0° in 1° steps (the data's columns start
 /// at 20°E and are rotated into place). NaN where there is no water.
 pub fn ocean() -> anyhow::Result<(SphericalCells, Vec<f64>)> {
     let path = data_dir().join("levitus_temp/temp.dem.cc");
     let bytes = std::fs::read(&path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    let (rows, cols, t) = decode(&bytes).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let packed = decode_packed(&bytes).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let (nd, nt, np) = (20usize, 180usize, 360usize);
+    let (rows, cols) = packed.shape;
     anyhow::ensure!(
         rows == nd * nt && cols == np,
         "{}: expected {}×{np} values, found {rows}×{cols}",
         path.display(),
         nd * nt
     );
+    // Each depth level is a 1° grid of cell centres from 89.5°N, 20.5°E on a sphere of the Earth's radius.
+    anyhow::ensure!(
+        packed.axes == (EARTH_RADIUS_M, EARTH_RADIUS_M)
+            && packed.georeference == (89.5, 20.5, -1.0, 1.0),
+        "{}: the header's georeference differs from the documented one",
+        path.display()
+    );
+    let t = packed.values;
     let grid = SphericalCells {
         center: [0.0; 3],
         r: LEVITUS_DEPTH_EDGES_M
@@ -63,11 +69,7 @@ pub fn ocean() -> anyhow::Result<(SphericalCells, Vec<f64>)> {
             for k in 0..np {
                 let col = (k + np - 20) % np;
                 let v = t[(depth * nt + j) * np + col];
-                values.push(if v == OCEAN_NODATA {
-                    f64::NAN
-                } else {
-                    f64::from(v)
-                });
+                values.push(f64::from(v));
             }
         }
     }

@@ -125,9 +125,31 @@ pub fn encode(dem: &Dem, scale: u32) -> Result<Vec<u8>, String> {
     Ok(out)
 }
 
+/// A `.dem.cc` file's contents as stored, before any check of the georeference: the grid's shape, the header's
+/// semi-axes and `(lat0, lon0, dlat, dlon)`, and the decoded values (NaN where missing).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Packed {
+    /// Rows and columns.
+    pub shape: (usize, usize),
+    /// The ellipsoid's semi-axes `a`, `b` (m).
+    pub axes: (f64, f64),
+    /// `(lat0, lon0, dlat, dlon)` in degrees.
+    pub georeference: (f64, f64, f64, f64),
+    /// The values, row-major, bit for bit those encoded (checked by the checksum).
+    pub values: Vec<f32>,
+}
+
 /// Decodes [`encode`]'s format into a [`Dem`] with the header's ellipsoid and grid, checking the checksum and
 /// the georeference; every error is one line.
 pub fn decode(bytes: &[u8]) -> Result<Dem, String> {
+    let p = decode_packed(bytes)?;
+    Dem::new(p.axes.0, p.axes.1, p.georeference, p.shape, p.values, None)
+        .map_err(|m| format!("invalid georeference or heights in the CCDEM2 file: {m}"))
+}
+
+/// Decodes [`encode`]'s format, checking the header's size and the checksum but not the georeference: for
+/// gridded data other than a DEM stored the same way (the ocean temperature levels, stacked by depth).
+pub fn decode_packed(bytes: &[u8]) -> Result<Packed, String> {
     if bytes.starts_with(b"CCDEM1") {
         return Err(
             "a CCDEM1 file, whose header holds no georeference: re-encode it as CCDEM2 \
@@ -207,8 +229,12 @@ pub fn decode(bytes: &[u8]) -> Result<Dem, String> {
     if fnv1a_f32(&heights) != want {
         return Err("checksum mismatch: the decoded heights differ from the source".into());
     }
-    Dem::new(a, b, geo, (rows, cols), heights, None)
-        .map_err(|m| format!("invalid georeference or heights in the CCDEM2 file: {m}"))
+    Ok(Packed {
+        shape: (rows, cols),
+        axes: (a, b),
+        georeference: geo,
+        values: heights,
+    })
 }
 
 /// The directory of the shipped data (`host-tests/data`).
