@@ -177,3 +177,63 @@ fn tessellate_ellipsoid_1e10_1_1e_minus_10_names_the_axis_ratio_limit() {
     let dev = j["max_deviation"].as_f64().unwrap();
     assert!(dev > 0.0 && dev.is_finite(), "{j}");
 }
+
+/// Runs `pick` on a 3 × 3 flat grid at the equator with columns `dlon` degrees apart, one ray straight down at
+/// (0°, `lon`); returns (exit code, stdout, stderr).
+fn pick_on_wide_cells(dlon: f64, lon: f64) -> (i32, String, String) {
+    let json = scratch(&format!("wide-{dlon}.json"));
+    std::fs::write(
+        &json,
+        format!(
+            r#"{{"ellipsoid": "WGS84", "grid": {{"lat0": -10, "lon0": 0, "dlat": 10, "dlon": {dlon},
+                "rows": 3, "cols": 3, "heights_inline": [0, 0, 0, 0, 0, 0, 0, 0, 0]}}}}"#
+        ),
+    )
+    .unwrap();
+    let l = lon.to_radians();
+    let ray = format!(
+        "{{\"origin\": [{}, {}, 0], \"dir\": [{}, {}, 0]}}\n",
+        7.4e6 * l.cos(),
+        7.4e6 * l.sin(),
+        -l.cos(),
+        -l.sin()
+    );
+    let rays = scratch(&format!("wide-{dlon}.jsonl"));
+    std::fs::write(&rays, ray).unwrap();
+    let out = run(&[
+        "pick",
+        "--terrain",
+        json.to_str().unwrap(),
+        "--rays",
+        rays.to_str().unwrap(),
+        "--block",
+        "1",
+    ]);
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}
+
+#[test]
+fn pick_on_80_degree_cells_names_the_cell_size_limit_not_the_height() {
+    let (code, out, err) = pick_on_wide_cells(80.0, 40.0);
+    let all = format!("{out}{err}");
+    assert!(code == 0 || code == 2, "{code}: {all}");
+    assert!(all.contains("70 degrees"), "{all}");
+    assert!(!all.contains("at or below"), "{all}");
+    // 60° cells are within the limit and answered.
+    let (code, out, err) = pick_on_wide_cells(60.0, 40.0);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("\"hit\":{"), "{out}");
+}
+
+#[test]
+fn pick_on_a_grid_with_dlon_180_says_why_it_is_invalid() {
+    let (code, out, err) = pick_on_wide_cells(180.0, 40.0);
+    assert_eq!(code, 2, "{out}{err}");
+    assert!(out.is_empty(), "{out}");
+    assert!(err.contains("0 < dlon < 180"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+}

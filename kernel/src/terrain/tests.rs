@@ -464,6 +464,61 @@ fn typed_errors() {
 }
 
 #[test]
+fn grid_of_80_degree_cells_is_triangle_too_large_not_height_too_low() {
+    // 3 × 3 vertices 10° × 80° apart at the equator, flat at 0 m: the cells' diagonals (about 8 800 km) are
+    // beyond the chord bound, and the heights are fine.
+    let dem = TestDem::new(
+        grid(-10.0, 0.0, 10.0, 80.0, 3, 3),
+        std::vec![0.0; 9],
+        1,
+        1,
+        1,
+    );
+    let e = dem.e;
+    let got = Picker::<'_, f64, TestDem>::new(&dem)
+        .and_then(|p| p.pick(&radial_ray(&e, 0.0, 40.0, 1000.0)))
+        .err();
+    assert_eq!(
+        got,
+        Some(TerrainError::Geodesy(GeodesyError::TriangleTooLarge))
+    );
+    let text = std::format!("{}", got.unwrap());
+    assert!(
+        text.contains("70 degrees") && !text.contains("b^2/a (no"),
+        "{text}"
+    );
+    // 60° cells are within the bound.
+    let ok = TestDem::new(
+        grid(-10.0, 0.0, 10.0, 60.0, 3, 3),
+        std::vec![0.0; 9],
+        1,
+        1,
+        1,
+    );
+    let p: Picker<'_, f64, TestDem> = Picker::new(&ok).unwrap();
+    assert!(
+        p.pick(&radial_ray(&e, 0.0, 40.0, 1000.0))
+            .unwrap()
+            .is_some()
+    );
+}
+
+#[test]
+fn grid_with_dlon_180_is_an_invalid_grid_whose_message_states_the_rules() {
+    let dem = TestDem::new(
+        grid(-10.0, 0.0, 10.0, 180.0, 3, 2),
+        std::vec![0.0; 6],
+        1,
+        1,
+        1,
+    );
+    let err = Picker::<'_, f64, TestDem>::new(&dem).err();
+    assert_eq!(err, Some(TerrainError::InvalidGrid));
+    let text = std::format!("{}", err.unwrap());
+    assert!(text.contains("0 < dlon < 180"), "{text}");
+}
+
+#[test]
 fn ray_missing_everything_and_ray_starting_below_ground() {
     let g = grid(0.0, 0.0, 0.01, 0.01, 5, 5);
     let dem = TestDem::new(g, std::vec![100.0; 25], 2, 1, 1);
