@@ -259,8 +259,11 @@ struct Region {
     stride: u32,
 }
 
+/// What [`regions`] returns.
+type Regions = Result<(Vec<Region>, Vec<Option<usize>>), BTreeSet<u32>>;
+
 /// Rule 1 for every leaf: the traced regions and the per-cell paint, or the ids of every block needed.
-fn regions(t: &Tiny, min_level: u8) -> Result<(Vec<Region>, Vec<Option<usize>>), BTreeSet<u32>> {
+fn regions(t: &Tiny, min_level: u8) -> Regions {
     let cc = t.grid.cols - 1;
     let cr = t.grid.rows - 1;
     let mut paint = vec![None; (cr * cc) as usize];
@@ -281,7 +284,9 @@ fn regions(t: &Tiny, min_level: u8) -> Result<(Vec<Region>, Vec<Option<usize>>),
         }
         path.reverse();
         let on = |m: &Node<f64>, s: u32| {
-            let fits = |r: [u32; 2], last: u32| r[0] % s == 0 && (r[1] % s == 0 || r[1] == last);
+            let fits = |r: [u32; 2], last: u32| {
+                r[0].is_multiple_of(s) && (r[1].is_multiple_of(s) || r[1] == last)
+            };
             fits(m.rows, cr) && fits(m.cols, cc)
         };
         let mut src: Option<usize> = None;
@@ -608,7 +613,7 @@ fuzz_target!(|inp: Input| {
     let whole = ([0, cr], [0, cc]);
     let mut zones = vec![(whole, s0)];
     let by_cols = inp.zones % 3 == 1;
-    if inp.zones % 3 != 0 {
+    if !inp.zones.is_multiple_of(3) {
         let (a, z) = if by_cols { (0, cc) } else { (0, cr) };
         let c = lattice_inside(a, z, s0.max(s1));
         if !c.is_empty() {

@@ -138,6 +138,7 @@ fuzz_target!(|inp: Input| {
             }
         }
         Err(TessellateError::InvalidShape)
+        | Err(TessellateError::AxisRatioTooLarge)
         | Err(TessellateError::InvalidBound)
         | Err(TessellateError::Unreachable) => {}
         Err(e) => panic!("unexpected error {e:?}"),

@@ -1,5 +1,9 @@
-//! The `curvicast` command: `report`, and (as they land) `march`, `pick`, `tessellate`.
+//! The `curvicast` command: `report`, `tessellate`, `pick`, `march` and `march-oracle`.
 //! See the command-line contract in the README.
+//!
+//! Exit codes: 0 done (also when standard output is a closed pipe), 2 a malformed argument or input file (one line
+//! on stderr), 1 an error writing the output of `report`, `tessellate` or `march-oracle`, or `march-oracle` failing its
+//! criterion.
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -115,16 +119,34 @@ enum Command {
     },
 }
 
+/// clap's error as the contract's one line (clap's own spans four or five: the message, a tip, the usage and a
+/// pointer to `--help`).
+fn one_line(e: &clap::Error) -> String {
+    use clap::error::ErrorKind;
+    let first = match e.kind() {
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            "a subcommand is required (report, tessellate, pick, march, march-oracle)".to_string()
+        }
+        _ => {
+            let text = e.render().to_string();
+            let line = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
+            line.strip_prefix("error: ").unwrap_or(line).to_string()
+        }
+    };
+    format!("curvicast: {first}; see 'curvicast --help'")
+}
+
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(c) => c,
+        Err(e) if e.use_stderr() => {
+            eprintln!("{}", one_line(&e));
+            return ExitCode::from(2);
+        }
+        // --help and --version, on stdout; a failed write there (a closed pipe) is no reason to panic.
         Err(e) => {
-            let _ = e.print();
-            return if e.use_stderr() {
-                ExitCode::from(2)
-            } else {
-                ExitCode::SUCCESS
-            };
+            let _ = curvicast_host::cli::print_stdout(&e.render().to_string());
+            return ExitCode::SUCCESS;
         }
     };
     let result = match cli.command {
@@ -167,16 +189,16 @@ fn main() -> ExitCode {
             })
             .map(|_| ())
         }
-        Command::Tessellate { args } => {
-            curvicast_host::cli::tessellate::run(&args).map_err(anyhow::Error::from)
-        }
+        Command::Tessellate { args } => curvicast_host::cli::tessellate::run(&args),
         Command::MarchOracle { rays, seed } => {
             let (text, ok) = curvicast_host::report::march::oracle_suite_text(rays, seed);
-            print!("{text}");
-            if !ok {
-                return ExitCode::from(1);
+            match curvicast_host::cli::print_stdout(&text) {
+                Ok(()) if !ok => return ExitCode::from(1),
+                Ok(()) => Ok(()),
+                // A closed pipe ends quietly, with the suite's own exit code.
+                Err(e) if e.is_closed_pipe() => return ExitCode::from(u8::from(!ok)),
+                Err(e) => Err(e.into()),
             }
-            Ok(())
         }
         Command::March {
             grid,
@@ -201,9 +223,17 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("curvicast: {e:#}");
-            ExitCode::from(2)
-        }
+        Err(e) => match e.downcast_ref::<curvicast_host::cli::OutputError>() {
+            // The reader went away: end quietly, as Unix tools do.
+            Some(out) if out.is_closed_pipe() => ExitCode::SUCCESS,
+            Some(_) => {
+                eprintln!("curvicast: {e:#}");
+                ExitCode::from(1)
+            }
+            None => {
+                eprintln!("curvicast: {e:#}");
+                ExitCode::from(2)
+            }
+        },
     }
 }

@@ -4,8 +4,9 @@
 //! (f64, Earth scale); when the two report different triangles, the hit points must still agree within 1 µm (a
 //! tie on a shared edge or vertex). A ray that passes within 1 µm of an edge or vertex is decided by rounding:
 //! such a disagreement is accepted (and counted as `ambiguous`) only if the oracle, asked again with the ray
-//! translated by 1 µm along one of the six axis directions, agrees with the kernel (both miss, or hit points within
-//! 2 µm).
+//! translated by 1 µm along one of the six axis directions or vertically, agrees with the kernel (both miss, or
+//! hit points within 2 µm), and at most one ray in a thousand of a suite may be so excused (`ambiguous_allowed`;
+//! the count is printed with each suite).
 //!
 //! Every ray also goes through `pick_t`, the same traversal without the refinement: it must report the same hit
 //! status and cell as `pick`; the worst distance of its unrefined point from the oracle's is reported beside.
@@ -176,7 +177,19 @@ fn compare(dem: &Dem, block: usize, rays: &[RaySpec]) -> Tally {
     t
 }
 
+/// How many rays of a suite may be excused as ambiguous: one in a thousand (measured in the default run: none,
+/// except in `grazing_rays_skimming_peaks`, which aims a third of its rays exactly at vertices and has its own
+/// allowance). Each excuse is a disagreement the kernel and the oracle settle only by moving the origin 1 µm,
+/// so their number is bounded, and reported.
+fn ambiguous_allowed(rays: usize) -> usize {
+    rays / 1000
+}
+
 fn report(name: &str, t: &Tally) -> usize {
+    report_allowing(name, t, ambiguous_allowed(t.rays))
+}
+
+fn report_allowing(name: &str, t: &Tally, allowed: usize) -> usize {
     eprintln!(
         "{name}: {} rays, {} hits, {} misses, {} false hits, {} beyond 1 µm, {} ambiguous within 1 µm, worst {:.3e} m \
          (pick_t unrefined: worst {:.3e} m)",
@@ -185,12 +198,27 @@ fn report(name: &str, t: &Tally) -> usize {
     for f in t.failures.iter().take(5) {
         eprintln!("  {f}");
     }
-    t.failures.len()
+    let excess = t.ambiguous > allowed;
+    if excess {
+        eprintln!(
+            "  {} rays excused as ambiguous, more than the {allowed} allowed",
+            t.ambiguous
+        );
+    }
+    t.failures.len() + usize::from(excess)
 }
 
 fn assert_clean(name: &str, t: &Tally) {
-    let n = report(name, t);
-    assert_eq!(n, 0, "{name}: {n} failures (listed above)");
+    assert_clean_allowing(name, t, ambiguous_allowed(t.rays));
+}
+
+fn assert_clean_allowing(name: &str, t: &Tally, allowed_ambiguous: usize) {
+    let n = report_allowing(name, t, allowed_ambiguous);
+    assert_eq!(
+        n, 0,
+        "{name}: {n} failures or too many ambiguous rays ({} of at most {allowed_ambiguous}; listed above)",
+        t.ambiguous
+    );
 }
 
 fn scale(default: usize, full: usize, is_full: bool) -> usize {
@@ -376,7 +404,9 @@ fn grazing_rays_skimming_peaks() {
         }
     }
     assert!(rays.len() > 50);
-    assert_clean("grazing peaks", &compare(&dem, 8, &rays));
+    // A third of the rays pass exactly through a peak vertex (dh = 0), where rounding decides which of the
+    // triangles around it is hit: only those may be ambiguous (measured: 132 of 1467 rays).
+    assert_clean_allowing("grazing peaks", &compare(&dem, 8, &rays), rays.len() / 3);
 }
 
 /// Rays descending at 0.1° elevation onto flat terrain (500 m, 3° × 3° at 0.02°), hitting 150 km from their

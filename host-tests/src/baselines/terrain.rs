@@ -37,11 +37,13 @@ pub struct ParryTerrain {
 }
 
 impl ParryTerrain {
-    /// Builds the mesh (missing vertices are replaced by the origin and never indexed).
+    /// Builds the mesh (missing vertices are replaced by the origin and never indexed). The vertex array is
+    /// converted in place (same size and alignment), so that only parry's own arrays and its BVH build remain
+    /// at the peak of the build.
     pub fn new(dem: &Dem) -> anyhow::Result<ParryTerrain> {
         let (verts, tris) = ecef_mesh(dem);
         let v: Vec<Vector> = verts
-            .iter()
+            .into_iter()
             .map(|p| {
                 if p[0].is_nan() {
                     Vector::new(0.0, 0.0, 0.0)

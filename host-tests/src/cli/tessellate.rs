@@ -16,7 +16,9 @@
 //! Also home of the mesh measurements that the report and the host tests share.
 
 use crate::cli::io::UsageError;
+use crate::cli::print_stdout;
 use curvicast::V3;
+use curvicast::tessellate::TessellateError;
 use curvicast::tessellate::bevel::{self, Face};
 use curvicast::tessellate::lod::{self, Bound, Shape};
 use std::collections::HashMap;
@@ -81,23 +83,53 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
         a[0] * b[1] - a[1] * b[0],
     ]
 }
+fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+fn max_abs(a: [f64; 3]) -> f64 {
+    a[0].abs().max(a[1].abs()).max(a[2].abs())
+}
+/// `|a|` at any scale: the squares are taken of `a / max|a_i|`, so they neither overflow (|a| near 1e200) nor
+/// underflow (near 1e-200).
 fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
+    let m = max_abs(a);
+    if m == 0.0 || !m.is_finite() {
+        return m;
+    }
+    let u = scale(a, 1.0 / m);
+    m * dot(u, u).sqrt()
 }
 
-/// Newell's normal of a polygon (unit; outward for a counter-clockwise polygon seen from outside).
+/// `2^e` for the largest `|x_i|` in `[2^e, 2^(e+1))`, with `e` kept in `[-1021, 1021]` so that both `2^e` and
+/// `2^-e` are normal: dividing by it is exact, and brings the largest `|x_i|` near 1.
+fn power_of_two_scale(x: &[f64]) -> f64 {
+    let m = x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if m == 0.0 || !m.is_finite() {
+        return 1.0;
+    }
+    let e = m.log2().floor().clamp(-1021.0, 1021.0) as i32;
+    2.0_f64.powi(e)
+}
+
+/// Newell's normal of a polygon (unit; outward for a counter-clockwise polygon seen from outside). Computed on
+/// the polygon moved to its first vertex and scaled to unit size, so that any scale of the mesh gives the same
+/// normals (the products of coordinates overflow beyond 1e154 and underflow below 1e-154 otherwise).
 pub fn newell_normal(mesh: &Mesh, face: &[u32]) -> [f64; 3] {
+    // Vertices divided by a power of two near the largest coordinate (exact), so that differences of vertices
+    // near ±1e308 do not overflow; then relative to the first vertex and scaled to the face's extent.
+    let vertex = |k: usize| mesh.vertices[face[k % face.len()] as usize];
+    let coords: Vec<f64> = (0..face.len()).flat_map(vertex).collect();
+    let inv_s = 1.0 / power_of_two_scale(&coords);
+    let o = scale(vertex(0), inv_s);
+    let rel = |k: usize| sub(scale(vertex(k), inv_s), o);
+    let extent = (1..face.len()).fold(0.0_f64, |m, k| m.max(max_abs(rel(k))));
+    let inv = if extent > 0.0 { 1.0 / extent } else { 1.0 };
     let mut n = [0.0; 3];
-    // Relative to the first vertex, so that large coordinates do not cost precision.
-    let o = mesh.vertices[face[0] as usize];
     for k in 0..face.len() {
-        let a = sub(mesh.vertices[face[k] as usize], o);
-        let b = sub(mesh.vertices[face[(k + 1) % face.len()] as usize], o);
-        let c = cross(a, b);
+        let c = cross(scale(rel(k), inv), scale(rel(k + 1), inv));
         n = [n[0] + c[0], n[1] + c[1], n[2] + c[2]];
     }
-    let l = norm(n);
-    [n[0] / l, n[1] / l, n[2] / l]
+    scale(n, 1.0 / norm(n))
 }
 
 /// The smallest dihedral angle (radians) over all pairs of faces sharing an edge, from Newell normals.
@@ -122,8 +154,15 @@ pub fn min_dihedral(mesh: &Mesh) -> f64 {
 
 /// Distance from a point outside (or on) the ellipsoid with semi-axes `a` to its surface: the Lagrange parameter
 /// `t ≥ 0` of the closest point solves `Σ (a_i y_i / (t + a_i²))² = 1`, found by bisection; the gap is
-/// `y_i t / (t + a_i²)` per axis (no cancellation). Returns a negative number for points inside.
+/// `y_i t / (t + a_i²)` per axis (no cancellation). Returns a negative number for points inside. Solved with the
+/// axes and the point divided by a power of two near the largest semi-axis (exact), so at any scale.
 pub fn ellipsoid_distance(a: [f64; 3], y: [f64; 3]) -> f64 {
+    let s = power_of_two_scale(&a);
+    s * unit_ellipsoid_distance(scale(a, 1.0 / s), scale(y, 1.0 / s))
+}
+
+/// [`ellipsoid_distance`] for semi-axes of order 1.
+fn unit_ellipsoid_distance(a: [f64; 3], y: [f64; 3]) -> f64 {
     let inside = (0..3).map(|i| (y[i] / a[i]).powi(2)).sum::<f64>();
     if inside < 1.0 {
         return -1.0;
@@ -150,10 +189,7 @@ pub fn ellipsoid_distance(a: [f64; 3], y: [f64; 3]) -> f64 {
         }
     }
     let t = 0.5 * (lo + hi);
-    (0..3)
-        .map(|i| (y[i] * t / (t + a[i] * a[i])).powi(2))
-        .sum::<f64>()
-        .sqrt()
+    norm([0, 1, 2].map(|i| y[i] * t / (t + a[i] * a[i])))
 }
 
 /// The largest distance between the polyhedron and the surface of `shape`: the largest vertex distance.
@@ -251,8 +287,11 @@ pub fn parse(args: &[String]) -> Result<Option<Request>, UsageError> {
             "-h" | "--help" => return Ok(None),
             "--sphere" => {
                 let r = num(flag, it.next())?;
-                if r <= 0.0 {
-                    return Err(UsageError(format!("--sphere: radius {r} must be positive")));
+                if r < f64::MIN_POSITIVE {
+                    return Err(UsageError(format!(
+                        "--sphere: radius {r} must be positive and at least {:e} (the smallest normal f64)",
+                        f64::MIN_POSITIVE
+                    )));
                 }
                 set_shape(&mut shape, Shape::Sphere(r))?;
             }
@@ -262,9 +301,10 @@ pub fn parse(args: &[String]) -> Result<Option<Request>, UsageError> {
                     num(flag, it.next())?,
                     num(flag, it.next())?,
                 ];
-                if a.iter().any(|&x| x <= 0.0) {
+                if a.iter().any(|&x| x < f64::MIN_POSITIVE) {
                     return Err(UsageError(format!(
-                        "--ellipsoid: semi-axes {a:?} must be positive"
+                        "--ellipsoid: semi-axes {a:?} must be positive and at least {:e} (the smallest normal f64)",
+                        f64::MIN_POSITIVE
                     )));
                 }
                 set_shape(&mut shape, Shape::Ellipsoid(a))?;
@@ -316,6 +356,10 @@ pub fn parse(args: &[String]) -> Result<Option<Request>, UsageError> {
 
 /// The level a request asks for (a priori, without building anything).
 pub fn choose_level(req: &Request) -> Result<u32, UsageError> {
+    let hint = |e: TessellateError| match e {
+        TessellateError::AxisRatioTooLarge => format!("{e}; --level K builds any ratio"),
+        _ => e.to_string(),
+    };
     let level = match req.detail {
         Detail::Level(k) => k,
         Detail::MaxAngleDeg(x) => {
@@ -323,11 +367,11 @@ pub fn choose_level(req: &Request) -> Result<u32, UsageError> {
                 0 // the cube's faces are 90° apart
             } else {
                 lod::min_level(req.shape, Bound::MinDihedral((180.0 - x).to_radians()))
-                    .map_err(|e| UsageError(format!("--max-angle-deg {x}: {e}")))?
+                    .map_err(|e| UsageError(format!("--max-angle-deg {x}: {}", hint(e))))?
             }
         }
         Detail::MaxDeviation(e) => lod::min_level(req.shape, Bound::MaxDeviation(e))
-            .map_err(|err| UsageError(format!("--max-deviation {e}: {err}")))?,
+            .map_err(|err| UsageError(format!("--max-deviation {e}: {}", hint(err))))?,
     };
     if level > CLI_MAX_LEVEL {
         return Err(UsageError(format!(
@@ -375,21 +419,19 @@ pub fn execute(req: &Request) -> Result<Summary, UsageError> {
     })
 }
 
-/// The whole subcommand: parse, run, print the JSON line on stdout (or the usage on `--help`).
-pub fn run(args: &[String]) -> Result<(), UsageError> {
-    match parse(args)? {
-        None => {
-            println!("{USAGE}");
-            Ok(())
-        }
+/// The whole subcommand: parse, run, print the JSON line on stdout (or the usage on `--help`). Errors: a
+/// [`UsageError`] for the arguments and the OBJ file, a [`crate::cli::OutputError`] for standard output.
+pub fn run(args: &[String]) -> anyhow::Result<()> {
+    let line = match parse(args)? {
+        None => USAGE.to_string(),
         Some(req) => {
             let s = execute(&req)?;
-            let line = serde_json::to_string(&s)
-                .map_err(|e| UsageError(format!("cannot format the summary: {e}")))?;
-            println!("{line}");
-            Ok(())
+            serde_json::to_string(&s)
+                .map_err(|e| UsageError(format!("cannot format the summary: {e}")))?
         }
-    }
+    };
+    print_stdout(&format!("{line}\n"))?;
+    Ok(())
 }
 
 #[cfg(test)]
@@ -444,6 +486,84 @@ mod tests {
             .unwrap()
             .unwrap();
         assert!(choose_level(&tiny).is_err());
+    }
+
+    /// (min dihedral in degrees, max deviation) as the command measures them.
+    fn measured(shape: Shape<f64>, level: u32) -> (f64, f64) {
+        let mesh = build(shape, level).unwrap();
+        (
+            min_dihedral(&mesh).to_degrees(),
+            max_deviation(&mesh, shape),
+        )
+    }
+
+    /// The measurements at radius `r` are the unit sphere's, the deviation scaled by `r`.
+    fn like_the_unit_sphere(r: f64, level: u32) {
+        let (dih1, dev1) = measured(Shape::Sphere(1.0), level);
+        let (dih, dev) = measured(Shape::Sphere(r), level);
+        assert!((dih - dih1).abs() < 1e-9, "radius {r}: {dih}° vs {dih1}°");
+        assert!(dev > 0.0 && dev.is_finite(), "radius {r}: deviation {dev}");
+        assert!(
+            (dev / r - dev1).abs() < 1e-12 * dev1,
+            "radius {r}: {dev} vs {dev1} r"
+        );
+    }
+
+    #[test]
+    fn sphere_of_radius_1e200_and_1e308_measures_like_the_unit_sphere() {
+        for level in [0, 1, 3] {
+            like_the_unit_sphere(1e200, level);
+            like_the_unit_sphere(1e308, level);
+        }
+    }
+
+    #[test]
+    fn sphere_of_radius_1e_minus_200_has_a_positive_deviation() {
+        for level in [0, 1, 3] {
+            like_the_unit_sphere(1e-200, level);
+        }
+        like_the_unit_sphere(f64::MIN_POSITIVE, 2);
+    }
+
+    #[test]
+    fn level_1_dihedral_is_120_degrees_at_radius_1e77_and_1e_minus_100() {
+        for r in [1.0, 1e77, 1e-100, 1e-80, 1e60] {
+            let (dih, _) = measured(Shape::Sphere(r), 1);
+            assert!((dih - 120.0).abs() < 1e-9, "radius {r}: {dih}°");
+            like_the_unit_sphere(r, 2);
+        }
+    }
+
+    #[test]
+    fn sphere_radius_below_the_normal_range_is_a_usage_error() {
+        let e = parse(&args("--sphere 1e-310 --level 1 --out a.obj")).unwrap_err();
+        assert!(e.0.contains("smallest normal"), "{e}");
+    }
+
+    #[test]
+    fn ellipsoid_1e10_1_1e_minus_10_builds_and_names_the_axis_ratio_limit() {
+        let r = parse(&args(
+            "--ellipsoid 1e10 1 1e-10 --max-deviation 1 --out a.obj",
+        ))
+        .unwrap()
+        .unwrap();
+        let e = choose_level(&r).unwrap_err();
+        assert!(e.0.contains("ratio") && e.0.contains("1e6"), "{e}");
+        assert!(!e.0.contains("positive and finite"), "{e}");
+        // A given level builds, and measures as the same shape scaled by 1e-10 does.
+        let shape = Shape::Ellipsoid([1e10, 1.0, 1e-10]);
+        let small = Shape::Ellipsoid([1.0, 1e-10, 1e-20]);
+        for level in [1, 3] {
+            let ((dih, dev), (dih_s, dev_s)) = (measured(shape, level), measured(small, level));
+            assert!(dev > 0.0 && dev.is_finite() && dih > 0.0 && dih < 180.0);
+            assert!((dih - dih_s).abs() < 1e-6, "{dih}° vs {dih_s}°");
+            // The deviation is 1e-11 of the largest semi-axis: the vertices' rounding (1e-16 of it) moves it by
+            // about 1e-5 of itself, so the two scales agree to that, not to the last digit.
+            assert!(
+                (dev * 1e-10 - dev_s).abs() < 1e-5 * dev_s,
+                "{dev} vs {dev_s}"
+            );
+        }
     }
 
     #[test]

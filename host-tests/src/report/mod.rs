@@ -32,9 +32,18 @@ pub struct Options {
 }
 
 /// Runs every section, prints each to stdout as it completes, and writes `report.md` into `opts.out_dir`.
+///
+/// An error on standard output (a closed pipe, a full disk) stops the printing but not the report: `report.md` is
+/// written, then the error is returned as a [`crate::cli::OutputError`].
 pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
     let started = std::time::Instant::now();
-    std::fs::create_dir_all(&opts.out_dir)?;
+    std::fs::create_dir_all(&opts.out_dir).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: cannot create the output directory: {e}",
+            opts.out_dir.display()
+        )
+    })?;
+    let mut stdout = crate::cli::Stdout::default();
     type SectionFn = fn(&Options) -> anyhow::Result<Section>;
     let sections: &[SectionFn] = &[
         surfaces::section,
@@ -52,7 +61,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
     ));
     for f in sections {
         let s = f(opts)?;
-        println!("## {}\n\n{}", s.title, s.markdown);
+        stdout.print(&format!("## {}\n\n{}\n", s.title, s.markdown));
         md.push_str(&format!("## {}\n\n{}\n", s.title, s.markdown));
         done.push(s);
     }
@@ -61,9 +70,10 @@ pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
         started.elapsed().as_secs_f64(),
         if opts.quick { "quick" } else { "full" }
     );
-    println!("{total}");
+    stdout.print(&format!("{total}\n"));
     md.push_str(&total);
     write(&opts.out_dir.join("report.md"), &md)?;
+    stdout.finish()?;
     Ok(done)
 }
 

@@ -129,10 +129,11 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
          `pick` returns the refined hit with its geodetic coordinates, `pick_t` the same traversal's `t` and cell \
          only (what parry's cast returns; the last distance column is how far the refinement moves the hit). \
          parry: parry3d-f64 `TriMesh::cast_local_ray` (its BVH over the same ECEF triangles, built from the same f64 \
-         vertices). Brute force: Möller–Trumbore over every triangle with precomputed vertices, timed on {n_brute} \
-         rays per row (sampled). Synthetic terrain: {n_syn} × {n_syn}{}. Rays per second are wall-clock \
-         figures: ours and parry run interleaved on the same rays, {PASSES} passes each, best pass kept, so their \
-         ratio is the figure to read on a loaded machine. \"status differs\" counts rays that one of ours/parry \
+         vertices). Brute force: Möller–Trumbore over every triangle with precomputed vertices, timed on the first \
+         {n_brute} rays of each row (sampled). Synthetic terrain: {n_syn} × {n_syn}{}. Rays per second are wall-clock \
+         figures under one policy for every method: each builds its own rays from the same f64 records inside \
+         the timed region, and all run interleaved, {PASSES} passes each, best pass kept, so the ratios are the \
+         figures to read on a loaded machine. \"status differs\" counts rays that one of ours/parry \
          hits and the other misses.\n\n",
         if opts.quick {
             " (quick mode; the full report uses 4096 × 4096)"
@@ -178,9 +179,11 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
     })
 }
 
-/// Times ours at every block size, parry and the sampled brute force on the same rays, interleaved: each pass
-/// times every method once on all rays and the best of `PASSES` passes is kept per method (a background load
-/// slows a pass, never speeds one up).
+/// Times ours at every block size, parry and the sampled brute force on the same rays, interleaved, under one
+/// policy for every method: each starts from the same `f64` ray records and builds its own ray inside the timed
+/// region (`curvicast::Ray::new`, parry's `Ray::new`), and each pass times every method once (brute force on
+/// the first `n_brute` rays) and the best of `PASSES` passes is kept per method (a background load slows a pass,
+/// never speeds one up).
 fn measure(
     scene: &str,
     kind: &str,
@@ -190,12 +193,9 @@ fn measure(
     brute: &BruteForceTerrain,
     n_brute: usize,
 ) -> anyhow::Result<Vec<Row>> {
-    let kr: Vec<Ray<f64>> = rays
-        .iter()
-        .map(|r| Ray::new(r.origin, r.dir))
-        .collect::<Result<_, _>>()
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let ray = |r: &RaySpec| Ray::new(r.origin, r.dir).map_err(|e| anyhow::anyhow!("{scene}: {e}"));
     let n = rays.len();
+    let mut best_brute = f64::INFINITY;
     let mut best_ours = vec![f64::INFINITY; pickers.len()];
     let mut best_t = vec![f64::INFINITY; pickers.len()];
     let mut answers_t: Vec<Vec<TCell>> = vec![Vec::new(); pickers.len()];
@@ -207,22 +207,25 @@ fn measure(
         for (k, (_, picker)) in pickers.iter().enumerate() {
             let mut stats = PickStats::default();
             let t0 = Instant::now();
-            let got: Vec<TCell> = kr
+            let got: Vec<TCell> = rays
                 .iter()
                 .map(|r| {
                     picker
-                        .pick_with_stats(r, &mut stats)
+                        .pick_with_stats(&ray(r)?, &mut stats)
                         .map(|h| h.map(|h| (h.t, h.cell)))
+                        .map_err(|e| anyhow::anyhow!("{scene}: {e}"))
                 })
-                .collect::<Result<_, _>>()
-                .map_err(|e| anyhow::anyhow!("{scene}: {e}"))?;
+                .collect::<anyhow::Result<_>>()?;
             best_ours[k] = best_ours[k].min(t0.elapsed().as_secs_f64());
             let t0 = Instant::now();
-            let got_t: Vec<TCell> = kr
+            let got_t: Vec<TCell> = rays
                 .iter()
-                .map(|r| picker.pick_t(r))
-                .collect::<Result<_, _>>()
-                .map_err(|e| anyhow::anyhow!("{scene}: {e}"))?;
+                .map(|r| {
+                    picker
+                        .pick_t(&ray(r)?)
+                        .map_err(|e| anyhow::anyhow!("{scene}: {e}"))
+                })
+                .collect::<anyhow::Result<_>>()?;
             best_t[k] = best_t[k].min(t0.elapsed().as_secs_f64());
             if pass == 0 {
                 tris[k] = u64::from(stats.triangles_tested);
@@ -237,12 +240,12 @@ fn measure(
         if pass == 0 {
             theirs = got;
         }
+        let t0 = Instant::now();
+        for r in rays.iter().take(n_brute) {
+            std::hint::black_box(brute.pick(r));
+        }
+        best_brute = best_brute.min(t0.elapsed().as_secs_f64());
     }
-    let t0 = Instant::now();
-    for r in rays.iter().take(n_brute) {
-        std::hint::black_box(brute.pick(r));
-    }
-    let brute_t = t0.elapsed().as_secs_f64();
     let mut out = Vec::new();
     for (k, (block, _)) in pickers.iter().enumerate() {
         let mut disagree = 0;
@@ -278,7 +281,7 @@ fn measure(
             ours: n as f64 / best_ours[k],
             ours_t: n as f64 / best_t[k],
             parry: n as f64 / best_parry,
-            brute: n_brute.min(n) as f64 / brute_t,
+            brute: n_brute.min(n) as f64 / best_brute,
             hits,
             disagree,
             max_dist,

@@ -4,7 +4,7 @@
 //! through the kernel's [`Surface::crossings`] in `f64` and in `f32`, plus a march through a spherical grid
 //! (serial engine), an edge-beveled sphere and a terrain pick (with the hit refinement, with and without node
 //! boxes, the boxes built on the target by `NodeBox::of_vertices`) with hand-derived
-//! expectations (the pass line counts these under "march, bevel and pick"), prints one line per failure and a
+//! expectations (the slanted pick's from the host's terrain oracle) (the pass line counts these under "march, bevel and pick"), prints one line per failure and a
 //! final pass line over semihosting, and exits (semihosting exit) with status 0 only if everything passes.
 //!
 //! **The panic-path proof.** The `#[panic_handler]` below calls a function that is declared but defined nowhere.
@@ -269,7 +269,14 @@ impl<T: Real> TerrainStorage<T> for Peak {
     }
 }
 
-/// Picks the peak straight down and a slope from the side (with node boxes when `boxed`).
+/// The oracle's answer for the slanted ray of [`pick_case`] in `f64`: its `t` and the hit's height (checked by
+/// `host-tests/tests/smoke_pick.rs` against the independent terrain oracle).
+const PEAK_SLOPE_T: f64 = 0.800_016_529_664_916_8;
+/// See [`PEAK_SLOPE_T`].
+const PEAK_SLOPE_H: f64 = 399.966_730_307_997_1;
+
+/// Picks the peak straight down and a slope from the side (with node boxes when `boxed`), against the oracle's
+/// answers: within `tol_m` metres along the ray and in height.
 fn pick_case<T: Real>(tol_m: f64, boxed: bool) -> bool {
     let e = Ellipsoid::<T>::wgs84();
     let h = |x: f64| T::from_f64(x);
@@ -302,10 +309,11 @@ fn pick_case<T: Real>(tol_m: f64, boxed: bool) -> bool {
     let Ok(slanted) = Ray::new(from, below_peak.minus(from)) else {
         return false;
     };
+    let length = below_peak.minus(from).length().to_f64();
     let slope = match picker.pick(&slanted) {
         Ok(Some(hit)) => {
             let (t, h) = (hit.t.to_f64(), hit.h.to_f64());
-            t > 0.0 && t < 1.0 && h > 0.0 && h < 500.0
+            (t - PEAK_SLOPE_T).abs() * length <= tol_m && (h - PEAK_SLOPE_H).abs() <= tol_m
         }
         _ => false,
     };

@@ -51,7 +51,8 @@ use crate::surface::{AxialCone, Side, Spheroid, Surface};
 use crate::vec3::V3;
 
 /// Bound on how far a planar triangle with longest edge ≤ `d` and vertex heights ≥ `h_min` dips below `h_min`
-/// (module docs, item 3). Error [`GeodesyError::HeightTooLow`] when the triangle could reach `−b²/a`.
+/// (module docs, item 3). Error [`GeodesyError::HeightTooLow`] when `h_min ≤ −b²/a`,
+/// [`GeodesyError::TriangleTooLarge`] when `d ≥ √1.5 · (b²/a + h_min)` (the bound's quadratic has no root).
 pub fn chord_sagitta_bound<T: Real>(e: &Ellipsoid<T>, d: T, h_min: T) -> Result<T, GeodesyError> {
     if !d.is_finite() || !h_min.is_finite() {
         return Err(GeodesyError::NonFinite);
@@ -64,8 +65,11 @@ pub fn chord_sagitta_bound<T: Real>(e: &Ellipsoid<T>, d: T, h_min: T) -> Result<
     }
     let c = b * (b / a) + h_min;
     let disc = c * c - T::TWO * d2 / T::from_f64(3.0);
-    if !(c > T::ZERO) || !(disc > T::ZERO) {
+    if !(c > T::ZERO) {
         return Err(GeodesyError::HeightTooLow);
+    }
+    if !(disc > T::ZERO) {
+        return Err(GeodesyError::TriangleTooLarge);
     }
     let s = (d2 / T::from_f64(3.0)) / (c + disc.sqrt());
     // Rounding margin (the bound is used as a safety inflation: a slight overestimate is harmless).
@@ -840,8 +844,13 @@ mod tests {
     fn sagitta_rejects_depth_near_evolute() {
         let e = Ellipsoid::<f64>::wgs84();
         assert_eq!(
-            chord_sagitta_bound(&e, 1.0e6, e.min_height() + 10.0),
+            chord_sagitta_bound(&e, 1.0e6, e.min_height() - 10.0),
             Err(GeodesyError::HeightTooLow)
+        );
+        // Just above −b²/a, a 1000 km chord is already beyond √1.5 (b²/a + h_min).
+        assert_eq!(
+            chord_sagitta_bound(&e, 1.0e6, e.min_height() + 10.0),
+            Err(GeodesyError::TriangleTooLarge)
         );
         assert_eq!(
             HeightQuadBounds::new(&e, 0.0, 1.0, 0.0, 1.0, -7.0e6, 0.0, 0.1, 0.1),

@@ -58,6 +58,9 @@ pub enum GeodesyError {
     HeightTooLow,
     /// A latitude outside `[−π/2, π/2]`.
     LatitudeOutOfRange,
+    /// A triangle edge `d` too long for the chord-sagitta bound ([`chord_sagitta_bound`]): it needs
+    /// `d < √1.5 · (b²/a + h_min)`, about 7 700 km on the Earth, so DEM cells must span less than about 70°.
+    TriangleTooLarge,
 }
 
 impl core::fmt::Display for GeodesyError {
@@ -69,6 +72,10 @@ impl core::fmt::Display for GeodesyError {
                 "height at or below -b^2/a (no height-quad bound exists there)"
             }
             GeodesyError::LatitudeOutOfRange => "latitude outside [-90, 90] degrees",
+            GeodesyError::TriangleTooLarge => {
+                "triangle edge longer than the chord bound allows (sqrt(1.5) (b^2/a + h_min), about 7700 km on \
+                 the Earth): DEM cells must span less than about 70 degrees"
+            }
         })
     }
 }

@@ -231,7 +231,10 @@ impl core::fmt::Display for TerrainError {
         match self {
             TerrainError::Ray(e) => write!(f, "invalid ray: {e}"),
             TerrainError::Geodesy(e) => write!(f, "invalid terrain bound: {e}"),
-            TerrainError::InvalidGrid => f.write_str("invalid DEM grid"),
+            TerrainError::InvalidGrid => f.write_str(
+                "invalid DEM grid: it needs finite lat0, lon0, dlat and dlon, at least 2 rows and 2 columns, \
+                 dlat != 0, 0 < dlon < 180 degrees and every row's latitude within [-90, 90]",
+            ),
             TerrainError::MalformedTree => f.write_str("malformed terrain quadtree"),
             TerrainError::TooManyZones => f.write_str("more zones than the picker's capacity"),
             TerrainError::StackFull => {

@@ -115,6 +115,10 @@ pub fn refine_closed<T: Real>(
         }
     }
     let per = points_per_arc(level);
+    if per == 0 {
+        // Never (at least 2 points per arc), but `chunks_exact_mut` panics on 0: the check removes that path.
+        return Err(TessellateError::Internal);
+    }
     let total = closed_len(arcs.len(), level);
     need("point", total, out.len())?;
     let out = out.get_mut(..total).ok_or(TessellateError::Internal)?;
@@ -363,11 +367,39 @@ mod tests {
 
     #[test]
     fn non_stationary_parameter_matches_eq_3_1() {
-        // t_1 for the square: cos(π/8)/(1 + cos(π/8)); the paper's first method has 1/(2(1+cos)) ≈ 0.25989.
-        let c = (core::f64::consts::PI / 8.0).cos();
-        let t1 = c / (1.0 + c);
-        assert!((t1 / (1.0 - t1) - c).abs() < 1e-15);
-        assert!((0.5 / (1.0 + c) - 0.25989).abs() < 1e-5);
+        // One arc with a 60° corner (not the square's 90°), refined by the kernel: the corner cut at level k puts
+        // C' at t_k along T₀C, where t_k / (1 − t_k) = cos((π − α) / 2^(k+1)) (eq. 3.1); read t_k back off the
+        // output at levels 1 and 2 (level 2 cuts the corner C' of the arc {T₀, C', M}).
+        let alpha = core::f64::consts::PI / 3.0;
+        let (t0, c) = ([0.0, 0.0], [1.0, 0.0]);
+        let t1 = [0.5, 0.75_f64.sqrt()];
+        let arcs = [
+            Arc {
+                start: t0,
+                corner: c,
+                alpha,
+            },
+            Arc {
+                start: t1,
+                corner: [-0.5, 0.5],
+                alpha: 1.0,
+            },
+        ];
+        let ratio = |k: u32| ((core::f64::consts::PI - alpha) / f64::from(2u32.pow(k + 1))).cos();
+        let dist = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]);
+        let mut out1 = vec![[0.0; 2]; closed_len(2, 1)];
+        refine_closed(&arcs, 1, &mut out1).unwrap();
+        assert_eq!((out1[0], out1[4]), (t0, t1));
+        let t_1 = dist(out1[1], t0) / dist(c, t0);
+        assert!((t_1 / (1.0 - t_1) - ratio(0)).abs() < 1e-14, "t_1 = {t_1}");
+        // C'' lies at the same t_1 from T₁ toward C.
+        assert!((dist(out1[3], t1) / dist(c, t1) - t_1).abs() < 1e-14);
+        let mut out2 = vec![[0.0; 2]; closed_len(2, 2)];
+        refine_closed(&arcs, 2, &mut out2).unwrap();
+        let t_2 = dist(out2[1], t0) / dist(out1[1], t0);
+        assert!((t_2 / (1.0 - t_2) - ratio(1)).abs() < 1e-14, "t_2 = {t_2}");
+        // The two parameters differ: the refinement is non-stationary.
+        assert!(t_2 - t_1 > 0.05);
     }
 
     #[test]

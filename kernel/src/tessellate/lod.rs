@@ -195,8 +195,8 @@ pub fn screen_space_error<T: Real>(radius: T, distance: T, deviation: T) -> T {
 /// operations, for ellipsoids as described in the module docs.
 ///
 /// # Errors
-/// [`TessellateError::InvalidShape`] for a non-positive or non-finite radius/axis (or an axis ratio above
-/// [`MAX_AXIS_RATIO`]), [`TessellateError::InvalidBound`] for a bound out of range (NaN, a dihedral angle ≥ π
+/// [`TessellateError::InvalidShape`] for a non-positive or non-finite radius/axis,
+/// [`TessellateError::AxisRatioTooLarge`] for an axis ratio above [`MAX_AXIS_RATIO`], [`TessellateError::InvalidBound`] for a bound out of range (NaN, a dihedral angle ≥ π
 /// or < 0, a deviation ≤ 0, a pixel angle outside `(0, π]`, an eye inside the object's bounding sphere),
 /// [`TessellateError::Unreachable`] when no level up to [`MAX_LEVEL`] meets it.
 pub fn min_level<T: Real>(shape: Shape<T>, bound: Bound<T>) -> Result<u32, TessellateError> {
@@ -292,7 +292,8 @@ pub struct EllipsoidWorstCase<T> {
 /// three normal angles; fixed memory.
 ///
 /// # Errors
-/// [`TessellateError::LevelTooDeep`] above [`MAX_LEVEL`], [`TessellateError::InvalidShape`] as for [`min_level`].
+/// [`TessellateError::LevelTooDeep`] above [`MAX_LEVEL`], [`TessellateError::InvalidShape`] and
+/// [`TessellateError::AxisRatioTooLarge`] as for [`min_level`].
 pub fn ellipsoid_worst_case<T: Real>(
     axes: [T; 3],
     level: u32,
@@ -325,7 +326,7 @@ pub fn ellipsoid_worst_case<T: Real>(
 // ---------------------------------------------------------------------------------------------------------------
 
 /// The largest ratio of an ellipsoid's largest to smallest semi-axis that [`min_level`] and
-/// [`ellipsoid_worst_case`] accept (`InvalidShape` beyond). A fuzz input at 7e134 : 1 made the closest-point
+/// [`ellipsoid_worst_case`] accept (`AxisRatioTooLarge` beyond). A fuzz input at 7e134 : 1 made the closest-point
 /// solver report a zero deviation; the method is checked (against built polyhedra, and against the unpruned
 /// walk) far below this limit.
 pub const MAX_AXIS_RATIO: f64 = 1.0e6;
@@ -358,10 +359,10 @@ impl<T: Real> Ell<T> {
         let inv = a.map(|x| T::ONE / x);
         let lo = a[0].min(a[1]).min(a[2]);
         let ratio = T::ONE / lo;
-        // The squared axis ratio must be a normal number for the closest-point solver, and the ratio at most
-        // MAX_AXIS_RATIO, the range in which the method's bounds and solver have been checked.
+        // The ratio at most MAX_AXIS_RATIO, the range in which the method's bounds and solver have been
+        // checked, and the squared axis ratio a normal number for the closest-point solver (in f32 too).
         if !(ratio <= T::from_f64(MAX_AXIS_RATIO)) || w.iter().any(|&x| !(x >= T::MIN_POSITIVE)) {
-            return Err(TessellateError::InvalidShape);
+            return Err(TessellateError::AxisRatioTooLarge);
         }
         Ok((
             Ell {
@@ -1037,7 +1038,7 @@ mod tests {
                 Shape::Ellipsoid([1.0_f64, f64::MAX, f64::MIN_POSITIVE]),
                 Bound::MaxDeviation(1.0)
             ),
-            Err(TessellateError::InvalidShape)
+            Err(TessellateError::AxisRatioTooLarge)
         );
         // Beyond MAX_AXIS_RATIO (a fuzz input at 7e134 : 1 had the solver report a zero deviation).
         assert_eq!(
@@ -1049,7 +1050,7 @@ mod tests {
                 ]),
                 Bound::MaxDeviation(0.01)
             ),
-            Err(TessellateError::InvalidShape)
+            Err(TessellateError::AxisRatioTooLarge)
         );
         assert!(
             min_level(
@@ -1064,7 +1065,7 @@ mod tests {
                 Shape::Ellipsoid([1.0_f64, 1e200, 1.0]),
                 Bound::MaxDeviation(1.0)
             ),
-            Err(TessellateError::InvalidShape)
+            Err(TessellateError::AxisRatioTooLarge)
         );
         assert!(
             min_level(

@@ -51,9 +51,12 @@ pub enum TessellateError {
         /// Its actual length.
         got: usize,
     },
-    /// A radius or semi-axis is not a positive finite number, or (for [`lod::min_level`]) the squared ratio of the
-    /// smallest to the largest semi-axis is not a normal number.
+    /// A radius or semi-axis is not a positive finite number (or the result would not be finite).
     InvalidShape,
+    /// The ratio of the largest to the smallest semi-axis exceeds [`lod::MAX_AXIS_RATIO`], the range in which
+    /// [`lod::min_level`] and [`lod::ellipsoid_worst_case`] are verified (chapter 5); the builders of [`bevel`]
+    /// accept any ratio.
+    AxisRatioTooLarge,
     /// A control polygon is empty, has a non-finite point, or has an interior angle outside `(0, π)`.
     InvalidControlPolygon,
     /// A level-of-detail bound is NaN, out of its range, or the viewer is not outside the object.
@@ -78,6 +81,12 @@ impl core::fmt::Display for TessellateError {
             TessellateError::InvalidShape => {
                 f.write_str("radius and semi-axes must be positive and finite")
             }
+            TessellateError::AxisRatioTooLarge => write!(
+                f,
+                "the ratio of the largest to the smallest semi-axis exceeds {:e}, the range in which the level \
+                 of detail is verified",
+                lod::MAX_AXIS_RATIO
+            ),
             TessellateError::InvalidControlPolygon => f.write_str(
                 "control polygon must be non-empty, finite, with interior angles in (0, pi)",
             ),
