@@ -1300,11 +1300,30 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                         ])
                     }
                 };
+                // Which edges of the two triangles have no triangle across (triangle.rs, "Edges on the border
+                // of the surface"): the third vertex of the triangle across, one stride further, has no data or
+                // is off the grid. Asked only when the ray passes within rounding outside such an edge.
+                let (last_row, last_col) = (g.cell_rows(), g.cell_cols());
+                let has = |ii: u32, jj: u32| self.storage.height(ii, jj).is_some_and(T::is_finite);
                 if let (Some(a), Some(b), Some(c)) = (v00, v01, v11) {
-                    self.test_triangle(w, [a, b, c], [row_i, j], refs(true), u);
+                    // Edges: V(i,j1)–V(i1,j1) (column j1), the diagonal, V(i,j)–V(i,j1) (row i).
+                    let border = || {
+                        let east =
+                            j1 >= last_col || !has(row_i1, j1.saturating_add(s).min(last_col));
+                        let south = row_i == 0 || !has(row_i.saturating_sub(s), j);
+                        [east, v10.is_none(), south]
+                    };
+                    self.test_triangle(w, [a, b, c], [row_i, j], refs(true), u, border);
                 }
                 if let (Some(a), Some(b), Some(c)) = (v00, v11, v10) {
-                    self.test_triangle(w, [a, b, c], [row_i, j], refs(false), u);
+                    // Edges: V(i1,j1)–V(i1,j) (row i1), V(i1,j)–V(i,j) (column j), the diagonal.
+                    let border = || {
+                        let north =
+                            row_i1 >= last_row || !has(row_i1.saturating_add(s).min(last_row), j1);
+                        let west = j == 0 || !has(row_i, j.saturating_sub(s));
+                        [north, west, v01.is_none()]
+                    };
+                    self.test_triangle(w, [a, b, c], [row_i, j], refs(false), u, border);
                 }
             }
         }
@@ -1394,7 +1413,9 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         }
     }
 
-    /// One watertight ray–triangle test; a nearer hit becomes the candidate.
+    /// One watertight ray–triangle test, its edges on the border of the surface given by `border` (edges
+    /// `b–c`, `c–a`, `a–b`; asked only for a ray passing within rounding outside an edge); a nearer hit becomes
+    /// the candidate.
     #[inline]
     fn test_triangle(
         &self,
@@ -1403,10 +1424,14 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         cell: [u32; 2],
         tri: TriRef,
         u: &Unit,
+        border: impl FnOnce() -> [bool; 3],
     ) {
         w.stats.triangles_tested = w.stats.triangles_tested.saturating_add(1);
         let limit = w.best.as_ref().map_or(w.ray.t_max(), |h| h.t);
-        if let Some((t, _)) = w.wray.intersect(a, b, c, w.ray.t_min(), limit) {
+        if let Some((t, _)) = w
+            .wray
+            .intersect_with_border(a, b, c, w.ray.t_min(), limit, border)
+        {
             if w.best.as_ref().is_none_or(|h| t < h.t) {
                 *w.best = Some(Candidate {
                     t,
@@ -1462,13 +1487,20 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 }
             };
             let mut prev = at(side.from);
+            // A side on the grid's outer edge has no triangle across its fan edges.
+            let last = if side.along_cols {
+                self.grid.cell_rows()
+            } else {
+                self.grid.cell_cols()
+            };
+            let outer = [side.fixed == 0 || side.fixed >= last, false, false];
             let mut fan = |p: u32| {
                 let cur = at(p);
                 if let (Some(a), Some(b)) = (self.vertex(prev.0, prev.1), self.vertex(cur.0, cur.1))
                 {
                     let refs =
                         TriRef::Vertices([mid, Vtx::Grid(prev.0, prev.1), Vtx::Grid(cur.0, cur.1)]);
-                    self.test_triangle(w, [m, a, b], [i, j], refs, u);
+                    self.test_triangle(w, [m, a, b], [i, j], refs, u, || outer);
                 }
                 prev = cur;
             };

@@ -149,12 +149,33 @@ impl TestDem {
                     self.vertex(i + 1, j + 1),
                     self.vertex(i + 1, j),
                 ];
-                for tri in [[v[0], v[1], v[2]], [v[0], v[2], v[3]]] {
+                // The third vertex of the triangle across each edge (`None` off the grid): an edge without
+                // one is on the border of the surface.
+                let (lr, lc) = (self.grid.rows - 1, self.grid.cols - 1);
+                let at = |ok: bool, i: u32, j: u32| if ok { self.vertex(i, j) } else { None };
+                let across = [
+                    [
+                        at(j + 1 < lc, i + 1, j + 2),
+                        v[3],
+                        at(i > 0, i.wrapping_sub(1), j),
+                    ],
+                    [
+                        at(i + 1 < lr, i + 2, j + 1),
+                        at(j > 0, i, j.wrapping_sub(1)),
+                        v[1],
+                    ],
+                ];
+                for (tri, across) in [[v[0], v[1], v[2]], [v[0], v[2], v[3]]]
+                    .into_iter()
+                    .zip(across)
+                {
                     let [Some(a), Some(b), Some(c)] = tri else {
                         continue;
                     };
                     let hi = best.map_or(ray.t_max(), |x| x.0);
-                    if let Some((t, _)) = w.intersect(a, b, c, ray.t_min(), hi) {
+                    let border = || across.map(|x| x.is_none());
+                    if let Some((t, _)) = w.intersect_with_border(a, b, c, ray.t_min(), hi, border)
+                    {
                         if best.is_none_or(|x| t < x.0) {
                             best = Some((t, [i, j]));
                         }
@@ -235,11 +256,8 @@ fn flat_terrain_at_h0_hit_by_radial_rays_at_vertices() {
             let ray = radial_ray(&dem.e, lat, lon, 1000.0);
             let what = std::format!("{i},{j}");
             same_hit(&ray, hit.map(|h| (h.t, h.cell)), dem.brute(&ray), &what);
-            // On the DEM's outer boundary a ray through a vertex may pass just outside it (rounding).
-            let Some(hit) = hit else {
-                assert!(i == 0 || j == 0 || i == 8 || j == 8, "{i},{j} missed");
-                continue;
-            };
+            assert!(hit.is_some(), "{i},{j} missed");
+            let hit = hit.unwrap();
             // A vertex at h = 0 lies 1000 m down the normal.
             assert!((hit.t - 1000.0).abs() < 1e-6, "{i},{j}: {}", hit.t);
             assert!(
@@ -1120,5 +1138,126 @@ mod multires {
             );
             assert_eq!((a.t, a.cell, a.stride), (b.t, b.cell, 1));
         }
+    }
+}
+
+/// Straight-down rays through vertices on the border of the surface, on flat terrain of grids of several sizes,
+/// places and heights: each must hit at its vertex (triangles are closed; triangle.rs, "Edges on the border of
+/// the surface"), at `t` = 1000 m, and the brute force with the same border rule agrees.
+fn assert_hits_down_through(dem: &TestDem, vertices: &[(u32, u32)], what: &str) -> usize {
+    let p: Picker<'_, f64, TestDem> = Picker::new(dem).unwrap();
+    for &(i, j) in vertices {
+        let (lat, lon) = (dem.grid.lat_deg(i), dem.grid.lon_deg(j));
+        let h = dem.h(i, j).unwrap();
+        let ray = radial_ray(&dem.e, lat, lon, h + 1000.0);
+        let hit = p.pick(&ray).unwrap();
+        // Through a vertex the two may pick different triangles around it, at the same point.
+        let brute = dem.brute(&ray);
+        assert!(
+            brute.is_some(),
+            "{what}: the brute force misses V({i}, {j})"
+        );
+        assert!(hit.is_some(), "{what}: ray down through V({i}, {j}) missed");
+        let hit = hit.unwrap();
+        assert!(
+            (hit.t - 1000.0).abs() < 1e-6,
+            "{what} V({i}, {j}): t = {}",
+            hit.t
+        );
+        assert!(
+            (hit.h - h).abs() < 1e-6,
+            "{what} V({i}, {j}): h = {}",
+            hit.h
+        );
+    }
+    vertices.len()
+}
+
+/// The grids of the border-vertex tests: `(lat0, lon0, spacing, height)`, 9 × 9 vertices, rows southwards for
+/// one of them.
+const BORDER_GRIDS: [(f64, f64, f64, f64); 5] = [
+    (45.0, 7.0, 0.01, 0.0),
+    (-33.0, 151.0, -0.001, 250.0),
+    (10.0, -120.0, 0.1, 1000.0),
+    (60.0, 20.0, 1.0 / 1200.0, 17.0),
+    (0.0, 0.0, 0.003, 3.0),
+];
+
+#[test]
+#[cfg_attr(miri, ignore)] // 160 picks: minutes under Miri; the corner and hole tests cover the same code
+fn rays_down_through_vertices_on_the_outer_edge_of_grids_hit() {
+    let mut n = 0;
+    for (lat0, lon0, d, h) in BORDER_GRIDS {
+        let dem = TestDem::new(
+            grid(lat0, lon0, d, d.abs(), 9, 9),
+            std::vec![h; 81],
+            2,
+            1,
+            1,
+        );
+        let edge: Vec<(u32, u32)> = (0..9)
+            .flat_map(|i| (0..9).map(move |j| (i, j)))
+            .filter(|&(i, j)| i == 0 || j == 0 || i == 8 || j == 8)
+            .collect();
+        n += assert_hits_down_through(&dem, &edge, &std::format!("grid at {lat0}°, {lon0}°"));
+    }
+    assert_eq!(n, 160);
+}
+
+#[test]
+fn rays_down_through_the_four_corner_vertices_of_grids_hit() {
+    for (lat0, lon0, d, h) in BORDER_GRIDS {
+        let dem = TestDem::new(
+            grid(lat0, lon0, d, d.abs(), 9, 9),
+            std::vec![h; 81],
+            2,
+            1,
+            1,
+        );
+        let corners = [(0, 0), (0, 8), (8, 0), (8, 8)];
+        assert_hits_down_through(&dem, &corners, &std::format!("corners at {lat0}°, {lon0}°"));
+    }
+}
+
+#[test]
+fn rays_down_through_the_edge_vertices_of_a_one_vertex_nodata_hole_hit() {
+    // Nodata at V(4, 4) removes its six triangles; the hole's edge is the hexagon of its neighbours (each a
+    // corner of the hole's outline).
+    for (lat0, lon0, d, h) in BORDER_GRIDS {
+        let mut hs = std::vec![h; 81];
+        hs[4 * 9 + 4] = f64::NAN;
+        let dem = TestDem::new(grid(lat0, lon0, d, d.abs(), 9, 9), hs, 2, 1, 1);
+        let ring = [(3, 3), (3, 4), (4, 5), (5, 5), (5, 4), (4, 3)];
+        assert_hits_down_through(&dem, &ring, &std::format!("hole at {lat0}°, {lon0}°"));
+        // Straight down through the missing vertex: no triangle there.
+        let ray = radial_ray(&dem.e, dem.grid.lat_deg(4), dem.grid.lon_deg(4), h + 1000.0);
+        let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+        assert_eq!(p.pick(&ray).unwrap(), None);
+    }
+}
+
+#[test]
+fn rays_down_through_the_edges_and_corners_of_a_square_nodata_hole_hit() {
+    // Nodata at the 3 × 3 vertices V(3..=5, 3..=5): the hole's outline runs along rows 2 and 6 and columns 2
+    // and 6 (straight edges, with corners at V(2, 2), V(2, 6), V(6, 2), V(6, 6)) and steps inwards along the
+    // diagonals at V(2, 3) ... (the cells' diagonals keep some triangles).
+    for (lat0, lon0, d, h) in BORDER_GRIDS {
+        let mut hs = std::vec![h; 81];
+        for i in 3..=5 {
+            for j in 3..=5 {
+                hs[i * 9 + j] = f64::NAN;
+            }
+        }
+        let dem = TestDem::new(grid(lat0, lon0, d, d.abs(), 9, 9), hs, 2, 1, 1);
+        let outline: Vec<(u32, u32)> = (2..=6)
+            .flat_map(|i| (2..=6).map(move |j| (i, j)))
+            .filter(|&(i, j)| i == 2 || j == 2 || i == 6 || j == 6)
+            .collect();
+        assert_eq!(outline.len(), 16);
+        assert_hits_down_through(
+            &dem,
+            &outline,
+            &std::format!("square hole at {lat0}°, {lon0}°"),
+        );
     }
 }
