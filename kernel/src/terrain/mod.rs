@@ -1300,29 +1300,17 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                         ])
                     }
                 };
-                // Which edges of the two triangles have no triangle across (triangle.rs, "Edges on the border
-                // of the surface"): the third vertex of the triangle across, one stride further, has no data or
-                // is off the grid. Asked only when the ray passes within rounding outside such an edge.
-                let (last_row, last_col) = (g.cell_rows(), g.cell_cols());
-                let has = |ii: u32, jj: u32| self.storage.height(ii, jj).is_some_and(T::is_finite);
+                // The edges with no triangle across (triangle.rs, "Edges on the border of the surface"), asked
+                // only when the ray passes within rounding outside one. Captured by value (a reference would
+                // keep these locals in memory through the column loop).
                 if let (Some(a), Some(b), Some(c)) = (v00, v01, v11) {
-                    // Edges: V(i,j1)–V(i1,j1) (column j1), the diagonal, V(i,j)–V(i,j1) (row i).
-                    let border = || {
-                        let east =
-                            j1 >= last_col || !has(row_i1, j1.saturating_add(s).min(last_col));
-                        let south = row_i == 0 || !has(row_i.saturating_sub(s), j);
-                        [east, v10.is_none(), south]
-                    };
+                    let no_second = v10.is_none();
+                    let border = move || self.border_edges(cell, s, true, no_second);
                     self.test_triangle(w, [a, b, c], [row_i, j], refs(true), u, border);
                 }
                 if let (Some(a), Some(b), Some(c)) = (v00, v11, v10) {
-                    // Edges: V(i1,j1)–V(i1,j) (row i1), V(i1,j)–V(i,j) (column j), the diagonal.
-                    let border = || {
-                        let north =
-                            row_i1 >= last_row || !has(row_i1.saturating_add(s).min(last_row), j1);
-                        let west = j == 0 || !has(row_i, j.saturating_sub(s));
-                        [north, west, v01.is_none()]
-                    };
+                    let no_first = v01.is_none();
+                    let border = move || self.border_edges(cell, s, false, no_first);
                     self.test_triangle(w, [a, b, c], [row_i, j], refs(false), u, border);
                 }
             }
@@ -1413,6 +1401,27 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         }
     }
 
+    /// Which edges of a traced cell's first (`first`) or second triangle have no triangle across (triangle.rs,
+    /// "Edges on the border of the surface"), in the order `b–c`, `c–a`, `a–b` of its vertices: the diagonal
+    /// when the cell's other triangle is missing (`other_missing`), a side when it is on the grid's edge or
+    /// when the third vertex of the triangle across, one `stride` further, has no data.
+    fn border_edges(&self, c: CellAt, stride: u32, first: bool, other_missing: bool) -> [bool; 3] {
+        let ([i, i1], [j, j1]) = (c.rows, c.cols);
+        let (last_row, last_col) = (self.grid.cell_rows(), self.grid.cell_cols());
+        let has = |ii: u32, jj: u32| self.storage.height(ii, jj).is_some_and(T::is_finite);
+        if first {
+            // (V(i,j), V(i,j1), V(i1,j1)): column j1, the diagonal, row i.
+            let east = j1 >= last_col || !has(i1, j1.saturating_add(stride).min(last_col));
+            let south = i == 0 || !has(i.saturating_sub(stride), j);
+            [east, other_missing, south]
+        } else {
+            // (V(i,j), V(i1,j1), V(i1,j)): row i1, column j, the diagonal.
+            let north = i1 >= last_row || !has(i1.saturating_add(stride).min(last_row), j1);
+            let west = j == 0 || !has(i, j.saturating_sub(stride));
+            [north, west, other_missing]
+        }
+    }
+
     /// One watertight ray–triangle test, its edges on the border of the surface given by `border` (edges
     /// `b–c`, `c–a`, `a–b`; asked only for a ray passing within rounding outside an edge); a nearer hit becomes
     /// the candidate.
@@ -1500,7 +1509,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 {
                     let refs =
                         TriRef::Vertices([mid, Vtx::Grid(prev.0, prev.1), Vtx::Grid(cur.0, cur.1)]);
-                    self.test_triangle(w, [m, a, b], [i, j], refs, u, || outer);
+                    self.test_triangle(w, [m, a, b], [i, j], refs, u, move || outer);
                 }
                 prev = cur;
             };
