@@ -179,6 +179,7 @@
 //! ```
 
 pub mod boxes;
+pub mod build;
 mod refine;
 mod storage;
 pub mod subset;

@@ -1261,3 +1261,165 @@ fn rays_down_through_the_edges_and_corners_of_a_square_nodata_hole_hit() {
         );
     }
 }
+
+/// Every node record of the builder: ranges inside the grid, children strictly inside their parent, the
+/// height range over every vertex of the node's cells (border rows and columns included), and the leaves
+/// covering every cell that has a triangle exactly once.
+fn check_built_tree(heights: &[f64], g: &Grid<f64>, block: u32) {
+    use build::{NodeRecord, SliceStorage, build_tree, node_slots};
+    let slots = node_slots(g.rows, g.cols, block);
+    let mut nodes = std::vec![NodeRecord::<f64>::EMPTY; slots + 3];
+    let tree = build_tree(heights, g, block, &mut nodes).unwrap();
+    assert_eq!(tree.slots(), slots);
+    assert!(
+        nodes[slots..].iter().all(|n| *n == NodeRecord::EMPTY),
+        "untouched tail"
+    );
+    let s = SliceStorage::new(Ellipsoid::wgs84(), *g, heights, &nodes, tree).unwrap();
+    let h = |i: u32, j: u32| Some(heights[(i * g.cols + j) as usize]).filter(|h| !h.is_nan());
+    let mut covered = std::vec![0u32; (g.cell_rows() * g.cell_cols()) as usize];
+    let mut stack: Vec<NodeId> = (0..s.zone_count()).map(|k| s.zone(k).unwrap()).collect();
+    assert!(stack.len() <= 32);
+    while let Some(id) = stack.pop() {
+        let n = s.node(id).unwrap();
+        assert!(n.rows[0] < n.rows[1] && n.rows[1] <= g.cell_rows(), "{n:?}");
+        assert!(n.cols[0] < n.cols[1] && n.cols[1] <= g.cell_cols(), "{n:?}");
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for i in n.rows[0]..=n.rows[1] {
+            for j in n.cols[0]..=n.cols[1] {
+                if let Some(v) = h(i, j) {
+                    (lo, hi) = (lo.min(v), hi.max(v));
+                }
+            }
+        }
+        assert_eq!(
+            n.heights,
+            (lo <= hi).then_some([lo, hi]),
+            "block {block} {n:?}"
+        );
+        if n.is_leaf() {
+            for i in n.rows[0]..n.rows[1] {
+                for j in n.cols[0]..n.cols[1] {
+                    covered[(i * g.cell_cols() + j) as usize] += 1;
+                }
+            }
+        }
+        for c in n.children.iter().flatten() {
+            let k = s.node(*c).unwrap();
+            assert!(k.rows[0] >= n.rows[0] && k.rows[1] <= n.rows[1] && k.cols[0] >= n.cols[0]);
+            assert!(k.cols[1] <= n.cols[1] && (k.rows, k.cols) != (n.rows, n.cols));
+            assert!(k.level > n.level && k.heights.is_some());
+            stack.push(*c);
+        }
+    }
+    for i in 0..g.cell_rows() {
+        for j in 0..g.cell_cols() {
+            let [a, b, c, d] = [h(i, j), h(i, j + 1), h(i + 1, j + 1), h(i + 1, j)];
+            let has = a.is_some() && c.is_some() && (b.is_some() || d.is_some());
+            let n = covered[(i * g.cell_cols() + j) as usize];
+            assert!(
+                n <= 1 && (!has || n == 1),
+                "block {block} cell ({i}, {j}): {n}"
+            );
+        }
+    }
+}
+
+#[test]
+fn builder_tree_is_well_formed_with_nodata_rows_and_odd_sizes() {
+    let mut r = Lcg(9);
+    for (rows, cols) in [(2, 2), (3, 17), (45, 70), (40, 9)] {
+        let g = grid(60.0, 170.0, -0.3, 0.4, rows, cols);
+        let mut hs: Vec<f64> = (0..rows * cols)
+            .map(|_| {
+                if r.next() < 0.05 {
+                    f64::NAN
+                } else {
+                    -300.0 + 1000.0 * r.next()
+                }
+            })
+            .collect();
+        if rows > 20 {
+            hs[(10 * cols) as usize..(15 * cols) as usize].fill(f64::NAN); // rows 10..15 missing
+        }
+        for block in [1, 3, 4, 16, 64] {
+            check_built_tree(&hs, &g, block);
+        }
+    }
+}
+
+#[test]
+#[cfg_attr(miri, ignore)] // 600 picks with a brute force each
+fn builder_storage_picks_agree_with_brute_force() {
+    use build::{NodeRecord, SliceStorage, build_tree, node_slots};
+    let mut r = Lcg(77);
+    for (lat0, dlat, lon0, block) in [(-30.0, 0.5, 170.0, 2), (46.0, -1.0 / 1200.0, 8.0, 4)] {
+        let g = grid(lat0, lon0, dlat, dlat.abs(), 17, 23);
+        let hs: Vec<f64> = (0..17 * 23)
+            .map(|_| {
+                if r.next() < 0.03 {
+                    f64::NAN
+                } else {
+                    -400.0 + 3000.0 * r.next()
+                }
+            })
+            .collect();
+        let mut nodes = std::vec![NodeRecord::EMPTY; node_slots(17, 23, block)];
+        let tree = build_tree(&hs, &g, block, &mut nodes).unwrap();
+        let s = SliceStorage::new(Ellipsoid::wgs84(), g, &hs, &nodes, tree).unwrap();
+        let p: Picker<'_, f64, SliceStorage<'_, f64>> = Picker::new(&s).unwrap();
+        let brute = TestDem::new(g, hs.clone(), block, 1, 1);
+        let e = brute.e;
+        for _ in 0..300 {
+            let lat = lat0 + dlat * 16.0 * r.next();
+            let lon = lon0 + dlat.abs() * 22.0 * r.next();
+            let target = e.geodetic_deg_to_ecef(lat, lon, 3000.0 * r.next());
+            let dir = V3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5);
+            let ray = Ray::new(target.add_scaled(-(100.0 + 3.0e4 * r.next()), dir), dir).unwrap();
+            let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
+            same_hit(&ray, got, brute.brute(&ray), "builder storage");
+        }
+    }
+}
+
+#[test]
+fn builder_rejects_bad_input_with_typed_errors() {
+    use build::{BuildError, NodeRecord, SliceStorage, build_tree, node_slots};
+    let g = grid(10.0, 20.0, 0.01, 0.01, 5, 6);
+    let hs = std::vec![1.0; 30];
+    let mut nodes = std::vec![NodeRecord::<f64>::EMPTY; node_slots(5, 6, 2)];
+    let err = |hs: &[f64], g: &Grid<f64>, block, nodes: &mut [NodeRecord<f64>]| {
+        build_tree(hs, g, block, nodes).unwrap_err()
+    };
+    assert_eq!(err(&hs[..29], &g, 2, &mut nodes), BuildError::HeightsLength);
+    let mut inf = hs.clone();
+    inf[13] = f64::INFINITY;
+    assert_eq!(
+        err(&inf, &g, 2, &mut nodes),
+        BuildError::InfiniteHeight([2, 1])
+    );
+    assert_eq!(err(&hs, &g, 0, &mut nodes), BuildError::InvalidBlock);
+    assert_eq!(
+        err(&hs, &Grid { dlon: 0.0, ..g }, 2, &mut nodes),
+        BuildError::InvalidGrid
+    );
+    let wide = grid(0.0, 0.0, 10.0, 100.0, 3, 3);
+    assert_eq!(
+        err(&hs[..9], &wide, 2, &mut nodes),
+        BuildError::InvalidBlock
+    );
+    let short = nodes.len() - 1;
+    assert_eq!(
+        err(&hs, &g, 2, &mut nodes[..short]),
+        BuildError::BufferTooSmall
+    );
+    let tree = build_tree(&hs, &g, 2, &mut nodes).unwrap();
+    let other = grid(10.0, 20.0, 0.01, 0.01, 9, 6);
+    let e = Ellipsoid::wgs84();
+    let mismatch = SliceStorage::new(e, other, &[1.0; 54], &nodes, tree).unwrap_err();
+    assert_eq!(mismatch, BuildError::RecordsMismatch);
+    assert!(SliceStorage::new(e, g, &hs, &nodes[..short], tree).is_err());
+    // The sizes of a record, for the RAM a build needs per height.
+    assert_eq!(core::mem::size_of::<NodeRecord<f64>>(), 56);
+    assert_eq!(core::mem::size_of::<NodeRecord<f32>>(), 44);
+}
