@@ -784,7 +784,7 @@ pub struct DemStorage<'a> {
     col_trig: Vec<(f64, f64)>,
     /// The kernel's `row_parallel` / `col_sin_cos_dd` per row and column, in `f64` pairs (for the refinement of
     /// the nearest hit: 64 bytes per row, 32 per column).
-    row_dd: Vec<curvicast::dd::Parallel<f64>>,
+    row_dd: Vec<curvicast::terrain::Parallel<f64>>,
     col_dd: Vec<(curvicast::dd::Dd<f64>, curvicast::dd::Dd<f64>)>,
     /// Every node as the kernel asks for it, by id, formed once at build time (the kernel asks for a node at
     /// every quad it visits).
@@ -1115,7 +1115,7 @@ impl<'a> DemStorage<'a> {
             + self.zones.len() * std::mem::size_of::<curvicast::terrain::NodeId>()
             + self.offsets.len() * std::mem::size_of::<usize>()
             + (self.row_trig.len() + self.col_trig.len()) * std::mem::size_of::<(f64, f64)>()
-            + self.row_dd.len() * std::mem::size_of::<curvicast::dd::Parallel<f64>>()
+            + self.row_dd.len() * std::mem::size_of::<curvicast::terrain::Parallel<f64>>()
             + self.col_dd.len()
                 * std::mem::size_of::<(curvicast::dd::Dd<f64>, curvicast::dd::Dd<f64>)>()
     }
@@ -1290,10 +1290,10 @@ impl<T: curvicast::Real> curvicast::terrain::TerrainStorage<T> for DemStorage<'_
         }
     }
 
-    fn row_parallel(&self, i: u32) -> curvicast::dd::Parallel<T> {
+    fn row_parallel(&self, i: u32) -> curvicast::terrain::Parallel<T> {
         use curvicast::terrain::TerrainStorage;
         match self.row_dd.get(i as usize) {
-            Some(p) if T::MANTISSA_DIGITS == 53 => curvicast::dd::Parallel {
+            Some(p) if T::MANTISSA_DIGITS == 53 => curvicast::terrain::Parallel {
                 n_cos: dd_as(p.n_cos),
                 nb_sin: dd_as(p.nb_sin),
                 cos: dd_as(p.cos),
@@ -1370,7 +1370,7 @@ impl curvicast::terrain::TerrainStorage<f64> for Paged<'_, '_> {
     ) -> Option<curvicast::terrain::boxes::NodeBox> {
         curvicast::terrain::TerrainStorage::<f64>::node_box(self.base, id)
     }
-    fn row_parallel(&self, i: u32) -> curvicast::dd::Parallel<f64> {
+    fn row_parallel(&self, i: u32) -> curvicast::terrain::Parallel<f64> {
         self.base.row_parallel(i)
     }
     fn col_sin_cos_dd(&self, j: u32) -> (curvicast::dd::Dd<f64>, curvicast::dd::Dd<f64>) {

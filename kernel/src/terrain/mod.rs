@@ -189,7 +189,7 @@ pub mod subset;
 mod traverse;
 pub mod triangle;
 
-pub use refine::{col_sin_cos_dd, row_parallel};
+pub use refine::{Parallel, col_sin_cos_dd, row_parallel};
 pub use storage::{
     DEFAULT_ZONE_COLS, DEFAULT_ZONE_ROWS, Grid, Node, NodeId, TerrainStorage, vertex_ecef,
     zone_cells,
