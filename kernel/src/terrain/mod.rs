@@ -196,11 +196,13 @@ pub use storage::{
 };
 
 use crate::geodesy::{
-    Ellipsoid, GeodesyError, HeightQuadBounds, QuadTrig, RelaxedVolume, SideWalls, clip_half_space,
-    insertion_sort, relaxed_interval, sin_cos_deg, upper_spheroid,
+    Ellipsoid, GeodesyError, HeightQuadBounds, QuadTrig, RelaxedVolume, SideWalls,
+    relaxed_interval, sin_cos_deg, upper_spheroid,
 };
+use crate::interval::clip_half_space;
 use crate::ray::{Ray, RayError};
 use crate::real::Real;
+use crate::sort::insertion_sort;
 use crate::surface::{Side, Spheroid, Surface};
 use crate::vec3::V3;
 use boxes::{FrameRay, LocalFrame, NodeBox};
