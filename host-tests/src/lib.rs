@@ -12,3 +12,4 @@ pub mod cli;
 pub mod oracle;
 pub mod report;
 pub mod scenes;
+pub mod storage;

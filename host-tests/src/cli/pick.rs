@@ -18,7 +18,8 @@
 
 use super::io::{UsageError, error_line, read_rays};
 use crate::scenes::spec::RaySpec;
-use crate::scenes::terrain::{DemStorage, MultiRes, load_terrain, pick_paging_in};
+use crate::scenes::terrain::load_terrain;
+use crate::storage::{DemStorage, MultiRes, pick_paging_in};
 use curvicast::Ray;
 use curvicast::terrain::{NodeId, Picker};
 use rayon::prelude::*;
