@@ -1205,6 +1205,7 @@ fn rays_down_through_vertices_on_the_outer_edge_of_grids_hit() {
 }
 
 #[test]
+#[cfg_attr(miri, ignore)] // 20 picks: over a minute under Miri; triangle.rs tests the border rule itself
 fn rays_down_through_the_four_corner_vertices_of_grids_hit() {
     for (lat0, lon0, d, h) in BORDER_GRIDS {
         let dem = TestDem::new(
@@ -1220,7 +1221,7 @@ fn rays_down_through_the_four_corner_vertices_of_grids_hit() {
 }
 
 #[test]
-#[cfg_attr(miri, ignore)] // dozens of picks or builds: minutes under Miri; the corner test covers the same code
+#[cfg_attr(miri, ignore)] // dozens of picks or builds: minutes under Miri; triangle.rs and the builder's error test run there
 fn rays_down_through_the_edge_vertices_of_a_one_vertex_nodata_hole_hit() {
     // Nodata at V(4, 4) removes its six triangles; the hole's edge is the hexagon of its neighbours (each a
     // corner of the hole's outline).
@@ -1238,7 +1239,7 @@ fn rays_down_through_the_edge_vertices_of_a_one_vertex_nodata_hole_hit() {
 }
 
 #[test]
-#[cfg_attr(miri, ignore)] // dozens of picks or builds: minutes under Miri; the corner test covers the same code
+#[cfg_attr(miri, ignore)] // dozens of picks or builds: minutes under Miri; triangle.rs and the builder's error test run there
 fn rays_down_through_the_edges_and_corners_of_a_square_nodata_hole_hit() {
     // Nodata at the 3 × 3 vertices V(3..=5, 3..=5): the hole's outline runs along rows 2 and 6 and columns 2
     // and 6 (straight edges, with corners at V(2, 2), V(2, 6), V(6, 2), V(6, 6)) and steps inwards along the
@@ -1328,7 +1329,7 @@ fn check_built_tree(heights: &[f64], g: &Grid<f64>, block: u32) {
 }
 
 #[test]
-#[cfg_attr(miri, ignore)] // dozens of picks or builds: minutes under Miri; the corner test covers the same code
+#[cfg_attr(miri, ignore)] // dozens of picks or builds: minutes under Miri; triangle.rs and the builder's error test run there
 fn builder_tree_is_well_formed_with_nodata_rows_and_odd_sizes() {
     let mut r = Lcg(9);
     for (rows, cols) in [(2, 2), (3, 17), (45, 70), (40, 9)] {
