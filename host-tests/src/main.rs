@@ -125,12 +125,23 @@ fn one_line(e: &clap::Error) -> String {
     use clap::error::ErrorKind;
     let first = match e.kind() {
         ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
-            "a subcommand is required (report, tessellate, pick, march, march-oracle)".to_string()
+            let names: Vec<String> = <Cli as clap::CommandFactory>::command()
+                .get_subcommands()
+                .map(|c| c.get_name().to_string())
+                .collect();
+            format!("a subcommand is required ({})", names.join(", "))
         }
         _ => {
+            // The message is the first paragraph (a list of missing arguments continues it on indented lines).
             let text = e.render().to_string();
-            let line = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
-            line.strip_prefix("error: ").unwrap_or(line).to_string()
+            let paragraph: Vec<&str> = text
+                .lines()
+                .skip_while(|l| l.trim().is_empty())
+                .take_while(|l| !l.trim().is_empty())
+                .map(str::trim)
+                .collect();
+            let line = paragraph.join(" ");
+            line.strip_prefix("error: ").unwrap_or(&line).to_string()
         }
     };
     format!("curvicast: {first}; see 'curvicast --help'")
