@@ -635,7 +635,7 @@ mod tests {
         // non-finite while micromath's sin/cos (whose argument reduction saturates an i32 cast) were in use.
         // Below 6400 the values are within about an ulp of libm's; above, the `f32` sine and cosine are those of a
         // point within half an ulp of x (an ulp of 1e10 is 1024), so only the unit circle is checked there.
-        use super::F32Fast;
+        use super::{F32Fast, cos_f32, sin_f32};
         for x in [4096.5_f32, -5000.0, 1e10, -1.4e10, 7.946_028e28, 3.0e38] {
             let (s, c) = (F32Fast(x).sin().0, F32Fast(x).cos().0);
             // F32Fast's sin and cos are the `f32` backend's, bit for bit (their accuracy is tested above).
