@@ -17,7 +17,7 @@
 use curvicast::F32Fast;
 use curvicast::ray::Ray;
 use curvicast::real::Real;
-use curvicast::spherical::SphericalGrid;
+use curvicast::spherical::{SeparableMarch, SphericalGrid};
 use rand::{Rng, SeedableRng};
 use std::f64::consts::{PI, TAU};
 use std::hint::black_box;
@@ -111,6 +111,8 @@ fn run<T: Real>(engine: &str, kind: &str, m: usize, passes: usize) {
         .collect();
     let mut crossings = 0usize;
     let mut acc = T::ZERO;
+    // the separable engine's buffers, filled in place for each ray
+    let mut separable = SeparableMarch::<T, 512>::default();
     for _ in 0..passes {
         for ray in &rays {
             match engine {
@@ -121,10 +123,9 @@ fn run<T: Real>(engine: &str, kind: &str, m: usize, passes: usize) {
                     }
                 }
                 "separable" => {
-                    for c in grid
-                        .march_separable::<512>(black_box(ray))
-                        .expect("fits 512")
-                    {
+                    grid.march_separable_into(black_box(ray), &mut separable)
+                        .expect("fits 512");
+                    for c in separable.by_ref() {
                         acc += c.t_exit - c.t_enter;
                         crossings += 1;
                     }
