@@ -10,9 +10,9 @@
 //! The difference of the two totals, divided by `(3 − 1) ·` the crossings printed, is the instructions per
 //! crossing with the per-ray set-up amortised in (the grid and ray construction cancel out).
 //!
-//! Arguments: `PRECISION` (`f64`, `f32`, `f32-fast`), `ENGINE` (`serial`, `separable`), `GRID` (`uniform`: the
-//! report's grid; `nonuniform`: random breakpoints; `partial`: a shell r ∈ [0.3, 1], θ ∈ [0.4, 2.6],
-//! φ ∈ [−1, 4]), `M` (rays per side) and `PASSES`.
+//! Arguments: `PRECISION` (`f64`, `f32`, `f32-fast`), `ENGINE` (`serial`, or `separable`: one march filled in
+//! place for each ray), `GRID` (`uniform`: the report's grid; `nonuniform`: random breakpoints; `partial`: a
+//! shell r ∈ [0.3, 1], θ ∈ [0.4, 2.6], φ ∈ [−1, 4]), `M` (rays per side) and `PASSES`.
 
 use curvicast::F32Fast;
 use curvicast::ray::Ray;
