@@ -16,8 +16,9 @@ use curvicast::terrain::Picker;
 use curvicast_host::baselines::terrain::{BruteForceTerrain, ParryTerrain};
 use curvicast_host::scenes::real_dem;
 use curvicast_host::scenes::spec::RaySpec;
-use curvicast_host::scenes::terrain::{Dem, DemStorage};
+use curvicast_host::scenes::terrain::Dem;
 use curvicast_host::scenes::terrain_cases::{TerrainKind, camera_rays, orbit_rays, synthetic};
+use curvicast_host::storage::DemStorage;
 use std::hint::black_box;
 
 /// The batch sizes (distinct rays per iteration).

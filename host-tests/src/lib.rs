@@ -16,3 +16,4 @@ pub mod oracle;
 pub mod render;
 pub mod report;
 pub mod scenes;
+pub mod storage;

@@ -241,7 +241,7 @@ fn pick_on_the_shipped_etopo20_written_as_terrain_json_matches_the_oracle() {
 #[test]
 fn pick_multi_resolution_options_page_in_what_each_ray_needs() {
     use curvicast_host::oracle::multires::MultiResOracle;
-    use curvicast_host::scenes::terrain::{DemStorage, MultiRes};
+    use curvicast_host::storage::{DemStorage, MultiRes};
     let d = dir("multires");
     let dem = synthetic(
         TerrainKind::Fractal,

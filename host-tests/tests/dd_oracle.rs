@@ -4,8 +4,9 @@
 //! 2⁻¹⁰⁶ ≈ 1.2e-32; each step of the chain adds a few of those; measured worst 3.5e-32).
 
 use astro_float::{BigFloat, Consts, RoundingMode};
-use curvicast::dd::{Dd, Parallel, sin_cos_deg};
+use curvicast::dd::{Dd, sin_cos_deg};
 use curvicast::geodesy::Ellipsoid;
+use curvicast::terrain::Parallel;
 use curvicast_host::oracle::terrain::to_f64;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -147,3 +147,65 @@ fn tiny_direction_whose_t_overflows_is_an_error_line_not_a_miss() {
         );
     }
 }
+
+/// Through the command, in every precision and both engines: rays that end inside a partial grid (a shell, a cone
+/// band and a wedge across φ = 0) at a `t_max` that `f32` cannot represent (1.7, 2.3) and at one it can (1.5) end
+/// with `t_exit` equal to the given `t_max` as written in the rays file, and one that starts inside at such a
+/// `t_min` begins there. Before the fix an `f32` march printed the bound rounded to `f32` (1.7000000476837158).
+#[test]
+fn cli_last_crossing_of_a_ray_ending_inside_a_partial_grid_is_the_given_t_max() {
+    let dir = std::env::temp_dir().join(format!("curvicast-march-tmax-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let grid = dir.join("partial.json");
+    std::fs::write(
+        &grid,
+        r#"{"kind": "spherical", "r": [0.5, 0.8, 1.3, 2.0], "theta": [0.6, 1.2, 1.9, 2.5], "phi": [-0.7, 0.0, 0.45, 0.9]}"#,
+    )
+    .unwrap();
+    // From (-0.2, 0, 0) along +x the ray enters the shell at t = 0.7 and stays in the wedge and band to t = 2.2.
+    let rays = concat!(
+        "{\"origin\": [-0.2, 0.01, 0.02], \"dir\": [1, 0.05, 0.03], \"t_max\": 1.7}\n",
+        "{\"origin\": [-0.2, 0.01, 0.02], \"dir\": [1, 0.05, 0.03], \"t_max\": 1.5}\n",
+        "{\"origin\": [-0.2, 0.01, 0.02], \"dir\": [1, 0.05, 0.03], \"t_min\": 0.9, \"t_max\": 2.1}\n",
+    );
+    let want = [(None, 1.7), (None, 1.5), (Some(0.9), 2.1)];
+    for engine in ["serial", "separable"] {
+        for precision in ["f64", "f32", "f32-fast"] {
+            let out = run_cli(
+                &[
+                    "march",
+                    "--grid",
+                    grid.to_str().unwrap(),
+                    "--engine",
+                    engine,
+                    "--precision",
+                    precision,
+                ],
+                rays,
+            );
+            let lines: Vec<serde_json::Value> = out
+                .lines()
+                .map(|l| serde_json::from_str(l).unwrap())
+                .collect();
+            assert_eq!(lines.len(), 3, "{out}");
+            for (line, (t_min, t_max)) in lines.iter().zip(want) {
+                let cs = line["crossings"].as_array().unwrap();
+                assert!(cs.len() >= 2, "{engine} {precision}: {out}");
+                let last = cs.last().unwrap()["t_exit"].as_f64().unwrap();
+                assert_eq!(
+                    last.to_bits(),
+                    f64::to_bits(t_max),
+                    "{engine} {precision}: {line}"
+                );
+                if let Some(t_min) = t_min {
+                    let first = cs[0]["t_enter"].as_f64().unwrap();
+                    assert_eq!(
+                        first.to_bits(),
+                        f64::to_bits(t_min),
+                        "{engine} {precision}: {line}"
+                    );
+                }
+            }
+        }
+    }
+}

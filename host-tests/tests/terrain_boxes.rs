@@ -10,8 +10,9 @@ use curvicast::terrain::boxes::{LocalFrame, NodeBox};
 use curvicast::terrain::{Node, NodeId, TerrainStorage};
 use curvicast::vec3::V3;
 use curvicast_host::scenes::real_dem;
-use curvicast_host::scenes::terrain::{Dem, DemStorage, MultiRes};
+use curvicast_host::scenes::terrain::Dem;
 use curvicast_host::scenes::terrain_cases::{TerrainKind, synthetic};
+use curvicast_host::storage::{DemStorage, MultiRes};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

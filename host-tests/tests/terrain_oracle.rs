@@ -23,10 +23,11 @@ use curvicast::vec3::V3;
 use curvicast_host::oracle::terrain::TerrainOracle;
 use curvicast_host::scenes::real_dem;
 use curvicast_host::scenes::spec::RaySpec;
-use curvicast_host::scenes::terrain::{Dem, DemStorage, geodetic_to_ecef_f64};
+use curvicast_host::scenes::terrain::{Dem, geodetic_to_ecef_f64};
 use curvicast_host::scenes::terrain_cases::{
     TerrainKind, camera_rays, orbit_rays, random_rays, synthetic,
 };
+use curvicast_host::storage::DemStorage;
 use rayon::prelude::*;
 use std::sync::OnceLock;
 

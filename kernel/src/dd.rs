@@ -12,8 +12,8 @@
 //! * [`sin_cos_deg`]: sine and cosine of an angle given in degrees as a pair: reduction modulo 90° in degrees
 //!   (exact), conversion to radians by a double-double `π/180`, a Taylor series for the sine on `|x| ≤ π/4` (the
 //!   number of terms chosen from `|x|` so that the truncation stays below `ε²/4`), and `cos x = √(1 − sin²x)`,
-//!   which is well conditioned there (`cos x ≥ 1/√2`). Multiples of 90° are exact, as in
-//!   [`crate::geodesy::sin_cos_deg`].
+//!   which is well conditioned there (`cos x ≥ 1/√2`). Multiples of 90° are exact, as in the scalar
+//!   `geodesy::sin_cos_deg`.
 //!
 //! Overflow and NaN propagate (a pair with a non-finite `hi` is meaningless); the callers check finiteness of the
 //! final result. Products whose low part underflows lose that low part only.
@@ -29,7 +29,6 @@
 //! assert!(cos30.times(cos30).minus(Dd::from(0.75)).value().abs() < 1e-31);
 //! ```
 
-use crate::geodesy::Ellipsoid;
 use crate::real::Real;
 
 /// A double-double number `hi + lo` (see the module docs).
@@ -395,55 +394,6 @@ pub fn sin_cos_deg<T: Real>(deg: Dd<T>) -> (Dd<T>, Dd<T>) {
     }
 }
 
-/// The latitude-dependent factors of geodetic → ECEF for one parallel, in pairs (seed 000 §2):
-/// `X = (N + h) cos φ cos λ`, `Y = (N + h) cos φ sin λ`, `Z = (N b²/a² + h) sin φ` with
-/// `N = a²/D`, `N b²/a² = b²/D`, `D = √(a² cos²φ + b² sin²φ)` (the form without `e²`: every term is a sum of
-/// positive quantities, so no digit is lost to cancellation).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Parallel<T> {
-    /// `N cos φ`.
-    pub n_cos: Dd<T>,
-    /// `N (b²/a²) sin φ`.
-    pub nb_sin: Dd<T>,
-    /// `cos φ`.
-    pub cos: Dd<T>,
-    /// `sin φ`.
-    pub sin: Dd<T>,
-}
-
-impl<T: Real> Parallel<T> {
-    /// The parallel of geodetic latitude `lat_deg` (degrees, as a pair) on ellipsoid `e` (its axes `a`, `b` are
-    /// taken as exact).
-    pub fn new(e: &Ellipsoid<T>, lat_deg: Dd<T>) -> Self {
-        let (sin, cos) = sin_cos_deg(lat_deg);
-        Self::from_sin_cos(e, sin, cos)
-    }
-
-    /// The parallel whose latitude has sine `sin` and cosine `cos`.
-    pub fn from_sin_cos(e: &Ellipsoid<T>, sin: Dd<T>, cos: Dd<T>) -> Self {
-        let a2 = two_prod(e.a(), e.a());
-        let b2 = two_prod(e.b(), e.b());
-        let d2 = a2.times(cos.times(cos)).plus(b2.times(sin.times(sin)));
-        let inv_d = Dd::one().over(d2.sqrt());
-        Parallel {
-            n_cos: a2.times(inv_d).times(cos),
-            nb_sin: b2.times(inv_d).times(sin),
-            cos,
-            sin,
-        }
-    }
-
-    /// ECEF of the point of this parallel at longitude `(sin λ, cos λ)` and height `h`.
-    pub fn ecef(&self, sin_lon: Dd<T>, cos_lon: Dd<T>, h: T) -> [Dd<T>; 3] {
-        let rho = self.n_cos.plus(self.cos.times_t(h));
-        [
-            rho.times(cos_lon),
-            rho.times(sin_lon),
-            self.nb_sin.plus(self.sin.times_t(h)),
-        ]
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -489,39 +439,6 @@ mod tests {
         assert!(third.times_t(3.0).minus(Dd::one()).value().abs() < 1e-13);
         let r2 = Dd::from(2.0_f32).sqrt();
         assert!(r2.times(r2).minus(Dd::from(2.0)).value().abs() < 1e-13);
-    }
-
-    #[test]
-    fn ecef_of_the_parallels_matches_closed_forms() {
-        let e = Ellipsoid::<f64>::wgs84();
-        let (a, b) = (e.a(), e.b());
-        let close = |x: Dd<f64>, y: f64, tol: f64| (x.value() - y).abs() <= tol;
-        // Equator, lon 90°: (0, a + h, 0) exactly; pole: (0, 0, b + h).
-        let (so, co) = sin_cos_deg(Dd::from(90.0));
-        let p = Parallel::new(&e, Dd::from(0.0)).ecef(so, co, 10.0);
-        assert_eq!(
-            [p[0].value(), p[1].value(), p[2].value()],
-            [0.0, a + 10.0, 0.0]
-        );
-        let (so, co) = sin_cos_deg(Dd::from(37.0));
-        let p = Parallel::new(&e, Dd::from(-90.0)).ecef(so, co, -5.0);
-        assert_eq!([p[0].value(), p[1].value()], [0.0, 0.0]);
-        assert!(close(p[2], -(b - 5.0), 1e-9));
-        // 45°: agrees with the f64 forward formula to its rounding, and the pair point lies on the ellipsoid
-        // (x² + y²)/a² + z²/b² = 1 to ~1e-30.
-        let lat = Dd::from(45.0);
-        let (so, co) = sin_cos_deg(Dd::from(-71.5));
-        let p = Parallel::new(&e, lat).ecef(so, co, 0.0);
-        let q = e.geodetic_deg_to_ecef(45.0, -71.5, 0.0);
-        assert!(close(p[0], q.x, 4e-9) && close(p[1], q.y, 4e-9) && close(p[2], q.z, 4e-9));
-        let a2 = two_prod(a, a);
-        let b2 = two_prod(b, b);
-        let on = p[0]
-            .times(p[0])
-            .plus(p[1].times(p[1]))
-            .over(a2)
-            .plus(p[2].times(p[2]).over(b2));
-        assert!(on.minus(Dd::one()).value().abs() < 1e-30, "{on:?}");
     }
 
     #[test]

@@ -57,8 +57,10 @@ extern crate std;
 
 pub mod dd;
 pub mod geodesy;
+mod interval;
 pub mod ray;
 pub mod real;
+mod sort;
 pub mod spherical;
 pub mod surface;
 pub mod terrain;

@@ -635,12 +635,12 @@ mod tests {
         // non-finite while micromath's sin/cos (whose argument reduction saturates an i32 cast) were in use.
         // Below 6400 the values are within about an ulp of libm's; above, the `f32` sine and cosine are those of a
         // point within half an ulp of x (an ulp of 1e10 is 1024), so only the unit circle is checked there.
-        use super::{F32Fast, cos_f32, sin_f32};
+        use super::F32Fast;
         for x in [4096.5_f32, -5000.0, 1e10, -1.4e10, 7.946_028e28, 3.0e38] {
             let (s, c) = (F32Fast(x).sin().0, F32Fast(x).cos().0);
             // F32Fast's sin and cos are the `f32` backend's, bit for bit (their accuracy is tested above).
-            assert_eq!(s.to_bits(), sin_f32(x).to_bits(), "sin {x}: {s}");
-            assert_eq!(c.to_bits(), cos_f32(x).to_bits(), "cos {x}: {c}");
+            assert_eq!(s.to_bits(), super::sin_f32(x).to_bits(), "sin {x}: {s}");
+            assert_eq!(c.to_bits(), super::cos_f32(x).to_bits(), "cos {x}: {c}");
             if x.abs() < 6400.0 {
                 assert!((s - libm::sinf(x)).abs() <= 2e-6, "sin {x}: {s}");
                 assert!((c - libm::cosf(x)).abs() <= 2e-6, "cos {x}: {c}");

@@ -201,14 +201,15 @@ fn run_in<T: Real + Send + Sync>(
         ((WINDOW_BYTES / bound).clamp(1, MAX_WINDOW), usize::MAX)
     };
     let answer = |i: usize, line: RayLine, w: &mut dyn Write| -> std::io::Result<()> {
-        let ray = match line.and_then(|r| make_ray::<T>(&r)) {
-            Ok(r) => r,
-            Err(e) => return writeln!(w, "{}", error_line(i, &e)),
-        };
+        let (ray, given) =
+            match line.and_then(|r| Ok((make_ray::<T>(&r)?, (r.t_min, r.t_max_or_inf())))) {
+                Ok(r) => r,
+                Err(e) => return writeln!(w, "{}", error_line(i, &e)),
+            };
         let result = match engine {
             Engine::Serial => {
                 let mut m = grid.march(&ray);
-                let (rest, streamed) = write_crossings(i, m.by_ref(), polar, spill, w)?;
+                let (rest, streamed) = write_crossings(i, m.by_ref(), given, polar, spill, w)?;
                 return finish_line(i, rest, streamed, m.error().map(|e| e.to_string()), w);
             }
             Engine::Separable if need <= 256 => {
@@ -221,7 +222,7 @@ fn run_in<T: Real + Send + Sync>(
         };
         match result {
             Ok(cs) => {
-                let (rest, streamed) = write_crossings(i, cs.into_iter(), polar, spill, w)?;
+                let (rest, streamed) = write_crossings(i, cs.into_iter(), given, polar, spill, w)?;
                 finish_line(i, rest, streamed, None, w)
             }
             Err(e) => writeln!(w, "{}", error_line(i, &e)),
@@ -242,11 +243,25 @@ const MAX_WINDOW: usize = 4096;
 /// When rays are answered one at a time, a ray's crossings are passed on to the output every this many bytes.
 const SPILL_BYTES: usize = 1 << 16;
 
+/// A crossing's `t` as written: the ray's given `t_min` or `t_max` (f64, as read) where `t` is that bound in the
+/// march's precision, so that a ray ending inside the domain ends at its `t_max` bit for bit in every precision
+/// (an `f32` march would otherwise print the bound rounded to `f32`); otherwise `t` itself.
+fn t_out<T: Real>(t: T, (t_min, t_max): (f64, f64)) -> f64 {
+    if t == T::from_f64(t_max) {
+        t_max
+    } else if t == T::from_f64(t_min) {
+        t_min
+    } else {
+        t.to_f64()
+    }
+}
+
 /// Writes `{"ray":i,"crossings":[` and the crossings to `out`, passing the text on every `spill` bytes; returns
-/// the text not yet passed on and whether some was.
+/// the text not yet passed on and whether some was. `given` is the ray's `(t_min, t_max)` as read ([`t_out`]).
 fn write_crossings<T: Real>(
     i: usize,
     crossings: impl Iterator<Item = CellCrossing<T>>,
+    given: (f64, f64),
     polar: bool,
     spill: usize,
     out: &mut dyn Write,
@@ -264,9 +279,9 @@ fn write_crossings<T: Real>(
         } else {
             write!(buf, "{{\"cell\":[{ci},{cj},{ck}],\"t_enter\":")?;
         }
-        serde_json::to_writer(&mut buf, &c.t_enter.to_f64())?;
+        serde_json::to_writer(&mut buf, &t_out(c.t_enter, given))?;
         buf.extend_from_slice(b",\"t_exit\":");
-        serde_json::to_writer(&mut buf, &c.t_exit.to_f64())?;
+        serde_json::to_writer(&mut buf, &t_out(c.t_exit, given))?;
         buf.push(b'}');
         if buf.len() >= spill {
             out.write_all(&buf)?;

@@ -24,7 +24,8 @@
 use super::io::{RayLine, UsageError, error_line, stream_answers};
 use crate::scenes::dem_files::read_dem;
 use crate::scenes::spec::RaySpec;
-use crate::scenes::terrain::{DemStorage, MultiRes, load_terrain, pick_paging_in};
+use crate::scenes::terrain::load_terrain;
+use crate::storage::{DemStorage, MultiRes, pick_paging_in};
 use curvicast::Ray;
 use curvicast::terrain::{NodeId, Picker};
 use std::io::Write;

@@ -7,8 +7,8 @@
 use super::{Options, Section};
 use crate::scenes::real_dem;
 use crate::scenes::spec::RaySpec;
-use crate::scenes::terrain::{DemStorage, MultiRes, pick_paging_in};
 use crate::scenes::terrain_cases::{camera_rays, orbit_rays};
+use crate::storage::{DemStorage, MultiRes, pick_paging_in};
 use curvicast::Ray;
 use curvicast::terrain::{NodeId, Picker, TerrainError};
 use std::time::Instant;

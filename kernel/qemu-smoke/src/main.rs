@@ -4,7 +4,9 @@
 //! through the kernel's [`Surface::crossings`] in `f64` and in `f32`, plus a march through a spherical grid
 //! (serial engine), an edge-beveled sphere and a terrain pick (with the hit refinement, with and without node
 //! boxes, the boxes built on the target by `NodeBox::of_vertices`) with hand-derived
-//! expectations (the slanted pick's from the host's terrain oracle) (the pass line counts these under "march, bevel and pick"), prints one line per failure and a
+//! expectations (the slanted pick's from the host's terrain oracle), and a quadtree built on the target by
+//! `terrain::build` from a crop of the Trinidad DEM ([`dem_crop`]) picked in `f64` and `f32` against the host
+//! oracle's answers (the pass line counts these under "march, bevel and pick"), prints one line per failure and a
 //! final pass line over semihosting, and exits (semihosting exit) with status 0 only if everything passes.
 //!
 //! **The panic-path proof.** The `#[panic_handler]` below calls a function that is declared but defined nowhere.
@@ -27,6 +29,9 @@
     clippy::unreadable_literal
 )]
 mod cases;
+// Generated on the host (`host-tests/tests/terrain_smoke_crop.rs`): a real DEM crop and oracle answers.
+#[allow(clippy::unreadable_literal)]
+mod dem_crop;
 
 use cases::{CASES, Case, Kind};
 use cortex_m_rt::entry;
@@ -39,6 +44,7 @@ use curvicast::surface::{
     AxialCone, Crossings, HalfPlane, PlaneZ, Side, Spheroid, Surface, SurfaceError,
 };
 use curvicast::terrain::boxes::NodeBox;
+use curvicast::terrain::build::{NodeRecord, SliceStorage, build_tree, node_slots};
 use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainStorage};
 use curvicast::tessellate::bevel::{Face, bevel_sphere, face_count, vertex_count};
 use curvicast::vec3::V3;
@@ -320,6 +326,45 @@ fn pick_case<T: Real>(tol_m: f64, boxed: bool) -> bool {
     straight && slope
 }
 
+/// Builds the quadtree of the Trinidad crop ([`dem_crop`]) on the target with the kernel's builder and picks
+/// every ray of [`dem_crop::RAYS`], each within `tol` metres of the oracle's `t` (or a miss where it misses).
+fn crop_case<T: Real>(tol: f64) -> bool {
+    use dem_crop::{BLOCK, COLS, GRID, HEIGHTS, RAYS, ROWS};
+    let [lat0, lon0, dlat, dlon] = GRID.map(T::from_f64);
+    let grid = Grid {
+        lat0,
+        lon0,
+        dlat,
+        dlon,
+        rows: ROWS,
+        cols: COLS,
+    };
+    let mut heights = [T::ZERO; HEIGHTS.len()];
+    for (h, &m) in heights.iter_mut().zip(HEIGHTS.iter()) {
+        *h = T::from_f64(f64::from(m));
+    }
+    let mut nodes = [NodeRecord::<T>::EMPTY; node_slots(ROWS, COLS, BLOCK)];
+    let Ok(tree) = build_tree(&heights, &grid, BLOCK, &mut nodes) else {
+        return false;
+    };
+    let Ok(storage) = SliceStorage::new(Ellipsoid::wgs84(), grid, &heights, &nodes, tree) else {
+        return false;
+    };
+    let Ok(picker) = Picker::<'_, T, SliceStorage<'_, T>, 16, 32>::new(&storage) else {
+        return false;
+    };
+    RAYS.iter().all(|r| {
+        let Ok(ray) = Ray::new(r.origin.map(T::from_f64), r.dir.map(T::from_f64)) else {
+            return false;
+        };
+        match (picker.pick(&ray), r.t) {
+            (Ok(Some(hit)), Some(t)) => (hit.t.to_f64() - t).abs() <= tol,
+            (Ok(None), None) => true,
+            _ => false,
+        }
+    })
+}
+
 /// A fixed line buffer written to the host's stdout over semihosting. Overlong lines are cut (with `...`); the
 /// pass line is short.
 struct Line {
@@ -463,6 +508,8 @@ fn main() -> ! {
         ("pick f32", pick_case::<f32>(2.0, false)),
         ("pick f64 with boxes", pick_case::<f64>(1e-6, true)),
         ("pick f32 with boxes", pick_case::<f32>(2.0, true)),
+        ("pick Trinidad crop f64", crop_case::<f64>(dem_crop::TOL[0])),
+        ("pick Trinidad crop f32", crop_case::<f32>(dem_crop::TOL[1])),
     ];
     let mut extra_passed = 0usize;
     for (name, ok) in extra {

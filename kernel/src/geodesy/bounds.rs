@@ -45,8 +45,10 @@
 //! A terrain traversal uses a cheaper superset of the volume whose walls are all convex ([`relaxed_interval`]).
 
 use super::{Ellipsoid, GeodesyError, sin_cos_deg};
+use crate::interval::clip_half_space;
 use crate::ray::Ray;
 use crate::real::Real;
+use crate::sort::insertion_sort;
 use crate::surface::{AxialCone, Side, Spheroid, Surface};
 use crate::vec3::V3;
 
@@ -776,44 +778,6 @@ fn ray_point_slack<T: Real>(ray: &Ray<T>, lo: T, hi: T) -> T {
     let tau = T::from_f64(64.0) * T::EPSILON;
     tau * ((o.x.abs() + o.y.abs() + o.z.abs())
         + (d.x.abs() + d.y.abs() + d.z.abs()) * lo.abs().max(hi.abs()))
-}
-
-/// Clips `[lo, hi]` to `{t : s0 + t·sd ≥ −tol}` (a half-space along the ray; also the leaf cells' walls).
-#[inline]
-pub(crate) fn clip_half_space<T: Real>(lo: &mut T, hi: &mut T, s0: T, sd: T, tol: T) {
-    let s0 = s0 + tol;
-    if sd == T::ZERO {
-        if s0 < T::ZERO {
-            *hi = T::NEG_INFINITY;
-        }
-        return;
-    }
-    let t = -s0 / sd;
-    if sd > T::ZERO {
-        *lo = lo.max(t);
-    } else {
-        *hi = hi.min(t);
-    }
-}
-
-/// Sorts a short slice stably in place so that no element is preceded by one it goes `before` (incomparable
-/// elements such as NaNs stay where they are).
-pub(crate) fn insertion_sort<E>(v: &mut [E], before: impl Fn(&E, &E) -> bool) {
-    for i in 1..v.len() {
-        let mut j = i;
-        while j > 0 {
-            let jm = j.saturating_sub(1);
-            let (Some(x), Some(y)) = (v.get(jm), v.get(j)) else {
-                break;
-            };
-            if before(y, x) {
-                v.swap(jm, j);
-                j = jm;
-            } else {
-                break;
-            }
-        }
-    }
 }
 
 #[cfg(test)]

@@ -40,7 +40,6 @@ pub use bounds::{
     HeightQuadBounds, QuadTrig, RelaxedVolume, SideWalls, Wedge, chord_sagitta_bound,
     convex_interval, latitude_bulge_bound, relaxed_interval, upper_spheroid,
 };
-pub(crate) use bounds::{clip_half_space, insertion_sort};
 
 use crate::real::Real;
 use crate::surface::{AxialCone, HalfPlane, Spheroid, SurfaceError};

@@ -1,7 +1,8 @@
 //! The storage trait: the kernel does not own terrain (seed 000 §3, §5). A storage gives the kernel the DEM's
 //! regular latitude/longitude grid, its vertex heights, and a height-augmented quadtree over the grid's cells.
 
-use crate::dd::{Dd, Parallel};
+use super::Parallel;
+use crate::dd::Dd;
 use crate::geodesy::{Ellipsoid, HeightQuadBounds, sin_cos_deg};
 use crate::real::Real;
 

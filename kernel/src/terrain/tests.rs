@@ -149,12 +149,33 @@ impl TestDem {
                     self.vertex(i + 1, j + 1),
                     self.vertex(i + 1, j),
                 ];
-                for tri in [[v[0], v[1], v[2]], [v[0], v[2], v[3]]] {
+                // The third vertex of the triangle across each edge (`None` off the grid): an edge without
+                // one is on the border of the surface.
+                let (lr, lc) = (self.grid.rows - 1, self.grid.cols - 1);
+                let at = |ok: bool, i: u32, j: u32| if ok { self.vertex(i, j) } else { None };
+                let across = [
+                    [
+                        at(j + 1 < lc, i + 1, j + 2),
+                        v[3],
+                        at(i > 0, i.wrapping_sub(1), j),
+                    ],
+                    [
+                        at(i + 1 < lr, i + 2, j + 1),
+                        at(j > 0, i, j.wrapping_sub(1)),
+                        v[1],
+                    ],
+                ];
+                for (tri, across) in [[v[0], v[1], v[2]], [v[0], v[2], v[3]]]
+                    .into_iter()
+                    .zip(across)
+                {
                     let [Some(a), Some(b), Some(c)] = tri else {
                         continue;
                     };
                     let hi = best.map_or(ray.t_max(), |x| x.0);
-                    if let Some((t, _)) = w.intersect(a, b, c, ray.t_min(), hi) {
+                    let border = || across.map(|x| x.is_none());
+                    if let Some((t, _)) = w.intersect_with_border(a, b, c, ray.t_min(), hi, border)
+                    {
                         if best.is_none_or(|x| t < x.0) {
                             best = Some((t, [i, j]));
                         }
@@ -235,11 +256,8 @@ fn flat_terrain_at_h0_hit_by_radial_rays_at_vertices() {
             let ray = radial_ray(&dem.e, lat, lon, 1000.0);
             let what = std::format!("{i},{j}");
             same_hit(&ray, hit.map(|h| (h.t, h.cell)), dem.brute(&ray), &what);
-            // On the DEM's outer boundary a ray through a vertex may pass just outside it (rounding).
-            let Some(hit) = hit else {
-                assert!(i == 0 || j == 0 || i == 8 || j == 8, "{i},{j} missed");
-                continue;
-            };
+            assert!(hit.is_some(), "{i},{j} missed");
+            let hit = hit.unwrap();
             // A vertex at h = 0 lies 1000 m down the normal.
             assert!((hit.t - 1000.0).abs() < 1e-6, "{i},{j}: {}", hit.t);
             assert!(
@@ -1201,4 +1219,291 @@ mod multires {
             assert_eq!((a.t, a.cell, a.stride), (b.t, b.cell, 1));
         }
     }
+}
+
+/// Straight-down rays through vertices on the border of the surface, on flat terrain of grids of several sizes,
+/// places and heights: each must hit at its vertex (triangles are closed; triangle.rs, "Edges on the border of
+/// the surface"), at `t` = 1000 m, and the brute force with the same border rule agrees.
+fn assert_hits_down_through(dem: &TestDem, vertices: &[(u32, u32)], what: &str) -> usize {
+    let p: Picker<'_, f64, TestDem> = Picker::new(dem).unwrap();
+    for &(i, j) in vertices {
+        let (lat, lon) = (dem.grid.lat_deg(i), dem.grid.lon_deg(j));
+        let h = dem.h(i, j).unwrap();
+        let ray = radial_ray(&dem.e, lat, lon, h + 1000.0);
+        let hit = p.pick(&ray).unwrap();
+        // Through a vertex the two may pick different triangles around it, at the same point.
+        let brute = dem.brute(&ray);
+        assert!(
+            brute.is_some(),
+            "{what}: the brute force misses V({i}, {j})"
+        );
+        assert!(hit.is_some(), "{what}: ray down through V({i}, {j}) missed");
+        let hit = hit.unwrap();
+        assert!(
+            (hit.t - 1000.0).abs() < 1e-6,
+            "{what} V({i}, {j}): t = {}",
+            hit.t
+        );
+        assert!(
+            (hit.h - h).abs() < 1e-6,
+            "{what} V({i}, {j}): h = {}",
+            hit.h
+        );
+    }
+    vertices.len()
+}
+
+/// The grids of the border-vertex tests: `(lat0, lon0, spacing, height)`, 9 × 9 vertices, rows southwards for
+/// one of them.
+const BORDER_GRIDS: [(f64, f64, f64, f64); 5] = [
+    (45.0, 7.0, 0.01, 0.0),
+    (-33.0, 151.0, -0.001, 250.0),
+    (10.0, -120.0, 0.1, 1000.0),
+    (60.0, 20.0, 1.0 / 1200.0, 17.0),
+    (0.0, 0.0, 0.003, 3.0),
+];
+
+#[test]
+#[cfg_attr(miri, ignore)] // 160 picks: minutes under Miri; the corner and hole tests cover the same code
+fn rays_down_through_vertices_on_the_outer_edge_of_grids_hit() {
+    let mut n = 0;
+    for (lat0, lon0, d, h) in BORDER_GRIDS {
+        let dem = TestDem::new(
+            grid(lat0, lon0, d, d.abs(), 9, 9),
+            std::vec![h; 81],
+            2,
+            1,
+            1,
+        );
+        let edge: Vec<(u32, u32)> = (0..9)
+            .flat_map(|i| (0..9).map(move |j| (i, j)))
+            .filter(|&(i, j)| i == 0 || j == 0 || i == 8 || j == 8)
+            .collect();
+        n += assert_hits_down_through(&dem, &edge, &std::format!("grid at {lat0}°, {lon0}°"));
+    }
+    assert_eq!(n, 160);
+}
+
+#[test]
+#[cfg_attr(miri, ignore)] // 20 picks: over a minute under Miri; triangle.rs tests the border rule itself
+fn rays_down_through_the_four_corner_vertices_of_grids_hit() {
+    for (lat0, lon0, d, h) in BORDER_GRIDS {
+        let dem = TestDem::new(
+            grid(lat0, lon0, d, d.abs(), 9, 9),
+            std::vec![h; 81],
+            2,
+            1,
+            1,
+        );
+        let corners = [(0, 0), (0, 8), (8, 0), (8, 8)];
+        assert_hits_down_through(&dem, &corners, &std::format!("corners at {lat0}°, {lon0}°"));
+    }
+}
+
+#[test]
+#[cfg_attr(miri, ignore)] // dozens of picks or builds: minutes under Miri; triangle.rs and the builder's error test run there
+fn rays_down_through_the_edge_vertices_of_a_one_vertex_nodata_hole_hit() {
+    // Nodata at V(4, 4) removes its six triangles; the hole's edge is the hexagon of its neighbours (each a
+    // corner of the hole's outline).
+    for (lat0, lon0, d, h) in BORDER_GRIDS {
+        let mut hs = std::vec![h; 81];
+        hs[4 * 9 + 4] = f64::NAN;
+        let dem = TestDem::new(grid(lat0, lon0, d, d.abs(), 9, 9), hs, 2, 1, 1);
+        let ring = [(3, 3), (3, 4), (4, 5), (5, 5), (5, 4), (4, 3)];
+        assert_hits_down_through(&dem, &ring, &std::format!("hole at {lat0}°, {lon0}°"));
+        // Straight down through the missing vertex: no triangle there.
+        let ray = radial_ray(&dem.e, dem.grid.lat_deg(4), dem.grid.lon_deg(4), h + 1000.0);
+        let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+        assert_eq!(p.pick(&ray).unwrap(), None);
+    }
+}
+
+#[test]
+#[cfg_attr(miri, ignore)] // dozens of picks or builds: minutes under Miri; triangle.rs and the builder's error test run there
+fn rays_down_through_the_edges_and_corners_of_a_square_nodata_hole_hit() {
+    // Nodata at the 3 × 3 vertices V(3..=5, 3..=5): the hole's outline runs along rows 2 and 6 and columns 2
+    // and 6 (straight edges, with corners at V(2, 2), V(2, 6), V(6, 2), V(6, 6)) and steps inwards along the
+    // diagonals at V(2, 3) ... (the cells' diagonals keep some triangles).
+    for (lat0, lon0, d, h) in BORDER_GRIDS {
+        let mut hs = std::vec![h; 81];
+        for i in 3..=5 {
+            for j in 3..=5 {
+                hs[i * 9 + j] = f64::NAN;
+            }
+        }
+        let dem = TestDem::new(grid(lat0, lon0, d, d.abs(), 9, 9), hs, 2, 1, 1);
+        let outline: Vec<(u32, u32)> = (2..=6)
+            .flat_map(|i| (2..=6).map(move |j| (i, j)))
+            .filter(|&(i, j)| i == 2 || j == 2 || i == 6 || j == 6)
+            .collect();
+        assert_eq!(outline.len(), 16);
+        assert_hits_down_through(
+            &dem,
+            &outline,
+            &std::format!("square hole at {lat0}°, {lon0}°"),
+        );
+    }
+}
+
+/// Every node record of the builder: ranges inside the grid, children strictly inside their parent, the
+/// height range over every vertex of the node's cells (border rows and columns included), and the leaves
+/// covering every cell that has a triangle exactly once.
+fn check_built_tree(heights: &[f64], g: &Grid<f64>, block: u32) {
+    use build::{NodeRecord, SliceStorage, build_tree, node_slots};
+    let slots = node_slots(g.rows, g.cols, block);
+    let mut nodes = std::vec![NodeRecord::<f64>::EMPTY; slots + 3];
+    let tree = build_tree(heights, g, block, &mut nodes).unwrap();
+    assert_eq!(tree.slots(), slots);
+    assert!(
+        nodes[slots..].iter().all(|n| *n == NodeRecord::EMPTY),
+        "untouched tail"
+    );
+    let s = SliceStorage::new(Ellipsoid::wgs84(), *g, heights, &nodes, tree).unwrap();
+    let h = |i: u32, j: u32| Some(heights[(i * g.cols + j) as usize]).filter(|h| !h.is_nan());
+    let mut covered = std::vec![0u32; (g.cell_rows() * g.cell_cols()) as usize];
+    let mut stack: Vec<NodeId> = (0..s.zone_count()).map(|k| s.zone(k).unwrap()).collect();
+    assert!(stack.len() <= 32);
+    while let Some(id) = stack.pop() {
+        let n = s.node(id).unwrap();
+        assert!(n.rows[0] < n.rows[1] && n.rows[1] <= g.cell_rows(), "{n:?}");
+        assert!(n.cols[0] < n.cols[1] && n.cols[1] <= g.cell_cols(), "{n:?}");
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for i in n.rows[0]..=n.rows[1] {
+            for j in n.cols[0]..=n.cols[1] {
+                if let Some(v) = h(i, j) {
+                    (lo, hi) = (lo.min(v), hi.max(v));
+                }
+            }
+        }
+        assert_eq!(
+            n.heights,
+            (lo <= hi).then_some([lo, hi]),
+            "block {block} {n:?}"
+        );
+        if n.is_leaf() {
+            for i in n.rows[0]..n.rows[1] {
+                for j in n.cols[0]..n.cols[1] {
+                    covered[(i * g.cell_cols() + j) as usize] += 1;
+                }
+            }
+        }
+        for c in n.children.iter().flatten() {
+            let k = s.node(*c).unwrap();
+            assert!(k.rows[0] >= n.rows[0] && k.rows[1] <= n.rows[1] && k.cols[0] >= n.cols[0]);
+            assert!(k.cols[1] <= n.cols[1] && (k.rows, k.cols) != (n.rows, n.cols));
+            assert!(k.level > n.level && k.heights.is_some());
+            stack.push(*c);
+        }
+    }
+    for i in 0..g.cell_rows() {
+        for j in 0..g.cell_cols() {
+            let [a, b, c, d] = [h(i, j), h(i, j + 1), h(i + 1, j + 1), h(i + 1, j)];
+            let has = a.is_some() && c.is_some() && (b.is_some() || d.is_some());
+            let n = covered[(i * g.cell_cols() + j) as usize];
+            assert!(
+                n <= 1 && (!has || n == 1),
+                "block {block} cell ({i}, {j}): {n}"
+            );
+        }
+    }
+}
+
+#[test]
+#[cfg_attr(miri, ignore)] // dozens of picks or builds: minutes under Miri; triangle.rs and the builder's error test run there
+fn builder_tree_is_well_formed_with_nodata_rows_and_odd_sizes() {
+    let mut r = Lcg(9);
+    for (rows, cols) in [(2, 2), (3, 17), (45, 70), (40, 9)] {
+        let g = grid(60.0, 170.0, -0.3, 0.4, rows, cols);
+        let mut hs: Vec<f64> = (0..rows * cols)
+            .map(|_| {
+                if r.next() < 0.05 {
+                    f64::NAN
+                } else {
+                    -300.0 + 1000.0 * r.next()
+                }
+            })
+            .collect();
+        if rows > 20 {
+            hs[(10 * cols) as usize..(15 * cols) as usize].fill(f64::NAN); // rows 10..15 missing
+        }
+        for block in [1, 3, 4, 16, 64] {
+            check_built_tree(&hs, &g, block);
+        }
+    }
+}
+
+#[test]
+#[cfg_attr(miri, ignore)] // 600 picks with a brute force each
+fn builder_storage_picks_agree_with_brute_force() {
+    use build::{NodeRecord, SliceStorage, build_tree, node_slots};
+    let mut r = Lcg(77);
+    for (lat0, dlat, lon0, block) in [(-30.0, 0.5, 170.0, 2), (46.0, -1.0 / 1200.0, 8.0, 4)] {
+        let g = grid(lat0, lon0, dlat, dlat.abs(), 17, 23);
+        let hs: Vec<f64> = (0..17 * 23)
+            .map(|_| {
+                if r.next() < 0.03 {
+                    f64::NAN
+                } else {
+                    -400.0 + 3000.0 * r.next()
+                }
+            })
+            .collect();
+        let mut nodes = std::vec![NodeRecord::EMPTY; node_slots(17, 23, block)];
+        let tree = build_tree(&hs, &g, block, &mut nodes).unwrap();
+        let s = SliceStorage::new(Ellipsoid::wgs84(), g, &hs, &nodes, tree).unwrap();
+        let p: Picker<'_, f64, SliceStorage<'_, f64>> = Picker::new(&s).unwrap();
+        let brute = TestDem::new(g, hs.clone(), block, 1, 1);
+        let e = brute.e;
+        for _ in 0..300 {
+            let lat = lat0 + dlat * 16.0 * r.next();
+            let lon = lon0 + dlat.abs() * 22.0 * r.next();
+            let target = e.geodetic_deg_to_ecef(lat, lon, 3000.0 * r.next());
+            let dir = V3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5);
+            let ray = Ray::new(target.add_scaled(-(100.0 + 3.0e4 * r.next()), dir), dir).unwrap();
+            let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
+            same_hit(&ray, got, brute.brute(&ray), "builder storage");
+        }
+    }
+}
+
+#[test]
+fn builder_rejects_bad_input_with_typed_errors() {
+    use build::{BuildError, NodeRecord, SliceStorage, build_tree, node_slots};
+    let g = grid(10.0, 20.0, 0.01, 0.01, 5, 6);
+    let hs = std::vec![1.0; 30];
+    let mut nodes = std::vec![NodeRecord::<f64>::EMPTY; node_slots(5, 6, 2)];
+    let err = |hs: &[f64], g: &Grid<f64>, block, nodes: &mut [NodeRecord<f64>]| {
+        build_tree(hs, g, block, nodes).unwrap_err()
+    };
+    assert_eq!(err(&hs[..29], &g, 2, &mut nodes), BuildError::HeightsLength);
+    let mut inf = hs.clone();
+    inf[13] = f64::INFINITY;
+    assert_eq!(
+        err(&inf, &g, 2, &mut nodes),
+        BuildError::InfiniteHeight([2, 1])
+    );
+    assert_eq!(err(&hs, &g, 0, &mut nodes), BuildError::InvalidBlock);
+    assert_eq!(
+        err(&hs, &Grid { dlon: 0.0, ..g }, 2, &mut nodes),
+        BuildError::InvalidGrid
+    );
+    let wide = grid(0.0, 0.0, 10.0, 100.0, 3, 3);
+    assert_eq!(
+        err(&hs[..9], &wide, 2, &mut nodes),
+        BuildError::InvalidBlock
+    );
+    let short = nodes.len() - 1;
+    assert_eq!(
+        err(&hs, &g, 2, &mut nodes[..short]),
+        BuildError::BufferTooSmall
+    );
+    let tree = build_tree(&hs, &g, 2, &mut nodes).unwrap();
+    let other = grid(10.0, 20.0, 0.01, 0.01, 9, 6);
+    let e = Ellipsoid::wgs84();
+    let mismatch = SliceStorage::new(e, other, &[1.0; 54], &nodes, tree).unwrap_err();
+    assert_eq!(mismatch, BuildError::RecordsMismatch);
+    assert!(SliceStorage::new(e, g, &hs, &nodes[..short], tree).is_err());
+    // The sizes of a record, for the RAM a build needs per height.
+    assert_eq!(core::mem::size_of::<NodeRecord<f64>>(), 56);
+    assert_eq!(core::mem::size_of::<NodeRecord<f32>>(), 44);
 }

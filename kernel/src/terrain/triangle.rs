@@ -14,6 +14,20 @@
 //!
 //! The hit distance is `t = (U z_A + V z_B + W z_C) / (U + V + W)` with `z` the sheared heights, the barycentric
 //! coordinates are `(U, V, W) / det`.
+//!
+//! # Edges on the border of the surface
+//!
+//! Watertightness covers an edge that two triangles share. An edge that only one triangle has (on the DEM's outer
+//! edge, or next to a nodata vertex) has no neighbour to catch a ray that the vertices' rounding puts just
+//! outside it: a ray through the exact vertex `V(0, j)` of a DEM's first row passes, in the scalar vertices,
+//! up to a few ulps of their coordinates outside the triangles on either side, and the closed triangles of the
+//! contract would be missed. [`WatertightRay::intersect_with_border`] therefore takes which edges are on the
+//! border and, for those only, counts an edge function of the wrong sign as 0 when it is within what the
+//! rounding of the vertices and of the sheared coordinates can explain: `16 ε m (|Δx| + |Δy|)`, where `m` is
+//! `‖origin‖∞` plus the largest `‖v − origin‖∞` of the three vertices and `Δ` the edge in the sheared frame
+//! (the edge function is the edge's length times the origin's distance from it; `16 ε m` is about 1e-8 m at
+//! Earth scale in `f64`). The ray then hits the triangle on its edge. Inner edges keep the exact rule: their
+//! neighbour answers.
 
 use crate::real::Real;
 use crate::vec3::V3;
@@ -71,6 +85,7 @@ impl<T: Real> WatertightRay<T> {
     }
 
     /// The intersection of the ray with triangle `(v0, v1, v2)` for `t_lo ≤ t ≤ t_hi`: `(t, [b0, b1, b2])`.
+    #[inline]
     pub fn intersect(
         &self,
         v0: V3<T>,
@@ -78,6 +93,23 @@ impl<T: Real> WatertightRay<T> {
         v2: V3<T>,
         t_lo: T,
         t_hi: T,
+    ) -> Option<(T, [T; 3])> {
+        self.intersect_with_border(v0, v1, v2, t_lo, t_hi, || [false; 3])
+    }
+
+    /// [`WatertightRay::intersect`], with the edges on the border of the surface closed up to the vertices'
+    /// rounding (module docs, "Edges on the border of the surface"). `border()` is asked only when the ray
+    /// passes that close outside an edge: which of the edges `v1–v2`, `v2–v0`, `v0–v1` have no neighbouring
+    /// triangle.
+    #[inline]
+    pub fn intersect_with_border(
+        &self,
+        v0: V3<T>,
+        v1: V3<T>,
+        v2: V3<T>,
+        t_lo: T,
+        t_hi: T,
+        border: impl FnOnce() -> [bool; 3],
     ) -> Option<(T, [T; 3])> {
         let a = v0.minus(self.origin);
         let b = v1.minus(self.origin);
@@ -102,7 +134,9 @@ impl<T: Real> WatertightRay<T> {
         let neg = u < T::ZERO || v < T::ZERO || w < T::ZERO;
         let pos = u > T::ZERO || v > T::ZERO || w > T::ZERO;
         if neg && pos {
-            return None;
+            let norm = |p: V3<T>| p.x.abs().max(p.y.abs()).max(p.z.abs());
+            let scale = norm(self.origin) + norm(a).max(norm(b)).max(norm(c));
+            [u, v, w] = close_border_edges(scale, [ax, ay, bx, by, cx, cy], [u, v, w], border)?;
         }
         let det = u + v + w;
         if det == T::ZERO || det.is_nan() {
@@ -132,6 +166,57 @@ impl<T: Real> WatertightRay<T> {
         }
         Some((t, [u / det, v / det, w / det]))
     }
+}
+
+/// The edge functions `f = [U, V, W]` of a ray that misses the triangle by their signs, with each one of the
+/// wrong sign set to 0 if its edge is on the border and the miss is within rounding (module docs); `None` if
+/// any edge function keeps the wrong sign. `scale` is `m` of the module docs, `p` the vertices' sheared
+/// coordinates `[ax, ay, bx, by, cx, cy]`. Out of line: it runs only for misses.
+#[inline(never)]
+fn close_border_edges<T: Real>(
+    scale: T,
+    [ax, ay, bx, by, cx, cy]: [T; 6],
+    mut f: [T; 3],
+    border: impl FnOnce() -> [bool; 3],
+) -> Option<[T; 3]> {
+    let det = f.iter().fold(T::ZERO, |s, &x| s + x);
+    // The orientation is the sign of the sum: only rounding-sized terms can have the other sign.
+    if !(det.abs() > T::ZERO) {
+        return None;
+    }
+    let wrong = |x: T| {
+        if det > T::ZERO {
+            x < T::ZERO
+        } else {
+            x > T::ZERO
+        }
+    };
+    let tol = T::from_f64(16.0) * T::EPSILON * scale;
+    // The edges opposite v0, v1, v2: v1–v2, v2–v0, v0–v1.
+    let lengths = [
+        (bx - cx).abs() + (by - cy).abs(),
+        (cx - ax).abs() + (cy - ay).abs(),
+        (ax - bx).abs() + (ay - by).abs(),
+    ];
+    let mut need = [false; 3];
+    for ((x, len), n) in f.iter().zip(lengths).zip(&mut need) {
+        if wrong(*x) {
+            if !(x.abs() <= tol * len) {
+                return None;
+            }
+            *n = true;
+        }
+    }
+    let open = border();
+    if need.iter().zip(open).any(|(&n, o)| n && !o) {
+        return None;
+    }
+    for x in &mut f {
+        if wrong(*x) {
+            *x = T::ZERO;
+        }
+    }
+    Some(f)
 }
 
 #[cfg(test)]
@@ -222,6 +307,33 @@ mod tests {
                 let h1 = r.intersect(p[0], p[1], p[2], 0.0, 10.0);
                 let h2 = r.intersect(p[0], p[2], p[3], 0.0, 10.0);
                 assert!(h1.is_some() || h2.is_some(), "slipped through at s = {s}");
+            }
+        }
+    }
+
+    #[test]
+    fn border_edge_is_closed_up_to_rounding_and_no_further() {
+        // A triangle of Earth-scale coordinates and a ray down through a point 1e-9 m outside its edge v0–v1
+        // (y = 6.4e6 − 0.5): within the vertices' rounding, so a hit on that edge when it is on the border,
+        // a miss when it is not (its neighbour answers) and a miss 1e-6 m outside.
+        let y0 = 6.4e6 - 0.5;
+        let (v0, v1, v2) = (
+            V3::new(0.0, y0, 10.0),
+            V3::new(1.0, y0, 10.0),
+            V3::new(0.0, y0 + 1.0, 10.0),
+        );
+        for (gap, border, hits) in [
+            (1e-9, [false, false, true], true),
+            (1e-9, [false, false, false], false),
+            (1e-9, [true, true, false], false),
+            (1e-6, [true, true, true], false),
+        ] {
+            let r =
+                WatertightRay::new(V3::new(0.5, y0 - gap, 20.0), V3::new(0.0, 0.0, -1.0)).unwrap();
+            let hit = r.intersect_with_border(v0, v1, v2, 0.0, 100.0, || border);
+            assert_eq!(hit.is_some(), hits, "{gap} {border:?}");
+            if let Some((t, b)) = hit {
+                assert!((t - 10.0).abs() < 1e-12 && b[2] == 0.0, "{t} {b:?}");
             }
         }
     }

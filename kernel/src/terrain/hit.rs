@@ -1,0 +1,53 @@
+//! The hit of the traversal's nearest triangle, refined (`refine.rs`) and with its geodetic coordinates.
+
+use super::*;
+
+impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
+    Picker<'_, T, S, STACK, ZONES>
+{
+    /// The [`Hit`] of the traversal's nearest triangle, with its parameter and point refined in double-double
+    /// (see `refine`'s docs: the vertices recomputed far below an ulp, `t` from the triangle's plane; the
+    /// unrefined values are kept when the refinement's guard rejects it).
+    pub(super) fn make_hit(&self, ray: &Ray<T>, c: Candidate<T>) -> Hit<T> {
+        let g = &self.grid;
+        let refined = match c.tri {
+            TriRef::Cell(tri) => {
+                // The walk may leave the unit only into cells traced at full resolution.
+                let fine = |[i, j]: [u32; 2]| {
+                    let inside = (c.unit.rows[0]..c.unit.rows[1]).contains(&i)
+                        && (c.unit.cols[0]..c.unit.cols[1]).contains(&j);
+                    inside || matches!(self.unit_at(i, j), Ok(Lookup::Unit(u)) if u.stride == 1)
+                };
+                refine::refine(self.storage, g, ray, c.t, c.cell, tri, &fine)
+            }
+            TriRef::Vertices(v) => refine::refine_vertices(self.storage, g, ray, c.t, v),
+        };
+        let (t, p) = refined.unwrap_or((c.t, ray.at(c.t)));
+        let (cell, level) = (c.cell, c.unit.level);
+        // Geodetic coordinates from the cell's corner vertex as the seed (its trigonometry is the storage's),
+        // else by the closed form.
+        let [i, j] = cell;
+        let (sl, cl) = self.storage.row_sin_cos(i);
+        let (so, co) = self.storage.col_sin_cos(j);
+        let near = self.ellipsoid.ecef_to_geodetic_near(
+            V3::from(p),
+            (g.lat_deg(i), sl, cl),
+            (g.lon_deg(j), so, co),
+        );
+        let (lat, lon, h) = near.unwrap_or_else(|| {
+            let geo = self.ellipsoid.ecef_to_geodetic(V3::from(p));
+            let deg = T::from_f64(180.0) / T::PI;
+            (geo.lat * deg, geo.lon * deg, geo.h)
+        });
+        Hit {
+            t,
+            ecef: p,
+            lat,
+            lon,
+            h,
+            cell,
+            level,
+            stride: c.unit.stride,
+        }
+    }
+}

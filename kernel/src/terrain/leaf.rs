@@ -1,0 +1,495 @@
+//! Leaf tracing (seed 000 §4): a traced unit's cells walked column by column, clipped against their meridian and
+//! row planes, culled by height, and their triangles tested.
+
+use super::*;
+
+impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
+    Picker<'_, T, S, STACK, ZONES>
+{
+    /// Traces the cells of a unit (§4; §5 for a coarser block): clip per column of cells against its meridian
+    /// planes, per cell against its two row planes (planes through the spheroid normals at the cell's corner
+    /// vertices), then the watertight test. A coarse cell on the unit's border whose neighbour is finer is
+    /// stitched to it (module docs, "Multi-resolution").
+    #[inline(never)]
+    pub(super) fn trace_unit(
+        &self,
+        u: &Unit,
+        t_in: T,
+        t_out: T,
+        w: &mut Walk<'_, '_, T>,
+    ) -> Result<(), TerrainError> {
+        let g = &self.grid;
+        let e = &self.ellipsoid;
+        let ray = w.ray;
+        let o = ray.origin();
+        let d = ray.dir();
+        let tau = T::from_f64(64.0) * T::EPSILON;
+        let s = u.stride;
+        let [r0, r1] = u.rows;
+        let [c0, c1] = u.cols;
+        let step = |i: u32, end: u32| i.saturating_add(s).min(end);
+        let north_up = g.dlat > T::ZERO;
+        // Per-unit cache of the lattice rows' values (sin ψ, cos ψ, cone apex k, prime vertical radius N) for
+        // units up to ROW_CACHE − 1 cells tall, filled as rows are first asked for (a ray from above needs few).
+        let rows_cache: [Cell<Option<RowValues<T>>>; ROW_CACHE] =
+            core::array::from_fn(|_| Cell::new(None));
+        let n_rows = div_ceil_pow2(r1.saturating_sub(r0), s);
+        let row_vals = |i: u32| -> RowValues<T> {
+            let (sp, cp) = self.storage.row_sin_cos(i);
+            (
+                sp,
+                cp,
+                e.latitude_cone_apex(sp),
+                e.prime_vertical_radius(sp),
+            )
+        };
+        // Strides are powers of two: lattice row k·s is entry k, the last row entry n_rows.
+        let shift = s.trailing_zeros();
+        let mask = s.wrapping_sub(1);
+        let row_at = |i: u32| -> RowValues<T> {
+            let k = i.wrapping_sub(r0);
+            let entry = if k & mask == 0 {
+                k.wrapping_shr(shift)
+            } else if i == r1 {
+                n_rows
+            } else {
+                u32::MAX
+            };
+            let Some(slot) = usize::try_from(entry).ok().and_then(|k| rows_cache.get(k)) else {
+                return row_vals(i);
+            };
+            slot.get().unwrap_or_else(|| {
+                let v = row_vals(i);
+                slot.set(Some(v));
+                v
+            })
+        };
+        let stitchable = s > 1;
+        // Height cull (beyond the paper): in the unit's local frame, a cell whose part of the ray lies wholly
+        // above (or below) its four corners' up coordinates cannot meet its triangles, the convex hulls of those
+        // corners. The tolerance covers the rounding of both sides' up coordinates, like the node boxes'.
+        let frame = LocalFrame::of_ranges(self.storage, e, u.rows, u.cols);
+        let (z0, zd) = (frame.up(o), frame.up_dir(d));
+        let z_tol = T::from_f64(32.0)
+            * T::EPSILON
+            * ((o.x.abs() + o.y.abs() + o.z.abs())
+                + t_in.abs().max(t_out.abs()) * (d.x.abs() + d.y.abs() + d.z.abs())
+                + e.a());
+        let (k_first, k_end) = self.unit_columns(u, ray, t_in, t_out);
+        // The cell row last located by `crossed_rows` in this unit, and the sign of the azimuth's rate along the
+        // ray, (o × d)_z.
+        let mut row_hint = None;
+        let az_rate = o.x * d.y - o.y * d.x;
+        for k in k_first..k_end {
+            let j = c0.saturating_add(k.saturating_mul(s));
+            let j1 = step(j, c1);
+            let (sw, cw) = self.storage.col_sin_cos(j);
+            let (se, ce) = self.storage.col_sin_cos(j1);
+            let (s_half, c_half) = if j1.saturating_sub(j) == s {
+                self.half_cell(s)
+            } else {
+                sin_cos_deg(g.dlon * T::HALF * self.scale(j1.saturating_sub(j)))
+            };
+            // The cell's middle meridian λ_j + w/2 by the addition theorem (a few ulps; the row plane only
+            // needs its direction, and the vertices' rounding is covered by `tau`).
+            let (sm, cm) = (sw * c_half + cw * s_half, cw * c_half - sw * s_half);
+            let mut lo = t_in;
+            let mut hi = t_out.min(w.best_t());
+            // West wall: n_w·P ≥ 0, n_w = (−sin λ_w, cos λ_w, 0); east wall: n_e·P ≤ 0.
+            let mag = (o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * (lo.abs().max(hi.abs()));
+            let tol = tau * mag;
+            clip_half_space(
+                &mut lo,
+                &mut hi,
+                cw * o.y - sw * o.x,
+                cw * d.y - sw * d.x,
+                tol,
+            );
+            clip_half_space(
+                &mut lo,
+                &mut hi,
+                -(ce * o.y - se * o.x),
+                -(ce * d.y - se * d.x),
+                tol,
+            );
+            if !(lo <= hi) {
+                continue;
+            }
+            // Row plane i at this column: m = (−sin ψ cos λm, −sin ψ sin λm, cos ψ cos(w/2)), through (0,0,k_i);
+            // m·(P − k ẑ) > 0 is north of it. With `tangent`, cos(w/2) is replaced by 1: the plane tangent to
+            // the latitude cone along the middle meridian, which bounds the cone's arc over the cell from the
+            // other side (stitched sides). The parts that do not depend on the row are formed once per column.
+            let (radial_o, radial_d) = (cm * o.x + sm * o.y, cm * d.x + sm * d.y);
+            let mag = o.x.abs()
+                + o.y.abs()
+                + (d.x.abs() + d.y.abs() + d.z.abs()) * (lo.abs().max(hi.abs()));
+            let row_plane = |i: u32, tangent: bool| -> (T, T, T) {
+                let (sp, cp, kz, _) = row_at(i);
+                let ch = if tangent { T::ONE } else { c_half };
+                let qz = o.z - kz;
+                (
+                    cp * ch * qz - sp * radial_o,
+                    cp * ch * d.z - sp * radial_d,
+                    tau * (mag + qz.abs()),
+                )
+            };
+            // A border cell of a coarse unit may be stitched: vertices of a finer neighbour on its rows lie on
+            // the latitude cones between its meridians, and near a pole a cell far wider than tall has cone arcs
+            // that sag across even the opposite row's chord plane. So both row walls of such a cell bound the
+            // whole latitude band in the wedge: the chord plane where the band lies on its concave side (a
+            // northern wall with ψ > 0, a southern one with ψ < 0), the tangent plane along the middle meridian
+            // where it lies on the convex side (a southern wall with ψ > 0, a northern one with ψ < 0).
+            let border_plane = |i: u32, low: bool| -> (T, T, T) {
+                let south = low == north_up;
+                let sp = row_at(i).0;
+                row_plane(i, (south && sp > T::ZERO) || (!south && sp < T::ZERO))
+            };
+            // At full resolution only the rows between those of the column segment's two ends are crossed
+            // (`crossed_rows`); coarse units, whose border cells have band walls, trace every row.
+            let (first_row, end_row) = if stitchable {
+                (r0, r1)
+            } else {
+                self.crossed_rows(
+                    u,
+                    [lo, hi],
+                    (radial_o, radial_d),
+                    az_rate,
+                    // `row_plane(i, false)` at `t`, without its tolerance (formed inline: the unused
+                    // tolerance is not optimised away and costs 3 % of a camera pick).
+                    &|i, t| {
+                        let (sp, cp, kz, _) = row_at(i);
+                        cp * c_half * (o.z - kz) - sp * radial_o
+                            + t * (cp * c_half * d.z - sp * radial_d)
+                    },
+                    &mut row_hint,
+                )
+            };
+            let mut plane_a = row_plane(first_row, false);
+            // The northern (higher-row) corners of the last cell traced in this column, reused as the next
+            // cell's southern ones.
+            let mut shared: Option<RowCorners<T>> = None;
+            let mut i = first_row;
+            while i < end_row {
+                let i1 = step(i, r1);
+                let plane_b = row_plane(i1, false);
+                let mut low = plane_a;
+                let mut high = plane_b;
+                plane_a = plane_b;
+                let (row_i, row_i1) = (i, i1);
+                i = i1;
+                let border = row_i == r0 || row_i1 == r1 || j == c0 || j1 == c1;
+                if stitchable && border {
+                    low = border_plane(row_i, true);
+                    high = border_plane(row_i1, false);
+                }
+                let (mut clo, mut chi) = (lo, hi.min(w.best_t()));
+                // The cell lies north of its southern row plane and south of its northern one.
+                let (south, north) = if north_up { (low, high) } else { (high, low) };
+                clip_half_space(&mut clo, &mut chi, south.0, south.1, south.2);
+                clip_half_space(&mut clo, &mut chi, -north.0, -north.1, north.2);
+                if !(clo <= chi) {
+                    continue;
+                }
+                w.stats.triangle_pairs_visited = w.stats.triangle_pairs_visited.saturating_add(1);
+                // Vertex (ii, jj) of this column's west (jj = j) or east (jj = j1) meridian.
+                let vtx = |ii: u32, jj: u32, (s_lon, c_lon): (T, T)| -> Option<V3<T>> {
+                    let h = self.storage.height(ii, jj)?;
+                    if !h.is_finite() {
+                        return None;
+                    }
+                    let (sl, cl, _, n) = row_at(ii);
+                    Some(e.ecef_from_parts(sl, cl, n, s_lon, c_lon, h))
+                };
+                let cell = CellAt {
+                    rows: [row_i, row_i1],
+                    cols: [j, j1],
+                };
+                let reuse = shared.filter(|(r, _, _)| *r == row_i);
+                let v00 = reuse.map_or_else(|| vtx(row_i, j, (sw, cw)), |(_, a, _)| a);
+                let v11 = vtx(row_i1, j1, (se, ce));
+                if stitchable && border {
+                    match self.stitch(u, &cell, v00, v11, w, clo)? {
+                        Stitch::Done => continue,
+                        Stitch::Plain => {}
+                    }
+                }
+                let v01 = reuse.map_or_else(|| vtx(row_i, j1, (se, ce)), |(_, _, b)| b);
+                let v10 = vtx(row_i1, j, (sw, cw));
+                shared = Some((row_i1, v10, v11));
+                let (mut z_min, mut z_max) = (T::INFINITY, T::NEG_INFINITY);
+                for v in [v00, v01, v10, v11].iter().flatten() {
+                    let z = frame.up(*v);
+                    z_min = z_min.min(z);
+                    z_max = z_max.max(z);
+                }
+                let (za, zb) = (z0 + clo * zd, z0 + chi * zd);
+                if za.min(zb) > z_max + z_tol || za.max(zb) < z_min - z_tol {
+                    continue;
+                }
+                let refs = |first: bool| {
+                    if s == 1 {
+                        TriRef::Cell(if first { Tri::First } else { Tri::Second })
+                    } else if first {
+                        TriRef::Vertices([
+                            Vtx::Grid(row_i, j),
+                            Vtx::Grid(row_i, j1),
+                            Vtx::Grid(row_i1, j1),
+                        ])
+                    } else {
+                        TriRef::Vertices([
+                            Vtx::Grid(row_i, j),
+                            Vtx::Grid(row_i1, j1),
+                            Vtx::Grid(row_i1, j),
+                        ])
+                    }
+                };
+                // The edges with no triangle across (triangle.rs, "Edges on the border of the surface"), asked
+                // only when the ray passes within rounding outside one. Captured by value (a reference would
+                // keep these locals in memory through the column loop).
+                if let (Some(a), Some(b), Some(c)) = (v00, v01, v11) {
+                    let no_second = v10.is_none();
+                    let border = move || self.border_edges(cell, s, true, no_second);
+                    self.test_triangle(w, [a, b, c], [row_i, j], refs(true), u, border);
+                }
+                if let (Some(a), Some(b), Some(c)) = (v00, v11, v10) {
+                    let no_first = v01.is_none();
+                    let border = move || self.border_edges(cell, s, false, no_first);
+                    self.test_triangle(w, [a, b, c], [row_i, j], refs(false), u, border);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The cell rows `[first, end)` of a full-resolution unit that the ray can cross within one column on
+    /// `[lo, hi]` (beyond the paper: the row loop skips the rest). The column's row planes all contain the
+    /// direction perpendicular to its middle meridian, so each is a line `z = k + r tan ψ / cos(w/2)` in the
+    /// `(r, z)` half-plane, `r` the distance from the axis along the middle meridian. Two such lines meet at
+    /// `r* = Δk / Δ(tan ψ / cos(w/2))`; since `dk/dψ = −e² cos ψ (N + N' tan ψ)`, `r*` is at most
+    /// `e² N cos³ψ (1 + e² N² sin²ψ / a²) ≤ e² (a²/b)(1 + e² a²/b²)` (43 km on WGS84). Beyond twice that the
+    /// planes are ordered, so along a segment that stays there (`r` is linear in `t`: both ends are checked)
+    /// the ray crosses each plane at most once and in order: the crossed cells are those between the cells of
+    /// its two ends. Each end's cell comes from a binary search over the planes' sides; a side decided wrongly by
+    /// rounding puts the end within a rounding distance of that plane, so one row of margin on each side
+    /// covers it. Elsewhere (near the axis) every row is returned.
+    #[inline(never)]
+    pub(super) fn crossed_rows(
+        &self,
+        u: &Unit,
+        [lo, hi]: [T; 2],
+        (radial_o, radial_d): (T, T),
+        az_rate: T,
+        plane: &impl Fn(u32, T) -> T,
+        hint: &mut Option<i64>,
+    ) -> (u32, u32) {
+        let [r0, r1] = u.rows;
+        let r_order = self.rows_ordered_beyond;
+        let ordered = radial_o + lo * radial_d > r_order && radial_o + hi * radial_d > r_order;
+        if !(ordered && lo.is_finite() && hi.is_finite()) {
+            return (r0, r1);
+        }
+        // The cell containing the point at `t`: the last plane i in [r0, r1] that the point lies on the
+        // increasing-row side of (rows increase northwards when dlat > 0), or r0 − 1 (before the unit).
+        let north_up = self.grid.dlat > T::ZERO;
+        let (first_plane, last_plane) = (i64::from(r0), i64::from(r1));
+        let cell_of = |t: T, hint: Option<i64>| -> i64 {
+            // Whether the point lies past plane i (true before the unit's first plane, false after its last).
+            let after = |i: i64| {
+                if i < first_plane {
+                    return true;
+                }
+                let Some(i) = u32::try_from(i).ok().filter(|&i| i <= r1) else {
+                    return false;
+                };
+                let north = plane(i, t) >= T::ZERO;
+                north == north_up
+            };
+            // From the hint (the cell found last in this unit: the ray crosses few rows per column), a few
+            // steps; else a binary search. The answer a: after(a), !after(a + 1), a in [r0 − 1, r1].
+            if let Some(h) = hint {
+                let mut a = h.max(first_plane.saturating_sub(1)).min(last_plane);
+                for _ in 0..4 {
+                    if !after(a) {
+                        a = a.saturating_sub(1);
+                    } else if after(a.saturating_add(1)) {
+                        a = a.saturating_add(1);
+                    } else {
+                        return a;
+                    }
+                }
+            }
+            let (mut a, mut b) = (first_plane.saturating_sub(1), last_plane);
+            while a < b {
+                let m = a.saturating_add(b.saturating_sub(a).saturating_add(1).wrapping_shr(1));
+                if after(m) {
+                    a = m;
+                } else {
+                    b = m.saturating_sub(1);
+                }
+            }
+            a
+        };
+        // The end on the column's western meridian first: it is shared with the previous column, whose eastern
+        // end is the hint (longitude grows along the ray when (o × d)_z > 0).
+        let east_at_hi = az_rate > T::ZERO;
+        let (t_west, t_east) = if east_at_hi { (lo, hi) } else { (hi, lo) };
+        let ca = cell_of(t_west, *hint);
+        let cb = cell_of(t_east, Some(ca));
+        *hint = Some(cb);
+        let first = ca.min(cb).saturating_sub(1).max(i64::from(r0));
+        let end = ca.max(cb).saturating_add(2).min(i64::from(r1));
+        match (u32::try_from(first), u32::try_from(end)) {
+            (Ok(f), Ok(e)) if f <= e => (f, e),
+            _ => (r0, r0),
+        }
+    }
+
+    /// The unit's cell columns `[first, end)` (in cells of its stride from its first column) that the ray can
+    /// cross within `[t_in, t_out]`. Both end points must lie in the half-space in front of the unit's middle
+    /// meridian (`r_m > 0`), which is convex, so the whole segment does; there the azimuth is monotone along the
+    /// line and every meridian of a unit narrower than 180° (minus a column) is within 90° of the middle one, so
+    /// the side of a meridian plane, `cos λ_j·y − sin λ_j·x ≥ 0` (east of it), is monotone over the unit's
+    /// meridians. Each end's column is found by a binary search over those sides, from the storage's
+    /// trigonometry (the second end tries the first end's column before searching); the crossed columns lie
+    /// between the two, plus one column of margin beyond a meridian that an end lies within rounding distance of
+    /// (the cells beyond are convex hulls of vertices on or past that meridian, so an end clear of it keeps the
+    /// segment out of them). Falls back to all columns otherwise.
+    pub(super) fn unit_columns(&self, u: &Unit, ray: &Ray<T>, t_in: T, t_out: T) -> (u32, u32) {
+        let [c0, c1] = u.cols;
+        let n = div_ceil_pow2(c1.saturating_sub(c0), u.stride);
+        let all = (0, n);
+        let span = T::from_f64(f64::from(c1.saturating_sub(c0).saturating_add(u.stride)));
+        if !(span * self.grid.dlon < T::from_f64(180.0)) {
+            return all;
+        }
+        let meridian = |k: u32| {
+            self.storage
+                .col_sin_cos(c0.saturating_add(k.saturating_mul(u.stride)).min(c1))
+        };
+        let (sm, cm) = meridian(n.wrapping_shr(1));
+        let (o, d) = (ray.origin(), ray.dir());
+        // The column loop's tolerance on the meridian planes (`trace_unit`): a side beyond it is decided alike
+        // there.
+        let tol = T::from_f64(64.0)
+            * T::EPSILON
+            * ((o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * t_in.abs().max(t_out.abs()));
+        // The columns `[first, end)` around point `p`'s: its cell column (the last meridian `k ∈ [0, n]` it is
+        // east of; `n`: east of the unit), widened by one on a side whose meridian it is within `tol` of. With
+        // `hint` (the other end's column: a steep ray stays in it), that column is tried first.
+        let columns = |p: V3<T>, hint: Option<u32>| -> Option<(u32, u32, u32)> {
+            if !(cm * p.x + sm * p.y > T::ZERO) {
+                return None;
+            }
+            let side = |k: u32| {
+                let (sk, ck) = meridian(k);
+                ck * p.y - sk * p.x
+            };
+            // `a < b = a + 1 ≤ n` with the point east of meridian `a` (or west of the unit when `a` is 0) and
+            // not east of meridian `b`, and the two sides: the columns, and `a`.
+            let cell = |a: u32, b: u32, sa: T, sb: T| {
+                let west = u32::from(!(sa > tol));
+                let east = u32::from(!(sb < -tol));
+                (a.saturating_sub(west), b.saturating_add(east), a)
+            };
+            if let Some(a) = hint.filter(|&a| a < n) {
+                let (sa, sb) = (side(a), side(a.saturating_add(1)));
+                if (a == 0 || sa >= T::ZERO) && sb < T::ZERO {
+                    return Some(cell(a, a.saturating_add(1), sa, sb));
+                }
+            }
+            let (mut a, mut b) = (0u32, n);
+            let mut sb = side(b);
+            if sb >= T::ZERO {
+                return Some((n.saturating_sub(1), n, n));
+            }
+            // Invariant: east of meridian `a` (or west of the unit when `a` is 0), not east of meridian `b`.
+            let mut sa = T::NAN;
+            while b.saturating_sub(a) > 1 {
+                let m = a.wrapping_add(b.wrapping_sub(a).wrapping_shr(1));
+                let s_m = side(m);
+                if s_m >= T::ZERO {
+                    (a, sa) = (m, s_m);
+                } else {
+                    (b, sb) = (m, s_m);
+                }
+            }
+            if a == 0 {
+                sa = side(0);
+            }
+            Some(cell(a, b, sa, sb))
+        };
+        let Some((fa, ea, a)) = columns(V3::from(ray.at(t_in)), None) else {
+            return all;
+        };
+        let Some((fb, eb, _)) = columns(V3::from(ray.at(t_out)), Some(a)) else {
+            return all;
+        };
+        (fa.min(fb), ea.max(eb).min(n))
+    }
+
+    /// Which edges of a traced cell's first (`first`) or second triangle have no triangle across (triangle.rs,
+    /// "Edges on the border of the surface"), in the order `b–c`, `c–a`, `a–b` of its vertices: the diagonal
+    /// when the cell's other triangle is missing (`other_missing`), a side when it is on the grid's edge or
+    /// when the third vertex of the triangle across, one `stride` further, has no data.
+    pub(super) fn border_edges(
+        &self,
+        c: CellAt,
+        stride: u32,
+        first: bool,
+        other_missing: bool,
+    ) -> [bool; 3] {
+        let ([i, i1], [j, j1]) = (c.rows, c.cols);
+        let (last_row, last_col) = (self.grid.cell_rows(), self.grid.cell_cols());
+        let has = |ii: u32, jj: u32| self.storage.height(ii, jj).is_some_and(T::is_finite);
+        if first {
+            // (V(i,j), V(i,j1), V(i1,j1)): column j1, the diagonal, row i.
+            let east = j1 >= last_col || !has(i1, j1.saturating_add(stride).min(last_col));
+            let south = i == 0 || !has(i.saturating_sub(stride), j);
+            [east, other_missing, south]
+        } else {
+            // (V(i,j), V(i1,j1), V(i1,j)): row i1, column j, the diagonal.
+            let north = i1 >= last_row || !has(i1.saturating_add(stride).min(last_row), j1);
+            let west = j == 0 || !has(i, j.saturating_sub(stride));
+            [north, west, other_missing]
+        }
+    }
+
+    /// One watertight ray–triangle test, its edges on the border of the surface given by `border` (edges
+    /// `b–c`, `c–a`, `a–b`; asked only for a ray passing within rounding outside an edge); a nearer hit becomes
+    /// the candidate.
+    #[inline]
+    pub(super) fn test_triangle(
+        &self,
+        w: &mut Walk<'_, '_, T>,
+        [a, b, c]: [V3<T>; 3],
+        cell: [u32; 2],
+        tri: TriRef,
+        u: &Unit,
+        border: impl FnOnce() -> [bool; 3],
+    ) {
+        w.stats.triangles_tested = w.stats.triangles_tested.saturating_add(1);
+        let limit = w.best.as_ref().map_or(w.ray.t_max(), |h| h.t);
+        if let Some((t, _)) = w
+            .wray
+            .intersect_with_border(a, b, c, w.ray.t_min(), limit, border)
+        {
+            if w.best.as_ref().is_none_or(|h| t < h.t) {
+                *w.best = Some(Candidate {
+                    t,
+                    cell,
+                    tri,
+                    unit: *u,
+                });
+            }
+        }
+    }
+}
+
+/// A row of a column's traced cells: the row index and the corners on its west and east meridians.
+type RowCorners<T> = (u32, Option<V3<T>>, Option<V3<T>>);
+
+/// A lattice row's `(sin ψ, cos ψ, cone apex k, prime vertical radius N)`.
+type RowValues<T> = (T, T, T, T);
+
+/// Rows of a leaf whose trigonometry is cached per leaf (leaves up to 64 cells tall).
+const ROW_CACHE: usize = 65;
