@@ -10,14 +10,14 @@
 //! The difference of the two totals, divided by `(3 − 1) ·` the crossings printed, is the instructions per
 //! crossing with the per-ray set-up amortised in (the grid and ray construction cancel out).
 //!
-//! Arguments: `PRECISION` (`f64`, `f32`, `f32-fast`), `ENGINE` (`serial`, `separable`), `GRID` (`uniform`: the
-//! report's grid; `nonuniform`: random breakpoints; `partial`: a shell r ∈ [0.3, 1], θ ∈ [0.4, 2.6],
-//! φ ∈ [−1, 4]), `M` (rays per side) and `PASSES`.
+//! Arguments: `PRECISION` (`f64`, `f32`, `f32-fast`), `ENGINE` (`serial`, or `separable`: one march filled in
+//! place for each ray), `GRID` (`uniform`: the report's grid; `nonuniform`: random breakpoints; `partial`: a
+//! shell r ∈ [0.3, 1], θ ∈ [0.4, 2.6], φ ∈ [−1, 4]), `M` (rays per side) and `PASSES`.
 
 use curvicast::F32Fast;
 use curvicast::ray::Ray;
 use curvicast::real::Real;
-use curvicast::spherical::SphericalGrid;
+use curvicast::spherical::{SeparableMarch, SphericalGrid};
 use rand::{Rng, SeedableRng};
 use std::f64::consts::{PI, TAU};
 use std::hint::black_box;
@@ -111,6 +111,8 @@ fn run<T: Real>(engine: &str, kind: &str, m: usize, passes: usize) {
         .collect();
     let mut crossings = 0usize;
     let mut acc = T::ZERO;
+    // the separable engine's buffers, filled in place for each ray
+    let mut separable = SeparableMarch::<T, 512>::default();
     for _ in 0..passes {
         for ray in &rays {
             match engine {
@@ -121,10 +123,9 @@ fn run<T: Real>(engine: &str, kind: &str, m: usize, passes: usize) {
                     }
                 }
                 "separable" => {
-                    for c in grid
-                        .march_separable::<512>(black_box(ray))
-                        .expect("fits 512")
-                    {
+                    grid.march_separable_into(black_box(ray), &mut separable)
+                        .expect("fits 512");
+                    for c in separable.by_ref() {
                         acc += c.t_exit - c.t_enter;
                         crossings += 1;
                     }

@@ -507,9 +507,10 @@ pub struct SeparableMarch<T, const N: usize> {
     error: Option<MarchError>,
 }
 
-impl<T: Real, const N: usize> SeparableMarch<T, N> {
-    pub(crate) fn new(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Self, MarchError> {
-        let mut m = SeparableMarch {
+impl<T: Real, const N: usize> Default for SeparableMarch<T, N> {
+    /// An empty march (it yields nothing), to be filled in place by a grid's `march_separable_into`.
+    fn default() -> Self {
+        SeparableMarch {
             lists: [
                 heapless::Vec::new(),
                 heapless::Vec::new(),
@@ -517,12 +518,45 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
             ],
             pos: [0; 3],
             em: None,
-            t_max: ray.t_max(),
+            t_max: T::ZERO,
             finished: true,
             error: None,
-        };
+        }
+    }
+}
+
+impl<T: Real, const N: usize> SeparableMarch<T, N> {
+    pub(crate) fn new(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Self, MarchError> {
+        let mut m = Self::default();
+        m.fill(axes, ray)?;
+        Ok(m)
+    }
+
+    /// Lists the crossings of `ray` into `self`'s buffers in place (seed 001 §3), replacing what they held: the
+    /// buffers are not moved or copied, so one march can be reused for many rays. On an error `self` is left
+    /// empty (it yields nothing).
+    pub(crate) fn fill(&mut self, axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<(), MarchError> {
+        for list in &mut self.lists {
+            list.clear();
+        }
+        self.pos = [0; 3];
+        self.em = None;
+        self.t_max = ray.t_max();
+        self.finished = true;
+        self.error = None;
+        let result = self.fill_lists(axes, ray);
+        if result.is_err() {
+            for list in &mut self.lists {
+                list.clear();
+            }
+        }
+        result
+    }
+
+    fn fill_lists(&mut self, axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<(), MarchError> {
+        let m = self;
         let Some(s) = setup(axes, ray)? else {
-            return Ok(m);
+            return Ok(());
         };
         let mut streams = s.streams;
         let mut t_end = At::exact(ray.t_max());
@@ -550,7 +584,7 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
         }
         m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0, ray.t_max()));
         m.finished = false;
-        Ok(m)
+        Ok(())
     }
 
     /// Why the march stopped early, if it did: a crossing whose `t` is not representable

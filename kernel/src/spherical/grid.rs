@@ -148,6 +148,17 @@ impl<'a, T: Real> SphericalGrid<'a, T> {
     ) -> Result<SeparableMarch<T, N>, MarchError> {
         SeparableMarch::new(&self.axes, ray)
     }
+
+    /// As [`Self::march_separable`], but listing into `march`'s buffers in place (no copy of the `N`-sized
+    /// buffers on return), so one [`SeparableMarch`] (e.g. `SeparableMarch::default()`) serves many rays. On an
+    /// error `march` is left empty.
+    pub fn march_separable_into<const N: usize>(
+        &self,
+        ray: &Ray<T>,
+        march: &mut SeparableMarch<T, N>,
+    ) -> Result<(), MarchError> {
+        march.fill(&self.axes, ray)
+    }
 }
 
 /// A cylindrical grid: radius ρ from the z axis, azimuth φ, height z; cell `[i, k, m]` is
@@ -234,6 +245,17 @@ impl<'a, T: Real> CylindricalGrid<'a, T> {
     ) -> Result<SeparableMarch<T, N>, MarchError> {
         SeparableMarch::new(&self.axes, ray)
     }
+
+    /// As [`Self::march_separable`], but listing into `march`'s buffers in place (no copy of the `N`-sized
+    /// buffers on return), so one [`SeparableMarch`] (e.g. `SeparableMarch::default()`) serves many rays. On an
+    /// error `march` is left empty.
+    pub fn march_separable_into<const N: usize>(
+        &self,
+        ray: &Ray<T>,
+        march: &mut SeparableMarch<T, N>,
+    ) -> Result<(), MarchError> {
+        march.fill(&self.axes, ray)
+    }
 }
 
 /// A 2-D polar grid (seed 001 §3.4): radius r and azimuth φ in the plane; the rays' z components are ignored.
@@ -312,5 +334,16 @@ impl<'a, T: Real> PolarGrid<'a, T> {
         ray: &Ray<T>,
     ) -> Result<SeparableMarch<T, N>, MarchError> {
         SeparableMarch::new(&self.axes, ray)
+    }
+
+    /// As [`Self::march_separable`], but listing into `march`'s buffers in place (no copy of the `N`-sized
+    /// buffers on return), so one [`SeparableMarch`] (e.g. `SeparableMarch::default()`) serves many rays. On an
+    /// error `march` is left empty.
+    pub fn march_separable_into<const N: usize>(
+        &self,
+        ray: &Ray<T>,
+        march: &mut SeparableMarch<T, N>,
+    ) -> Result<(), MarchError> {
+        march.fill(&self.axes, ray)
     }
 }

@@ -394,6 +394,45 @@ fn separable_buffer_full_is_an_error_not_a_truncation() {
 }
 
 #[test]
+fn separable_filled_in_place_is_reused_across_hits_misses_and_a_full_buffer() {
+    // One march reused: a ray through the center (a jump through every radius band), one that misses the
+    // ball, one that overflows the 8-entry buffers, then a hit again. After each fill it must yield exactly what
+    // the serial engine does (nothing after a miss or an error), never leftovers of the previous ray.
+    let r: Vec<f64> = (0..8).map(|i| i as f64 / 7.0).collect();
+    let many: Vec<f64> = (0..20).map(|i| i as f64 * 0.05).collect();
+    let mut ws = [0.0; 64];
+    let g = SphericalGrid::new(&r, &TH, &PH, &mut ws).unwrap();
+    let mut ws2 = [0.0; 64];
+    let g_many = SphericalGrid::new(&many, &TH, &PH, &mut ws2).unwrap();
+    let through = Ray::new([-2.0, 0.0, 0.0], [1.0, 0.0, 0.0]).unwrap();
+    let miss = Ray::new([-2.0, 3.0, 0.0], [1.0, 0.0, 0.0]).unwrap();
+    let off = Ray::new([-2.0, 0.3, 0.4], [1.0, 0.1, -0.2]).unwrap();
+    let overflow = Ray::new([-2.0, 0.01, 0.01], [1.0, 0.0, 0.0]).unwrap();
+    let mut m = SeparableMarch::<f64, 16>::default();
+    assert_eq!(m.by_ref().count(), 0);
+    for ray in [&through, &miss, &off, &through] {
+        g.march_separable_into(ray, &mut m).unwrap();
+        let got: Vec<_> = m.by_ref().collect();
+        let want: Vec<_> = g.march(ray).collect();
+        assert_eq!(got, want);
+        assert_eq!(m.error(), None);
+    }
+    assert_eq!(
+        g_many.march_separable_into(&overflow, &mut m),
+        Err(MarchError::BufferFull {
+            axis: Axis::R,
+            capacity: 16
+        })
+    );
+    assert_eq!(m.listed(), [0, 0, 0]);
+    assert_eq!(m.by_ref().count(), 0);
+    g.march_separable_into(&off, &mut m).unwrap();
+    let again: Vec<_> = m.by_ref().collect();
+    assert!(!again.is_empty());
+    assert_eq!(again, g.march(&off).collect::<Vec<_>>());
+}
+
+#[test]
 fn grid_errors_name_axis_and_index() {
     let mut ws = [0.0; 64];
     let e =
