@@ -569,6 +569,7 @@ fn tiny_direction_from_inside_the_ball_is_an_error() {
 }
 
 #[test]
+#[cfg_attr(miri, ignore)] // under Miri (soft-float libm) some t differ by an ulp from the native run; checked natively
 fn subnormal_direction_with_representable_t_marches_exactly_like_a_unit_one() {
     // A grid 2^-53 the size of the unit one and a direction 2^-1030 (components subnormal, all exact): every t is
     // the unit march's t times 2^977, bit for bit, and the cells are the same.
