@@ -198,6 +198,12 @@ fn close_border_edges<T: Real>(
         (cx - ax).abs() + (cy - ay).abs(),
         (ax - bx).abs() + (ay - by).abs(),
     ];
+    // Only for a triangle that is not a sliver as the ray sees it (seen edge-on, or a polar sliver): there a
+    // closed gap of rounding size moves the hit along the sliver by its length over its width, far beyond rounding.
+    let longest = lengths[0].max(lengths[1]).max(lengths[2]);
+    if !(det.abs() >= T::from_f64(1e-3) * longest * longest) {
+        return None;
+    }
     let mut need = [false; 3];
     for ((x, len), n) in f.iter().zip(lengths).zip(&mut need) {
         if wrong(*x) {
