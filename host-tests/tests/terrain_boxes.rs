@@ -536,7 +536,10 @@ fn interval_storages() -> Vec<(&'static str, Dem, usize, usize)> {
 
 /// Runs [`check_box_intervals`] in scalar type `T` over every storage of [`interval_storages`] (seeds from
 /// `seed`); the number of rays checked.
-fn check_all_box_intervals<T: curvicast::Real + std::fmt::Debug>(seed: u64) -> usize {
+fn check_all_box_intervals<T: curvicast::Real + std::fmt::Debug>(seed: u64) -> usize
+where
+    for<'d> DemStorage<'d>: TerrainStorage<T>,
+{
     let mut total = 0;
     for (k, (name, dem, block, per_node)) in interval_storages().into_iter().enumerate() {
         let s = DemStorage::new(&dem, block);

@@ -20,6 +20,18 @@
 //! a group that fall past a level's last row or column stay empty. [`node_slots`] gives the buffer's length,
 //! a `const fn`, so that the buffer can be a static array; [`NodeRecord`] is 56 bytes in `f64` and 44 in `f32`.
 //!
+//! # Beyond the records
+//!
+//! What makes a storage fast, each into a buffer the caller provides (lengths from `const fn`s): the per-row
+//! and per-column trigonometry the kernel asks for at every quad wall and vertex ([`trig_tables`]: exactly the
+//! values [`TerrainStorage`](super::TerrainStorage) requires), and per-node boxes in local frames with the
+//! shared-frame rule ([`build_boxes`], in `f64` as [`TerrainStorage::node_box`](super::TerrainStorage::node_box)
+//! requires). For the paged pyramid of §5, [`build_multires_tree`] builds the same tree with a block per node
+//! at stride `2^k` and the branches of a [`MultiRes`] shape; residency flags (`&[AtomicBool]`, one per slot)
+//! let the caller page blocks in and out. [`TreeStorage`] serves all of it, from borrowed slices
+//! ([`SliceStorage`], [`Parts`]) or from buffers the caller owns ([`Buffers`]), and checks every length
+//! ([`BuildError::BufferLength`]).
+//!
 //! ```
 //! use curvicast::geodesy::Ellipsoid;
 //! use curvicast::ray::Ray;
@@ -50,9 +62,16 @@
 //! # Ok::<(), Box<dyn core::error::Error>>(())
 //! ```
 
-use super::{Grid, Node, NodeId, TerrainStorage};
-use crate::geodesy::Ellipsoid;
+#[cfg(doc)]
+use super::TerrainStorage;
+use super::{Grid, Node, NodeId};
 use crate::real::Real;
+
+mod storage;
+mod tables;
+
+pub use storage::{Buffers, Parts, SliceStorage, TreeStorage};
+pub use tables::{TrigTables, build_boxes, build_boxes_sharing, trig_tables};
 
 /// Why [`build_tree`] or [`SliceStorage::new`] refused its input.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -70,6 +89,11 @@ pub enum BuildError {
     BufferTooSmall,
     /// The node records given to [`SliceStorage::new`] are not the ones [`build_tree`] wrote for this grid.
     RecordsMismatch,
+    /// A box, table or residency buffer does not have the length its `const fn` gives ([`node_slots`],
+    /// [`row_table_len`], [`col_table_len`]).
+    BufferLength,
+    /// The multi-resolution shape is invalid (a fine region with a non-finite or reversed bound).
+    InvalidShape,
 }
 
 impl core::fmt::Display for BuildError {
@@ -87,6 +111,10 @@ impl core::fmt::Display for BuildError {
             }
             BuildError::BufferTooSmall => f.write_str("node buffer shorter than node_slots()"),
             BuildError::RecordsMismatch => f.write_str("node records not built for this grid"),
+            BuildError::BufferLength => {
+                f.write_str("box, table or residency buffer of the wrong length")
+            }
+            BuildError::InvalidShape => f.write_str("invalid multi-resolution shape"),
         }
     }
 }
@@ -143,6 +171,10 @@ pub struct Tree {
     slots: u32,
     /// The block size.
     block: u32,
+    /// The zone level's index counted from the leaves (0: the zones are leaves).
+    top: u8,
+    /// Built by [`build_multires_tree`]: every node has a block at stride `2^(its level above the leaves)`.
+    multires: bool,
 }
 
 impl Tree {
@@ -159,6 +191,44 @@ impl Tree {
     pub fn block(&self) -> u32 {
         self.block
     }
+    /// Whether the tree is multi-resolution ([`build_multires_tree`]).
+    pub fn is_multires(&self) -> bool {
+        self.multires
+    }
+    /// The depth of the leaves below the zones (zones are level 0).
+    pub fn depth(&self) -> u32 {
+        u32::from(self.top)
+    }
+    /// The block stride of a node at depth `level` below its zone in a multi-resolution tree, `2^(depth −
+    /// level)` (seed 000 §5: the pyramid's subsampling; at most `2^31`), 1 in a single-resolution one.
+    pub fn stride(&self, level: u8) -> u32 {
+        if !self.multires {
+            return 1;
+        }
+        1u32.checked_shl(u32::from(self.top.saturating_sub(level)).min(31))
+            .unwrap_or(1)
+    }
+}
+
+/// The length of the per-row tables of [`trig_tables`]: one entry per vertex row.
+pub const fn row_table_len(rows: u32) -> usize {
+    rows as usize
+}
+
+/// The length of the per-column tables of [`trig_tables`]: one entry per vertex column.
+pub const fn col_table_len(cols: u32) -> usize {
+    cols as usize
+}
+
+/// The shape of a multi-resolution tree ([`build_multires_tree`]; seed 000 §5, Fig. 11): branches stop at
+/// `coarse_level` levels above the leaves outside `fine_region`, whose nodes go down to full resolution.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MultiRes<T> {
+    /// `[lat_s, lat_n, lon_w, lon_e]`, degrees: nodes that meet this box go down to the leaves. `None`: every
+    /// node does.
+    pub fine_region: Option<[T; 4]>,
+    /// The level above the leaves (0: the leaves) at which branches outside `fine_region` end.
+    pub coarse_level: u32,
 }
 
 /// `⌈n / 2⌉`.
@@ -285,13 +355,46 @@ impl Levels {
 }
 
 /// Builds the quadtree of a DEM into `nodes` (module docs): `heights` holds `grid.rows × grid.cols` heights,
-/// row-major (`V(i, j)` at `i · cols + j`), NaN for nodata; leaves are blocks of `block × block` cells. `nodes`
+/// row-major (`V(i, j)` at `i · cols + j`), NaN for nodata, in any scalar type (`f32` samples under an `f64`
+/// tree, say: they are converted exactly); leaves are blocks of `block × block` cells. `nodes`
 /// must be at least [`node_slots`]`(grid.rows, grid.cols, block)` long; slots past that are left untouched.
 /// Cost: one pass over each leaf's vertices (`(1 + 1/block)²` per height) and one over the records.
-pub fn build_tree<T: Real>(
-    heights: &[T],
+pub fn build_tree<T: Real, H: Real>(
+    heights: &[H],
     grid: &Grid<T>,
     block: u32,
+    nodes: &mut [NodeRecord<T>],
+) -> Result<Tree, BuildError> {
+    build(heights, grid, block, None, nodes)
+}
+
+/// Builds the multi-resolution quadtree of a DEM into `nodes` (seed 000 §5): the tree of [`build_tree`]
+/// (same arguments, same records and ids), whose every node has its own block, a regular sub-grid of the DEM's
+/// vertices at `2^k` grid steps, `k` its level above the leaves (the pyramid of §5: coarse blocks subsample the
+/// finest data), and whose branches end at level `shape.coarse_level` outside `shape.fine_region`. A storage
+/// over it ([`TreeStorage`]) reports those strides ([`super::TerrainStorage::block_stride`]) and, given
+/// residency flags, which blocks are in memory.
+pub fn build_multires_tree<T: Real, H: Real>(
+    heights: &[H],
+    grid: &Grid<T>,
+    block: u32,
+    shape: MultiRes<T>,
+    nodes: &mut [NodeRecord<T>],
+) -> Result<Tree, BuildError> {
+    if let Some([s, n, w, e]) = shape.fine_region {
+        let finite = [s, n, w, e].iter().all(|v| v.is_finite());
+        if !finite || s > n || w > e {
+            return Err(BuildError::InvalidShape);
+        }
+    }
+    build(heights, grid, block, Some(shape), nodes)
+}
+
+fn build<T: Real, H: Real>(
+    heights: &[H],
+    grid: &Grid<T>,
+    block: u32,
+    shape: Option<MultiRes<T>>,
     nodes: &mut [NodeRecord<T>],
 ) -> Result<Tree, BuildError> {
     check_heights(heights, grid)?;
@@ -307,7 +410,8 @@ pub fn build_tree<T: Real>(
             .checked_mul(u64::from(grid.cols))?
             .checked_add(u64::from(j))?;
         let k = usize::try_from(k).ok()?;
-        heights.get(k).copied().filter(|h| !h.is_nan())
+        let h = *heights.get(k)?;
+        (!h.is_nan()).then(|| T::from_f64(h.to_f64()))
     };
     let (last_row, last_col) = (grid.cell_rows(), grid.cell_cols());
     for level in 0..levels.count {
@@ -351,13 +455,53 @@ pub fn build_tree<T: Real>(
             }
         }
     }
+    if let Some(shape) = shape {
+        prune_coarse(&levels, nodes, grid, &shape);
+    }
     let zone_dims = levels.dims(top);
     Ok(Tree {
         zone_offset: levels.offset.get(top).copied().unwrap_or(0),
         zone_dims,
         slots: u32::try_from(slots).map_err(|_| BuildError::InvalidBlock)?,
         block,
+        top: u8::try_from(top).map_err(|_| BuildError::InvalidBlock)?,
+        multires: shape.is_some(),
     })
+}
+
+/// Ends the branches of a multi-resolution tree outside the fine region at the coarse level: the nodes at or
+/// below it that do not meet the region lose their children. Runs after the whole tree is built, so that a
+/// parent that took over the children of its only child (module docs) keeps them, as a coarse node's block
+/// does not depend on the level below.
+fn prune_coarse<T: Real>(
+    levels: &Levels,
+    nodes: &mut [NodeRecord<T>],
+    grid: &Grid<T>,
+    shape: &MultiRes<T>,
+) {
+    let Some([lat_s, lat_n, lon_w, lon_e]) = shape.fine_region else {
+        return; // full depth everywhere
+    };
+    let coarse = usize::try_from(shape.coarse_level).unwrap_or(usize::MAX);
+    for level in 0..levels.count.min(coarse.saturating_add(1)) {
+        let first = levels.offset.get(level).copied().unwrap_or(0);
+        let [nr, nc] = levels.dims(level);
+        let len = u32::try_from(level_slots(nr, nc)).unwrap_or(0);
+        for slot in first..first.saturating_add(len) {
+            if levels.locate(level, slot).is_none() {
+                continue;
+            }
+            let Some(rec) = usize::try_from(slot).ok().and_then(|k| nodes.get_mut(k)) else {
+                continue;
+            };
+            let (la, lb) = (grid.lat_deg(rec.rows[0]), grid.lat_deg(rec.rows[1]));
+            let (wa, wb) = (grid.lon_deg(rec.cols[0]), grid.lon_deg(rec.cols[1]));
+            let meets = la.min(lb) <= lat_n && la.max(lb) >= lat_s && wa <= lon_e && wb >= lon_w;
+            if !meets {
+                rec.kids = [u32::MAX; 4];
+            }
+        }
+    }
 }
 
 /// The record of node `(r, c)` of `level ≥ 1`, from its 2 × 2 children's records below it: the union of their
@@ -428,7 +572,7 @@ fn parent_record<T: Real>(
 }
 
 /// Checks the grid and the heights: `rows × cols` of them, none infinite.
-fn check_heights<T: Real>(heights: &[T], grid: &Grid<T>) -> Result<(), BuildError> {
+fn check_heights<T: Real, H: Real>(heights: &[H], grid: &Grid<T>) -> Result<(), BuildError> {
     if !grid.validate() {
         return Err(BuildError::InvalidGrid);
     }
@@ -444,85 +588,4 @@ fn check_heights<T: Real>(heights: &[T], grid: &Grid<T>) -> Result<(), BuildErro
         }
     }
     Ok(())
-}
-
-/// The [`TerrainStorage`] over a DEM's heights and the node records [`build_tree`] wrote: everything borrowed,
-/// nothing allocated. Its trigonometry is the trait's default (computed when the kernel asks).
-#[derive(Debug, Clone, Copy)]
-pub struct SliceStorage<'a, T> {
-    ellipsoid: Ellipsoid<T>,
-    grid: Grid<T>,
-    heights: &'a [T],
-    nodes: &'a [NodeRecord<T>],
-    tree: Tree,
-}
-
-impl<'a, T: Real> SliceStorage<'a, T> {
-    /// The storage over `heights` (as given to [`build_tree`]) and `nodes` (its buffer, as it wrote it), on
-    /// `ellipsoid`. Checks the grid and heights again and that the buffer holds the tree's slots.
-    pub fn new(
-        ellipsoid: Ellipsoid<T>,
-        grid: Grid<T>,
-        heights: &'a [T],
-        nodes: &'a [NodeRecord<T>],
-        tree: Tree,
-    ) -> Result<Self, BuildError> {
-        check_heights(heights, &grid)?;
-        if node_slots(grid.rows, grid.cols, tree.block) != tree.slots() {
-            return Err(BuildError::RecordsMismatch);
-        }
-        let nodes = nodes
-            .get(..tree.slots())
-            .ok_or(BuildError::BufferTooSmall)?;
-        Ok(SliceStorage {
-            ellipsoid,
-            grid,
-            heights,
-            nodes,
-            tree,
-        })
-    }
-
-    /// The tree's node records.
-    pub fn records(&self) -> &'a [NodeRecord<T>] {
-        self.nodes
-    }
-}
-
-impl<T: Real> TerrainStorage<T> for SliceStorage<'_, T> {
-    fn ellipsoid(&self) -> Ellipsoid<T> {
-        self.ellipsoid
-    }
-    fn grid(&self) -> Grid<T> {
-        self.grid
-    }
-    fn zone_count(&self) -> usize {
-        self.tree.zone_count()
-    }
-    fn zone(&self, k: usize) -> Option<NodeId> {
-        let [_, zc] = self.tree.zone_dims;
-        let k = u32::try_from(k).ok()?;
-        let (r, c) = (k.checked_div(zc)?, k.checked_rem(zc)?);
-        let group = (r >> 1).checked_mul(half_up(zc))?.checked_add(c >> 1)?;
-        let slot = self
-            .tree
-            .zone_offset
-            .checked_add(group.checked_mul(4)?)?
-            .checked_add(((r & 1) << 1) | (c & 1))?;
-        (usize::try_from(k).ok()? < self.zone_count()).then_some(NodeId(slot))
-    }
-    fn node(&self, id: NodeId) -> Option<Node<T>> {
-        let rec = self.nodes.get(usize::try_from(id.0).ok()?)?;
-        Some(rec.node())
-    }
-    fn height(&self, i: u32, j: u32) -> Option<T> {
-        if i >= self.grid.rows || j >= self.grid.cols {
-            return None;
-        }
-        let k = u64::from(i)
-            .checked_mul(u64::from(self.grid.cols))?
-            .checked_add(u64::from(j))?;
-        let h = *self.heights.get(usize::try_from(k).ok()?)?;
-        (!h.is_nan()).then_some(h)
-    }
 }

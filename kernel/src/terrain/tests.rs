@@ -774,13 +774,19 @@ fn cached_bounds_give_identical_picks() {
     }
 }
 
-/// A 3 × 3-vertex DEM in `f32` (one zone, one leaf), with or without a node box.
-struct TinyF32([f32; 9], Option<boxes::NodeBox>);
-impl TerrainStorage<f32> for TinyF32 {
-    fn ellipsoid(&self) -> Ellipsoid<f32> {
-        Ellipsoid::wgs84()
-    }
-    fn grid(&self) -> Grid<f32> {
+/// The node slots of a 3 × 3-vertex DEM with blocks of 2 × 2 cells (one zone, one leaf).
+const PEAK_SLOTS: usize = build::node_slots(3, 3, 2);
+
+/// [`PEAK`] in `f32` through the kernel's builder: heights, node records and node boxes (built in `f64`).
+struct PeakF32 {
+    heights: [f32; 9],
+    nodes: [build::NodeRecord<f32>; PEAK_SLOTS],
+    boxes: [Option<boxes::NodeBox>; PEAK_SLOTS],
+    tree: build::Tree,
+}
+
+impl PeakF32 {
+    fn grid() -> Grid<f32> {
         Grid {
             lat0: 47.0,
             lon0: 8.0,
@@ -790,26 +796,30 @@ impl TerrainStorage<f32> for TinyF32 {
             cols: 3,
         }
     }
-    fn zone_count(&self) -> usize {
-        1
+    fn new() -> Self {
+        let heights = PEAK.map(|h| h as f32);
+        let mut nodes = [build::NodeRecord::EMPTY; PEAK_SLOTS];
+        let tree = build::build_tree(&heights, &Self::grid(), 2, &mut nodes).unwrap();
+        let mut boxes = [None; PEAK_SLOTS];
+        let bare =
+            build::SliceStorage::new(Ellipsoid::wgs84(), Self::grid(), &heights, &nodes, tree)
+                .unwrap();
+        build::build_boxes(&bare, &mut boxes).unwrap();
+        PeakF32 {
+            heights,
+            nodes,
+            boxes,
+            tree,
+        }
     }
-    fn zone(&self, k: usize) -> Option<NodeId> {
-        (k == 0).then_some(NodeId(0))
-    }
-    fn node(&self, id: NodeId) -> Option<Node<f32>> {
-        (id == NodeId(0)).then_some(Node {
-            rows: [0, 2],
-            cols: [0, 2],
-            heights: Some([400.0, 2500.0]),
-            children: [None; 4],
-            level: 0,
-        })
-    }
-    fn height(&self, i: u32, j: u32) -> Option<f32> {
-        self.0.get((i * 3 + j) as usize).copied()
-    }
-    fn node_box(&self, _: NodeId) -> Option<boxes::NodeBox> {
-        self.1
+    /// The storage, with the node box or without.
+    fn storage(&self, boxed: bool) -> build::SliceStorage<'_, f32> {
+        let parts = build::Parts {
+            boxes: if boxed { &self.boxes } else { &[] },
+            ..build::Parts::new(&self.heights, &self.nodes)
+        };
+        build::TreeStorage::with_buffers(Ellipsoid::wgs84(), Self::grid(), self.tree, parts)
+            .unwrap()
     }
 }
 
@@ -819,7 +829,7 @@ const PEAK: [f64; 9] = [
 ];
 
 /// The hit of a ray straight down on [`PEAK`]'s summit from 10 km.
-fn pick_down_on_the_peak(p: &Picker<'_, f32, TinyF32>) -> Hit<f32> {
+fn pick_down_on_the_peak(p: &Picker<'_, f32, build::SliceStorage<'_, f32>>) -> Hit<f32> {
     let e = Ellipsoid::<f32>::wgs84();
     let top = e.geodetic_deg_to_ecef(47.01, 8.01, 10_000.0);
     let n = e.normal(47.01_f32.to_radians(), 8.01_f32.to_radians());
@@ -832,16 +842,15 @@ fn pick_down_on_the_peak(p: &Picker<'_, f32, TinyF32>) -> Hit<f32> {
 fn f32_picker_with_a_box_built_in_f64_still_finds_the_peak() {
     // The box is exact for the f64 vertices; the f32 picker's vertices and frame differ by f32 rounding (0.5 m
     // at Earth scale), which the box test's tolerance covers.
-    let g = grid(47.0, 8.0, 0.01, 0.01, 3, 3);
-    let f64_dem = TestDem::new(g, PEAK.to_vec(), 2, 1, 1).with_boxes(|_| false);
-    let dem = TinyF32(PEAK.map(|h| h as f32), f64_dem.boxes[0]);
-    assert!(dem.1.is_some());
-    let p: Picker<'_, f32, TinyF32> = Picker::new(&dem).unwrap();
+    let peak = PeakF32::new();
+    assert!(peak.boxes.iter().flatten().count() == 1);
+    let dem = peak.storage(true);
+    let p: Picker<'_, f32, build::SliceStorage<'_, f32>> = Picker::new(&dem).unwrap();
     let hit = pick_down_on_the_peak(&p);
     assert!((hit.h - 2500.0).abs() < 3.0, "{}", hit.h);
     // Near the corners (at the box's lowest points) the boxed picker answers as the plain one.
-    let plain_dem = TinyF32(PEAK.map(|h| h as f32), None);
-    let plain: Picker<'_, f32, TinyF32> = Picker::new(&plain_dem).unwrap();
+    let plain_dem = peak.storage(false);
+    let plain: Picker<'_, f32, build::SliceStorage<'_, f32>> = Picker::new(&plain_dem).unwrap();
     let e = Ellipsoid::<f32>::wgs84();
     for (lat, lon) in [(47.0001, 8.0001), (47.0199, 8.0199), (47.0001, 8.0199)] {
         let top = e.geodetic_deg_to_ecef(lat, lon, 5_000.0);
@@ -857,8 +866,9 @@ fn f32_picker_with_a_box_built_in_f64_still_finds_the_peak() {
 
 #[test]
 fn f32_pick_of_a_peak() {
-    let dem = TinyF32(PEAK.map(|h| h as f32), None);
-    let p: Picker<'_, f32, TinyF32> = Picker::new(&dem).unwrap();
+    let peak = PeakF32::new();
+    let dem = peak.storage(false);
+    let p: Picker<'_, f32, build::SliceStorage<'_, f32>> = Picker::new(&dem).unwrap();
     let hit = pick_down_on_the_peak(&p);
     // f32 ECEF coordinates are quantised to 0.5 m at Earth scale.
     assert!((hit.t - 7500.0).abs() < 3.0, "{}", hit.t);
@@ -1506,4 +1516,117 @@ fn builder_rejects_bad_input_with_typed_errors() {
     // The sizes of a record, for the RAM a build needs per height.
     assert_eq!(core::mem::size_of::<NodeRecord<f64>>(), 56);
     assert_eq!(core::mem::size_of::<NodeRecord<f32>>(), 44);
+}
+
+#[test]
+fn builder_boxes_and_trig_tables_give_the_bare_storages_picks() {
+    use build::{NodeRecord, Parts, SliceStorage, TreeStorage, TrigTables, build_tree, node_slots};
+    let mut r = Lcg(91);
+    let g = grid(46.0, 8.0, -1.0 / 1200.0, 1.0 / 1200.0, 17, 23);
+    let hs: Vec<f32> = (0..17 * 23)
+        .map(|_| {
+            if r.next() < 0.03 {
+                f32::NAN
+            } else {
+                (-400.0 + 3000.0 * r.next()) as f32
+            }
+        })
+        .collect();
+    let e = Ellipsoid::wgs84();
+    let mut nodes = std::vec![NodeRecord::EMPTY; node_slots(17, 23, 2)];
+    let tree = build_tree(&hs, &g, 2, &mut nodes).unwrap();
+    let bare: SliceStorage<'_, f64, f32> = SliceStorage::new(e, g, &hs, &nodes, tree).unwrap();
+    let mut boxes = std::vec![None; tree.slots()];
+    build::build_boxes(&bare, &mut boxes).unwrap();
+    assert!(boxes.iter().flatten().count() > 4);
+    let (rows, cols) = (build::row_table_len(17), build::col_table_len(23));
+    let (mut rs, mut cs) = (std::vec![(0.0, 0.0); rows], std::vec![(0.0, 0.0); cols]);
+    let mut rp = std::vec![TrigTables::<f64>::UNSET_PARALLEL; rows];
+    let mut cd = std::vec![TrigTables::<f64>::UNSET_DD; cols];
+    let trig = build::trig_tables(&e, &g, &mut rs, &mut cs, &mut rp, &mut cd).unwrap();
+    for i in 0..17 {
+        assert_eq!(trig.row_sin_cos[i as usize], sin_cos_deg(g.lat_deg(i)));
+        assert_eq!(trig.row_parallel[i as usize], row_parallel(&e, &g, i));
+    }
+    let parts = Parts {
+        boxes: &boxes,
+        trig: Some(trig),
+        ..Parts::new(&hs[..], &nodes[..])
+    };
+    let full = TreeStorage::with_buffers(e, g, tree, parts).unwrap();
+    assert!(full.node_box(NodeId(0)).is_some());
+    // Wrong lengths are typed errors.
+    let short = Parts {
+        boxes: &boxes[1..],
+        ..parts
+    };
+    assert_eq!(
+        TreeStorage::with_buffers(e, g, tree, short).err(),
+        Some(build::BuildError::BufferLength)
+    );
+    let (p0, p1) = (
+        Picker::<'_, f64, _>::new(&bare).unwrap(),
+        Picker::<'_, f64, _>::new(&full).unwrap(),
+    );
+    let mut hits = 0;
+    for _ in 0..300 {
+        let lat = 46.0 - 16.0 / 1200.0 * r.next();
+        let lon = 8.0 + 22.0 / 1200.0 * r.next();
+        let target = e.geodetic_deg_to_ecef(lat, lon, 3000.0 * r.next());
+        let dir = V3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5);
+        let ray = Ray::new(target.add_scaled(-(100.0 + 3.0e4 * r.next()), dir), dir).unwrap();
+        let (a, b) = (p0.pick(&ray).unwrap(), p1.pick(&ray).unwrap());
+        assert_eq!(a.map(|h| (h.t, h.cell)), b.map(|h| (h.t, h.cell)));
+        hits += usize::from(a.is_some());
+    }
+    assert!(hits > 50, "{hits} hits");
+}
+
+#[test]
+fn multires_builder_reports_strides_and_residency_flags() {
+    use build::{MultiRes, NodeRecord, Parts, TreeStorage, build_multires_tree, node_slots};
+    use core::sync::atomic::{AtomicBool, Ordering};
+    let g = grid(46.0, 8.0, -1.0 / 1200.0, 1.0 / 1200.0, 33, 65);
+    let hs: Vec<f64> = (0..33 * 65).map(|k| (k % 97) as f64).collect();
+    let mut nodes = std::vec![NodeRecord::EMPTY; node_slots(33, 65, 2)];
+    // Fine only in the north-west corner; elsewhere branches end one level above the leaves.
+    let shape = MultiRes {
+        fine_region: Some([46.0 - 4.0 / 1200.0, 46.0, 8.0, 8.0 + 4.0 / 1200.0]),
+        coarse_level: 1,
+    };
+    let tree = build_multires_tree(&hs, &g, 2, shape, &mut nodes).unwrap();
+    let flags: Vec<AtomicBool> = (0..tree.slots()).map(|_| AtomicBool::new(true)).collect();
+    let parts = Parts {
+        resident: &flags,
+        ..Parts::new(&hs[..], &nodes[..])
+    };
+    let s = TreeStorage::with_buffers(Ellipsoid::wgs84(), g, tree, parts).unwrap();
+    let (mut fine_leaves, mut coarse_leaves) = (0, 0);
+    for k in 0..tree.slots() as u32 {
+        let n = s.node(NodeId(k)).unwrap();
+        if n.heights.is_none() {
+            continue;
+        }
+        let stride = s.block_stride(NodeId(k));
+        assert_eq!(stride, 1 << (tree.depth() - u32::from(n.level)));
+        // Ranges start on multiples of the stride (the kernel's requirement).
+        assert!(n.rows[0] % stride == 0 && n.cols[0] % stride == 0);
+        if n.is_leaf() && stride == 1 {
+            fine_leaves += 1;
+        } else if n.is_leaf() {
+            coarse_leaves += 1;
+        }
+    }
+    assert!(fine_leaves > 0 && coarse_leaves > 0);
+    assert!(s.is_resident(NodeId(0)));
+    flags[0].store(false, Ordering::Relaxed);
+    assert!(!s.is_resident(NodeId(0)));
+    let bad = MultiRes {
+        fine_region: Some([1.0, 0.0, 0.0, 1.0]),
+        coarse_level: 1,
+    };
+    assert_eq!(
+        build_multires_tree(&hs, &g, 2, bad, &mut nodes).err(),
+        Some(build::BuildError::InvalidShape)
+    );
 }

@@ -1,0 +1,269 @@
+//! [`TreeStorage`]: the one [`TerrainStorage`] over a tree [`build_tree`](super::build_tree) or
+//! [`build_multires_tree`](super::build_multires_tree) wrote (seed 000 §3.5, §4, §5), with the optional
+//! per-node boxes ([`build_boxes`](super::build_boxes)), per-row and per-column trigonometry
+//! ([`trig_tables`](super::trig_tables)) and residency flags of the multi-resolution tree. The buffers are
+//! borrowed slices ([`SliceStorage`]: a static array will do) or owned by the caller's own type
+//! ([`Buffers`]), so that a host can keep them in vectors and still use this implementation.
+
+use super::super::boxes::NodeBox;
+use super::super::{Grid, Node, NodeId, Parallel, TerrainStorage};
+use super::{BuildError, NodeRecord, Tree, TrigTables, check_heights, half_up, node_slots};
+use crate::dd::Dd;
+use crate::geodesy::Ellipsoid;
+use crate::real::Real;
+use core::marker::PhantomData;
+use core::sync::atomic::{AtomicBool, Ordering};
+
+/// The buffers of a [`TreeStorage`], borrowed: the heights (`H`: the samples' own scalar type, converted
+/// exactly), the node records, and the optional parts. An empty `boxes` or `resident` slice means none (every
+/// block resident); `trig: None` means the kernel computes the trigonometry when it asks.
+#[derive(Debug)]
+pub struct Parts<'a, T, H> {
+    /// `rows × cols` heights, row-major, NaN for nodata.
+    pub heights: &'a [H],
+    /// The records of [`build_tree`](super::build_tree), [`node_slots`] of them.
+    pub nodes: &'a [NodeRecord<T>],
+    /// Per-node boxes of [`build_boxes`](super::build_boxes) ([`node_slots`] of them), or empty.
+    pub boxes: &'a [Option<NodeBox>],
+    /// The tables of [`trig_tables`](super::trig_tables), or `None`.
+    pub trig: Option<TrigTables<'a, T>>,
+    /// Per-node residency of a multi-resolution tree's blocks ([`node_slots`] flags, indexed by node id), or
+    /// empty (all resident). The caller pages blocks in and out by setting them (seed 000 §5); the picker
+    /// reports a block it needs that is not resident as [`super::super::TerrainError::NeedsBlock`].
+    pub resident: &'a [AtomicBool],
+}
+
+impl<T, H> Clone for Parts<'_, T, H> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T, H> Copy for Parts<'_, T, H> {}
+
+impl<'a, T, H> Parts<'a, T, H> {
+    /// Heights and node records only.
+    pub fn new(heights: &'a [H], nodes: &'a [NodeRecord<T>]) -> Self {
+        Parts {
+            heights,
+            nodes,
+            boxes: &[],
+            trig: None,
+            resident: &[],
+        }
+    }
+}
+
+/// Who owns a [`TreeStorage`]'s buffers: anything that can lend them as [`Parts`] (the slices themselves, or a
+/// host's struct of vectors). The storage checks their lengths once, when it is made, so an owner must not
+/// change them afterwards.
+pub trait Buffers<T, H> {
+    /// The buffers, borrowed.
+    fn parts(&self) -> Parts<'_, T, H>;
+}
+
+impl<T, H> Buffers<T, H> for Parts<'_, T, H> {
+    #[inline]
+    fn parts(&self) -> Parts<'_, T, H> {
+        *self
+    }
+}
+
+/// The [`TerrainStorage`] over a built tree and its buffers (module docs). Use [`SliceStorage`] for
+/// borrowed slices.
+#[derive(Debug, Clone, Copy)]
+pub struct TreeStorage<T, H, B> {
+    ellipsoid: Ellipsoid<T>,
+    grid: Grid<T>,
+    tree: Tree,
+    buffers: B,
+    samples: PhantomData<fn() -> H>,
+}
+
+/// The [`TreeStorage`] over borrowed slices: everything borrowed, nothing allocated.
+pub type SliceStorage<'a, T, H = T> = TreeStorage<T, H, Parts<'a, T, H>>;
+
+impl<'a, T: Real, H: Real> TreeStorage<T, H, Parts<'a, T, H>> {
+    /// The storage over `heights` (as given to [`build_tree`](super::build_tree)) and `nodes` (its buffer, as it
+    /// wrote it), on `ellipsoid`, without boxes or tables. Checks the grid and heights again and that the buffer
+    /// holds the tree's slots.
+    pub fn new(
+        ellipsoid: Ellipsoid<T>,
+        grid: Grid<T>,
+        heights: &'a [H],
+        nodes: &'a [NodeRecord<T>],
+        tree: Tree,
+    ) -> Result<Self, BuildError> {
+        Self::with_buffers(ellipsoid, grid, tree, Parts::new(heights, nodes))
+    }
+
+    /// The node records.
+    pub fn records(&self) -> &'a [NodeRecord<T>] {
+        self.buffers.nodes.get(..self.tree.slots()).unwrap_or(&[])
+    }
+}
+
+impl<T: Real, H: Real, B: Buffers<T, H>> TreeStorage<T, H, B> {
+    /// The storage over `buffers`, on `ellipsoid`: checks the grid and heights again ([`BuildError`]), that
+    /// the node buffer holds the tree's slots, and that every optional buffer has its `const fn`'s length.
+    pub fn with_buffers(
+        ellipsoid: Ellipsoid<T>,
+        grid: Grid<T>,
+        tree: Tree,
+        buffers: B,
+    ) -> Result<Self, BuildError> {
+        let p = buffers.parts();
+        check_heights(p.heights, &grid)?;
+        if node_slots(grid.rows, grid.cols, tree.block) != tree.slots() {
+            return Err(BuildError::RecordsMismatch);
+        }
+        if p.nodes.len() < tree.slots() {
+            return Err(BuildError::BufferTooSmall);
+        }
+        let slots_or_empty = |n: usize| n == 0 || n == tree.slots();
+        if !slots_or_empty(p.boxes.len()) || !slots_or_empty(p.resident.len()) {
+            return Err(BuildError::BufferLength);
+        }
+        if let Some(t) = p.trig {
+            if !t.fits(&grid) {
+                return Err(BuildError::BufferLength);
+            }
+        }
+        Ok(TreeStorage {
+            ellipsoid,
+            grid,
+            tree,
+            buffers,
+            samples: PhantomData,
+        })
+    }
+
+    /// What the builder built.
+    pub fn tree(&self) -> Tree {
+        self.tree
+    }
+
+    /// The buffers.
+    pub fn buffers(&self) -> &B {
+        &self.buffers
+    }
+
+    #[inline]
+    fn record(&self, id: NodeId) -> Option<NodeRecord<T>> {
+        self.buffers
+            .parts()
+            .nodes
+            .get(usize::try_from(id.0).ok()?)
+            .copied()
+    }
+}
+
+impl<T: Real, H: Real, B: Buffers<T, H>> TerrainStorage<T> for TreeStorage<T, H, B> {
+    fn ellipsoid(&self) -> Ellipsoid<T> {
+        self.ellipsoid
+    }
+    fn grid(&self) -> Grid<T> {
+        self.grid
+    }
+    fn zone_count(&self) -> usize {
+        self.tree.zone_count()
+    }
+    fn zone(&self, k: usize) -> Option<NodeId> {
+        let [_, zc] = self.tree.zone_dims;
+        let k = u32::try_from(k).ok()?;
+        let (r, c) = (k.checked_div(zc)?, k.checked_rem(zc)?);
+        let group = (r >> 1).checked_mul(half_up(zc))?.checked_add(c >> 1)?;
+        let slot = self
+            .tree
+            .zone_offset
+            .checked_add(group.checked_mul(4)?)?
+            .checked_add(((r & 1) << 1) | (c & 1))?;
+        (usize::try_from(k).ok()? < self.zone_count()).then_some(NodeId(slot))
+    }
+    #[inline]
+    fn node(&self, id: NodeId) -> Option<Node<T>> {
+        self.record(id).map(|r| r.node())
+    }
+    #[inline]
+    fn height(&self, i: u32, j: u32) -> Option<T> {
+        if i >= self.grid.rows || j >= self.grid.cols {
+            return None;
+        }
+        // Exact: `i·cols + j < rows·cols`, the heights' length (checked when the storage was made).
+        let k = usize::try_from(i)
+            .ok()?
+            .wrapping_mul(usize::try_from(self.grid.cols).ok()?)
+            .wrapping_add(usize::try_from(j).ok()?);
+        let h = *self.buffers.parts().heights.get(k)?;
+        (!h.is_nan()).then(|| T::from_f64(h.to_f64()))
+    }
+    #[inline]
+    fn is_resident(&self, id: NodeId) -> bool {
+        usize::try_from(id.0)
+            .ok()
+            .and_then(|k| self.buffers.parts().resident.get(k))
+            .is_none_or(|f| f.load(Ordering::Relaxed))
+    }
+    #[inline]
+    fn block_stride(&self, id: NodeId) -> u32 {
+        if !self.tree.is_multires() {
+            return 1;
+        }
+        self.record(id).map_or(1, |r| self.tree.stride(r.level))
+    }
+    // Out of line: inlined, the lookup grows the kernel's per-row cache closure in its leaf walk past
+    // what the compiler inlines there (callgrind: 1 500 more instructions per camera pick).
+    #[inline(never)]
+    fn row_sin_cos(&self, i: u32) -> (T, T) {
+        let cached = self
+            .buffers
+            .parts()
+            .trig
+            .and_then(|t| t.row_sin_cos.get(usize::try_from(i).ok()?).copied());
+        cached.unwrap_or_else(|| sin_cos_deg_cold(self.grid.lat_deg(i)))
+    }
+    // Out of line: inlined, the lookup grows the kernel's per-row cache closure in its leaf walk past
+    // what the compiler inlines there (callgrind: 1 500 more instructions per camera pick).
+    #[inline(never)]
+    fn col_sin_cos(&self, j: u32) -> (T, T) {
+        let cached = self
+            .buffers
+            .parts()
+            .trig
+            .and_then(|t| t.col_sin_cos.get(usize::try_from(j).ok()?).copied());
+        cached.unwrap_or_else(|| sin_cos_deg_cold(self.grid.lon_deg(j)))
+    }
+    fn row_parallel(&self, i: u32) -> Parallel<T> {
+        let cached = self
+            .buffers
+            .parts()
+            .trig
+            .and_then(|t| t.row_parallel.get(usize::try_from(i).ok()?).copied());
+        cached.unwrap_or_else(|| super::super::row_parallel(&self.ellipsoid, &self.grid, i))
+    }
+    fn col_sin_cos_dd(&self, j: u32) -> (Dd<T>, Dd<T>) {
+        let cached = self
+            .buffers
+            .parts()
+            .trig
+            .and_then(|t| t.col_sin_cos_dd.get(usize::try_from(j).ok()?).copied());
+        cached.unwrap_or_else(|| super::super::col_sin_cos_dd(&self.grid, j))
+    }
+    #[inline]
+    fn node_box(&self, id: NodeId) -> Option<NodeBox> {
+        self.buffers
+            .parts()
+            .boxes
+            .get(usize::try_from(id.0).ok()?)
+            .copied()
+            .flatten()
+    }
+}
+
+/// [`crate::geodesy::sin_cos_deg`] out of line: the path of a storage without tables, kept out of the
+/// per-vertex code of a storage with them (which the kernel inlines into its leaf walk).
+#[cold]
+#[inline(never)]
+fn sin_cos_deg_cold<T: Real>(deg: T) -> (T, T) {
+    crate::geodesy::sin_cos_deg(deg)
+}

@@ -1,0 +1,334 @@
+//! What a storage may precompute beyond the node records (seed 000 §3.5; Wartell et al. cache the trigonometry
+//! of the grid lines, §5 the per-block data of the paged pyramid): the per-row and per-column trigonometry the
+//! kernel asks for ([`trig_tables`]; exactly the values the [`TerrainStorage`] docs require) and the per-node
+//! boxes in local frames ([`build_boxes`]; beyond the paper, [`super::super::boxes`]), each into a buffer the
+//! caller provides, whose length a `const fn` gives ([`super::row_table_len`], [`super::col_table_len`],
+//! [`super::node_slots`]).
+
+use super::super::boxes::{BoxBuilder, LocalFrame, NodeBox, shares_frame_with_children};
+use super::super::{Grid, Node, NodeId, Parallel, TerrainStorage};
+use super::{Buffers, BuildError, Levels, NodeRecord, TreeStorage, level_slots};
+use crate::dd::Dd;
+use crate::geodesy::{Ellipsoid, sin_cos_deg};
+use crate::real::Real;
+
+/// The per-row and per-column trigonometry of a grid ([`trig_tables`]), borrowed: for every vertex row `i`,
+/// [`TerrainStorage::row_sin_cos`] and [`TerrainStorage::row_parallel`]; for every column `j`,
+/// [`TerrainStorage::col_sin_cos`] and [`TerrainStorage::col_sin_cos_dd`]. In `f64`, 16 + 64 bytes per row and
+/// 16 + 32 per column.
+#[derive(Debug)]
+pub struct TrigTables<'a, T> {
+    /// `sin_cos_deg(grid.lat_deg(i))` per row.
+    pub row_sin_cos: &'a [(T, T)],
+    /// `sin_cos_deg(grid.lon_deg(j))` per column.
+    pub col_sin_cos: &'a [(T, T)],
+    /// `row_parallel(&ellipsoid, &grid, i)` per row.
+    pub row_parallel: &'a [Parallel<T>],
+    /// `col_sin_cos_dd(&grid, j)` per column.
+    pub col_sin_cos_dd: &'a [(Dd<T>, Dd<T>)],
+}
+
+impl<T> Clone for TrigTables<'_, T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T> Copy for TrigTables<'_, T> {}
+
+impl<T: Real> TrigTables<'_, T> {
+    const ZERO: Dd<T> = Dd {
+        hi: T::ZERO,
+        lo: T::ZERO,
+    };
+    /// An initial value for the `row_parallel` buffer of [`trig_tables`] (any value will do: it is overwritten).
+    pub const UNSET_PARALLEL: Parallel<T> = Parallel {
+        n_cos: Self::ZERO,
+        nb_sin: Self::ZERO,
+        cos: Self::ZERO,
+        sin: Self::ZERO,
+    };
+    /// An initial value for the `col_sin_cos_dd` buffer of [`trig_tables`].
+    pub const UNSET_DD: (Dd<T>, Dd<T>) = (Self::ZERO, Self::ZERO);
+
+    /// Whether the tables have one entry per row and per column of `grid`.
+    pub fn fits(&self, grid: &Grid<T>) -> bool {
+        let (r, c) = (
+            super::row_table_len(grid.rows),
+            super::col_table_len(grid.cols),
+        );
+        self.row_sin_cos.len() == r
+            && self.row_parallel.len() == r
+            && self.col_sin_cos.len() == c
+            && self.col_sin_cos_dd.len() == c
+    }
+}
+
+/// Fills the trigonometry tables of `grid` on `ellipsoid` (each value computed as the trait's default computes
+/// it, in `T`) and returns them borrowed, for [`super::Parts::trig`]. The row buffers must hold
+/// [`super::row_table_len`]`(grid.rows)` entries, the column buffers [`super::col_table_len`]`(grid.cols)`
+/// ([`BuildError::BufferLength`] otherwise; [`BuildError::InvalidGrid`] for an invalid grid).
+pub fn trig_tables<'a, T: Real>(
+    ellipsoid: &Ellipsoid<T>,
+    grid: &Grid<T>,
+    row_sin_cos: &'a mut [(T, T)],
+    col_sin_cos: &'a mut [(T, T)],
+    row_parallel: &'a mut [Parallel<T>],
+    col_sin_cos_dd: &'a mut [(Dd<T>, Dd<T>)],
+) -> Result<TrigTables<'a, T>, BuildError> {
+    if !grid.validate() {
+        return Err(BuildError::InvalidGrid);
+    }
+    let (r, c) = (
+        super::row_table_len(grid.rows),
+        super::col_table_len(grid.cols),
+    );
+    if row_sin_cos.len() != r
+        || row_parallel.len() != r
+        || col_sin_cos.len() != c
+        || col_sin_cos_dd.len() != c
+    {
+        return Err(BuildError::BufferLength);
+    }
+    for ((i, sc), par) in (0..grid.rows)
+        .zip(row_sin_cos.iter_mut())
+        .zip(row_parallel.iter_mut())
+    {
+        *sc = sin_cos_deg(grid.lat_deg(i));
+        *par = super::super::row_parallel(ellipsoid, grid, i);
+    }
+    for ((j, sc), dd) in (0..grid.cols)
+        .zip(col_sin_cos.iter_mut())
+        .zip(col_sin_cos_dd.iter_mut())
+    {
+        *sc = sin_cos_deg(grid.lon_deg(j));
+        *dd = super::super::col_sin_cos_dd(grid, j);
+    }
+    Ok(TrigTables {
+        row_sin_cos,
+        col_sin_cos,
+        row_parallel,
+        col_sin_cos_dd,
+    })
+}
+
+/// Every node's box ([`super::super::boxes`]) into `boxes` ([`super::node_slots`] of them, by node id), with
+/// the host's frame rule: a zone's box in the grid's frame, a child's in the frame of its parent's box where
+/// [`shares_frame_with_children`] allows it, else in its parent's own frame. Computed in `f64` as
+/// [`TerrainStorage::node_box`] requires (an `f32` storage's grid and ellipsoid are converted exactly): a
+/// leaf's from every vertex of it with data ([`NodeBox::of_vertices`]); a parent's from its children's boxes,
+/// their union where they share its frame, their corners carried over from its own frame otherwise, so that a
+/// box contains its children's and thus all of its vertices. Nodes without data, and those no zone reaches (the
+/// children a multi-resolution shape cut off), get `None`. The storage's own boxes are ignored.
+pub fn build_boxes<T: Real, H: Real, B: Buffers<T, H>>(
+    storage: &TreeStorage<T, H, B>,
+    boxes: &mut [Option<NodeBox>],
+) -> Result<(), BuildError> {
+    let grid = grid_f64(&storage.grid());
+    build_boxes_sharing(storage, boxes, |_, anchor| {
+        shares_frame_with_children(&grid, anchor)
+    })
+}
+
+/// [`build_boxes`] with another frame rule: `share(child, anchor)` says whether the box of `child` is in the
+/// frame of its parent's box, whose anchor is `anchor` (`None`: the grid), rather than in its parent's own
+/// frame. Any rule gives valid boxes; the kernel's tests and fuzz targets mix frames with it.
+pub fn build_boxes_sharing<T: Real, H: Real, B: Buffers<T, H>>(
+    storage: &TreeStorage<T, H, B>,
+    boxes: &mut [Option<NodeBox>],
+    share: impl Fn(NodeId, Option<&Node<f64>>) -> bool,
+) -> Result<(), BuildError> {
+    let parts = storage.buffers().parts();
+    let tree = storage.tree();
+    let boxes = match boxes.len() == tree.slots() {
+        true => boxes,
+        false => return Err(BuildError::BufferLength),
+    };
+    let e = storage.ellipsoid();
+    let view = View64 {
+        ellipsoid: Ellipsoid::new(e.a().to_f64(), e.b().to_f64())
+            .map_err(|_| BuildError::InvalidGrid)?,
+        grid: grid_f64(&storage.grid()),
+        heights: parts.heights,
+        nodes: parts.nodes,
+        trig: parts.trig.filter(|_| T::MANTISSA_DIGITS == 53),
+    };
+    let g = storage.grid();
+    let levels = Levels::new(g.rows, g.cols, tree.block()).ok_or(BuildError::InvalidBlock)?;
+    for k in 0..boxes.len() {
+        let id = NodeId(u32::try_from(k).map_err(|_| BuildError::BufferLength)?);
+        let built = view.node(id).filter(|n| n.heights.is_some()).and_then(|n| {
+            let (anchor, shared) = frame_of(&view, &levels, id, &share)?;
+            let a = anchor.and_then(|a| view.node(a));
+            if n.is_leaf() {
+                return NodeBox::of_vertices(&view, &view.ellipsoid, &n, a.as_ref(), shared);
+            }
+            let frame = LocalFrame::for_box(&view, &view.ellipsoid, a.as_ref());
+            let own = LocalFrame::of(&view, &view.ellipsoid, &n);
+            let (mut b, mut union) = (BoxBuilder::default(), None::<NodeBox>);
+            for cid in n.children.iter().flatten() {
+                let child = usize::try_from(cid.0).ok().and_then(|c| boxes.get(c));
+                let Some(cb) = child.copied().flatten() else {
+                    continue;
+                };
+                if cb.shared_frame {
+                    union = Some(union.map_or(cb, |u| u.union(&cb)));
+                } else {
+                    for q in cb.corners() {
+                        b.add_point(&frame, own.point(q));
+                    }
+                }
+            }
+            match (union, b.finish()) {
+                (Some(u), Some(c)) => Some(u.union(&c)),
+                (u, c) => u.or(c),
+            }
+            .map(|b| NodeBox {
+                shared_frame: shared,
+                ..b
+            })
+        });
+        if let Some(out) = boxes.get_mut(k) {
+            *out = built;
+        }
+    }
+    Ok(())
+}
+
+/// The frame of node `id`'s box: its anchor (`None`: the grid) and whether it is its parent's box frame, found
+/// on the way down from its zone (the children partition their parent's cells, so one contains the node's);
+/// `None` if no zone reaches the node. At most one step per level.
+fn frame_of<T: Real, H: Real>(
+    view: &View64<'_, T, H>,
+    levels: &Levels,
+    id: NodeId,
+    share: &impl Fn(NodeId, Option<&Node<f64>>) -> bool,
+) -> Option<(Option<NodeId>, bool)> {
+    let target = view.node(id)?;
+    // The node's level and position, then its zone: the node at the top level above it.
+    let level = (0..levels.count).rev().find(|&l| {
+        let len = u32::try_from(level_slots_of(levels, l)).unwrap_or(0);
+        levels
+            .offset
+            .get(l)
+            .and_then(|&o| id.0.checked_sub(o))
+            .is_some_and(|k| k < len)
+    })?;
+    let (r, c) = levels.locate(level, id.0)?;
+    let top = levels.count.checked_sub(1)?;
+    let up = u32::try_from(top.checked_sub(level)?).ok()?;
+    let mut cur = NodeId(levels.slot(top, r.checked_shr(up)?, c.checked_shr(up)?)?);
+    if cur == id {
+        return Some((None, false));
+    }
+    let inside = |n: &Node<f64>| {
+        n.rows[0] <= target.rows[0]
+            && target.rows[1] <= n.rows[1]
+            && n.cols[0] <= target.cols[0]
+            && target.cols[1] <= n.cols[1]
+    };
+    let mut anchor: Option<NodeId> = None;
+    for _ in 0..levels.count {
+        let node = view.node(cur)?;
+        let kid = node
+            .children
+            .into_iter()
+            .flatten()
+            .find(|&k| view.node(k).is_some_and(|n| inside(&n)))?;
+        let anchor_node = anchor.and_then(|a| view.node(a));
+        let shared = share(kid, anchor_node.as_ref());
+        if kid == id {
+            return Some(if shared {
+                (anchor, true)
+            } else {
+                (Some(cur), false)
+            });
+        }
+        if !shared {
+            anchor = Some(cur);
+        }
+        cur = kid;
+    }
+    None
+}
+
+/// The slots of level `l`.
+fn level_slots_of(levels: &Levels, l: usize) -> u64 {
+    let [r, c] = levels.dims(l);
+    level_slots(r, c)
+}
+
+/// A grid in `f64` (exact from `f32`).
+fn grid_f64<T: Real>(g: &Grid<T>) -> Grid<f64> {
+    Grid {
+        lat0: g.lat0.to_f64(),
+        lon0: g.lon0.to_f64(),
+        dlat: g.dlat.to_f64(),
+        dlon: g.dlon.to_f64(),
+        rows: g.rows,
+        cols: g.cols,
+    }
+}
+
+/// The tree in `f64`, for building boxes: heights and node height ranges converted, the trigonometry computed
+/// in `f64` (or read from an `f64` storage's tables, which hold the same values).
+struct View64<'a, T, H> {
+    ellipsoid: Ellipsoid<f64>,
+    grid: Grid<f64>,
+    heights: &'a [H],
+    nodes: &'a [NodeRecord<T>],
+    trig: Option<TrigTables<'a, T>>,
+}
+
+impl<T: Real, H: Real> TerrainStorage<f64> for View64<'_, T, H> {
+    fn ellipsoid(&self) -> Ellipsoid<f64> {
+        self.ellipsoid
+    }
+    fn grid(&self) -> Grid<f64> {
+        self.grid
+    }
+    fn zone_count(&self) -> usize {
+        0 // never picked
+    }
+    fn zone(&self, _: usize) -> Option<NodeId> {
+        None
+    }
+    fn node(&self, id: NodeId) -> Option<Node<f64>> {
+        let r = self.nodes.get(usize::try_from(id.0).ok()?)?.node();
+        Some(Node {
+            rows: r.rows,
+            cols: r.cols,
+            heights: r.heights.map(|h| h.map(Real::to_f64)),
+            children: r.children,
+            level: r.level,
+        })
+    }
+    fn height(&self, i: u32, j: u32) -> Option<f64> {
+        if i >= self.grid.rows || j >= self.grid.cols {
+            return None;
+        }
+        let k = u64::from(i)
+            .checked_mul(u64::from(self.grid.cols))?
+            .checked_add(u64::from(j))?;
+        let h = self.heights.get(usize::try_from(k).ok()?)?.to_f64();
+        (!h.is_nan()).then_some(h)
+    }
+    fn row_sin_cos(&self, i: u32) -> (f64, f64) {
+        let cached = self
+            .trig
+            .and_then(|t| t.row_sin_cos.get(usize::try_from(i).ok()?).copied());
+        cached.map_or_else(
+            || sin_cos_deg(self.grid.lat_deg(i)),
+            |(s, c)| (s.to_f64(), c.to_f64()),
+        )
+    }
+    fn col_sin_cos(&self, j: u32) -> (f64, f64) {
+        let cached = self
+            .trig
+            .and_then(|t| t.col_sin_cos.get(usize::try_from(j).ok()?).copied());
+        cached.map_or_else(
+            || sin_cos_deg(self.grid.lon_deg(j)),
+            |(s, c)| (s.to_f64(), c.to_f64()),
+        )
+    }
+}
