@@ -3,7 +3,7 @@
 //! Runs every case of [`cases::CASES`] (expected answers computed on the host by the arbitrary-precision oracle)
 //! through the kernel's [`Surface::crossings`] in `f64` and in `f32`, plus a march through a spherical grid
 //! (serial engine), an edge-beveled sphere and a terrain pick (with the hit refinement, with and without node
-//! boxes, the boxes built on the target by `NodeBox::of_vertices`) with hand-derived
+//! boxes; the tree and its boxes built on the target by `terrain::build`) with hand-derived
 //! expectations (the slanted pick's from the host's terrain oracle), and a quadtree built on the target by
 //! `terrain::build` from a crop of the Trinidad DEM ([`dem_crop`]) picked in `f64` and `f32` against the host
 //! oracle's answers (the pass line counts these under "march, bevel and pick"), prints one line per failure and a
@@ -43,9 +43,10 @@ use curvicast::spherical::SphericalGrid;
 use curvicast::surface::{
     AxialCone, Crossings, HalfPlane, PlaneZ, Side, Spheroid, Surface, SurfaceError,
 };
-use curvicast::terrain::boxes::NodeBox;
-use curvicast::terrain::build::{NodeRecord, SliceStorage, build_tree, node_slots};
-use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainStorage};
+use curvicast::terrain::build::{
+    NodeRecord, Parts, SliceStorage, TreeStorage, build_boxes_sharing, build_tree, node_slots,
+};
+use curvicast::terrain::{Grid, Node, NodeId, Picker};
 use curvicast::tessellate::bevel::{Face, bevel_sphere, face_count, vertex_count};
 use curvicast::vec3::V3;
 
@@ -175,103 +176,33 @@ fn bevel_case<T: Real>(tol: f64) -> bool {
     counts.vertices == NV && counts.faces == NF && centers_touch && outside
 }
 
-/// A 3 × 3-vertex DEM near (10°N, 20°E), flat at 0 m with the center vertex raised to 500 m: one zone split into
-/// four one-cell leaves, with or without node boxes (`boxes` by node id; two of the leaves' boxes share the
-/// zone's box frame).
-struct Peak {
-    boxes: [Option<NodeBox>; 5],
+/// Vertex rows of the peak DEM ([`peak_heights`]).
+const PEAK_ROWS: u32 = 3;
+/// Vertex columns of the peak DEM: ten, so that the builder's one-cell leaves (2 × 9) sit under five zones of
+/// 2 × 2 leaves, the first of them the peak's.
+const PEAK_COLS: u32 = 10;
+/// Node slots of the peak DEM's tree with one-cell leaves.
+const PEAK_SLOTS: usize = node_slots(PEAK_ROWS, PEAK_COLS, 1);
+
+/// A 3 × 10-vertex DEM from (10°N, 20°E) at 0.01°, flat at 0 m with vertex (1, 1) raised to 500 m, row-major.
+fn peak_heights<T: Real>() -> [T; (PEAK_ROWS * PEAK_COLS) as usize] {
+    let mut h = [T::ZERO; (PEAK_ROWS * PEAK_COLS) as usize];
+    if let Some(v) = h.get_mut(PEAK_COLS as usize + 1) {
+        *v = T::from_f64(500.0);
+    }
+    h
 }
 
-/// Node 0 is the zone `[0, 2] × [0, 2]`; nodes 1–4 its cells.
-fn peak_ranges(id: NodeId) -> Option<([u32; 2], [u32; 2])> {
-    match id.0 {
-        0 => Some(([0, 2], [0, 2])),
-        1 => Some(([0, 1], [0, 1])),
-        2 => Some(([0, 1], [1, 2])),
-        3 => Some(([1, 2], [0, 1])),
-        4 => Some(([1, 2], [1, 2])),
-        _ => None,
-    }
-}
-
-impl Peak {
-    /// The DEM with every node's box, built as a storage would.
-    fn boxed() -> Peak {
-        let plain = Peak { boxes: [None; 5] };
-        let e = Ellipsoid::<f64>::wgs84();
-        let mut boxes = [None; 5];
-        let zone = TerrainStorage::<f64>::node(&plain, NodeId(0));
-        for (k, b) in boxes.iter_mut().enumerate() {
-            let id = NodeId(u32::try_from(k).unwrap_or(u32::MAX));
-            if let Some(n) = TerrainStorage::<f64>::node(&plain, id) {
-                // The zone's box is in the grid's frame; leaves 1 and 3 share it, 2 and 4 are in the zone's.
-                let shared = k % 2 == 1;
-                let anchor = if k == 0 || shared {
-                    None
-                } else {
-                    zone.as_ref()
-                };
-                *b = NodeBox::of_vertices(&plain, &e, &n, anchor, shared);
-            }
-        }
-        Peak { boxes }
-    }
-}
-
-impl<T: Real> TerrainStorage<T> for Peak {
-    fn ellipsoid(&self) -> Ellipsoid<T> {
-        Ellipsoid::wgs84()
-    }
-    fn grid(&self) -> Grid<T> {
-        let h = |x: f64| T::from_f64(x);
-        Grid {
-            lat0: h(10.0),
-            lon0: h(20.0),
-            dlat: h(0.01),
-            dlon: h(0.01),
-            rows: 3,
-            cols: 3,
-        }
-    }
-    fn zone_count(&self) -> usize {
-        1
-    }
-    fn zone(&self, k: usize) -> Option<NodeId> {
-        (k == 0).then_some(NodeId(0))
-    }
-    fn node(&self, id: NodeId) -> Option<Node<T>> {
-        let (rows, cols) = peak_ranges(id)?;
-        let children = if id.0 == 0 {
-            [
-                Some(NodeId(1)),
-                Some(NodeId(2)),
-                Some(NodeId(3)),
-                Some(NodeId(4)),
-            ]
-        } else {
-            [None; 4]
-        };
-        // Every node holds the raised center vertex.
-        Some(Node {
-            rows,
-            cols,
-            heights: Some([T::ZERO, T::from_f64(500.0)]),
-            children,
-            level: u8::from(id.0 != 0),
-        })
-    }
-    fn height(&self, i: u32, j: u32) -> Option<T> {
-        (i < 3 && j < 3).then_some(if i == 1 && j == 1 {
-            T::from_f64(500.0)
-        } else {
-            T::ZERO
-        })
-    }
-    fn node_box(&self, id: NodeId) -> Option<NodeBox> {
-        self.boxes
-            .get(usize::try_from(id.0).ok()?)
-            .copied()
-            .flatten()
+/// The peak DEM's grid.
+fn peak_grid<T: Real>() -> Grid<T> {
+    let h = |x: f64| T::from_f64(x);
+    Grid {
+        lat0: h(10.0),
+        lon0: h(20.0),
+        dlat: h(0.01),
+        dlon: h(0.01),
+        rows: PEAK_ROWS,
+        cols: PEAK_COLS,
     }
 }
 
@@ -286,15 +217,34 @@ const PEAK_SLOPE_H: f64 = 399.966_730_307_997_1;
 fn pick_case<T: Real>(tol_m: f64, boxed: bool) -> bool {
     let e = Ellipsoid::<T>::wgs84();
     let h = |x: f64| T::from_f64(x);
-    let dem = if boxed {
-        Peak::boxed()
-    } else {
-        Peak { boxes: [None; 5] }
-    };
-    if boxed && dem.boxes.iter().any(Option::is_none) {
+    // The tree built on the target by the kernel's builder, and with `boxed` its node boxes (odd-numbered
+    // nodes' boxes in their parent's box frame, the others in their parent's own frame).
+    let heights = peak_heights::<T>();
+    let mut nodes = [NodeRecord::<T>::EMPTY; PEAK_SLOTS];
+    let Ok(tree) = build_tree(&heights, &peak_grid::<T>(), 1, &mut nodes) else {
         return false;
+    };
+    let Ok(bare) = SliceStorage::new(Ellipsoid::wgs84(), peak_grid(), &heights, &nodes, tree)
+    else {
+        return false;
+    };
+    let mut boxes = [None; PEAK_SLOTS];
+    if boxed {
+        let odd = |id: NodeId, _: Option<&Node<f64>>| id.0 % 2 == 1;
+        if build_boxes_sharing(&bare, &mut boxes, odd).is_err()
+            || !boxes.iter().any(|b| b.is_some_and(|b| b.shared_frame))
+        {
+            return false;
+        }
     }
-    let Ok(picker) = Picker::<'_, T, Peak, 16, 4>::new(&dem) else {
+    let parts = Parts {
+        boxes: if boxed { &boxes } else { &[] },
+        ..Parts::new(&heights[..], &nodes[..])
+    };
+    let Ok(dem) = TreeStorage::with_buffers(Ellipsoid::wgs84(), peak_grid(), tree, parts) else {
+        return false;
+    };
+    let Ok(picker) = Picker::<'_, T, SliceStorage<'_, T>, 16, 8>::new(&dem) else {
         return false;
     };
     let top = e.geodetic_deg_to_ecef(h(10.01), h(20.01), h(10_000.0));

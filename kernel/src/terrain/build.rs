@@ -24,8 +24,8 @@
 //!
 //! What makes a storage fast, each into a buffer the caller provides (lengths from `const fn`s): the per-row
 //! and per-column trigonometry the kernel asks for at every quad wall and vertex ([`trig_tables`]: exactly the
-//! values [`TerrainStorage`](super::TerrainStorage) requires), and per-node boxes in local frames with the
-//! shared-frame rule ([`build_boxes`], in `f64` as [`TerrainStorage::node_box`](super::TerrainStorage::node_box)
+//! values [`TerrainStorage`] requires), and per-node boxes in local frames with the
+//! shared-frame rule ([`build_boxes`], in `f64` as [`TerrainStorage::node_box`]
 //! requires). For the paged pyramid of §5, [`build_multires_tree`] builds the same tree with a block per node
 //! at stride `2^k` and the branches of a [`MultiRes`] shape; residency flags (`&[AtomicBool]`, one per slot)
 //! let the caller page blocks in and out. [`TreeStorage`] serves all of it, from borrowed slices
