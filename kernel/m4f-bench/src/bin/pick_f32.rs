@@ -1,5 +1,6 @@
 //! The terrain pick in `f32` (seeds 000/003) on a small DEM without node boxes: 9 × 9 vertices at 0.01° near
-//! (45° N, 7° E) on WGS84, one zone that is a single leaf of 8 × 8 cells, heights 0–300 m from a fixed pattern.
+//! (45° N, 7° E) on WGS84, one zone that is a single leaf of 8 × 8 cells (built by the kernel's builder), heights
+//! 0–300 m from a fixed pattern.
 //! 32 rays from 5 km above the DEM down to points inside it: the mean instructions per pick (with the hit
 //! refinement), the number of hits, and one pick's stack high-water mark.
 
@@ -9,46 +10,23 @@
 use cortex_m_rt::entry;
 use curvicast::geodesy::Ellipsoid;
 use curvicast::ray::Ray;
-use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainStorage};
+use curvicast::terrain::build::{NodeRecord, SliceStorage, build_tree, node_slots};
+use curvicast::terrain::{Grid, Picker};
 use curvicast_m4f_bench::{Out, Rng, Timer, finish, loop_check, stack_high_water};
 
-/// The DEM: heights `50 · ((3i + 5j) mod 7)` m.
-struct Hills;
-
+/// Vertex rows and columns of the DEM.
 const N: u32 = 9;
+/// Cells per leaf block: the whole DEM is one leaf (and its one zone).
+const BLOCK: u32 = 8;
 
-impl TerrainStorage<f32> for Hills {
-    fn ellipsoid(&self) -> Ellipsoid<f32> {
-        Ellipsoid::wgs84()
+/// The DEM's heights, row-major: `50 · ((3i + 5j) mod 7)` m.
+fn hills() -> [f32; (N * N) as usize] {
+    let mut h = [0.0; (N * N) as usize];
+    for (k, v) in (0u32..).zip(h.iter_mut()) {
+        let (i, j) = (k / N, k % N);
+        *v = 50.0 * ((3 * i + 5 * j) % 7) as f32;
     }
-    fn grid(&self) -> Grid<f32> {
-        Grid {
-            lat0: 45.0,
-            lon0: 7.0,
-            dlat: 0.01,
-            dlon: 0.01,
-            rows: N,
-            cols: N,
-        }
-    }
-    fn zone_count(&self) -> usize {
-        1
-    }
-    fn zone(&self, k: usize) -> Option<NodeId> {
-        (k == 0).then_some(NodeId(0))
-    }
-    fn node(&self, id: NodeId) -> Option<Node<f32>> {
-        (id.0 == 0).then_some(Node {
-            rows: [0, N - 1],
-            cols: [0, N - 1],
-            heights: Some([0.0, 300.0]),
-            children: [None; 4],
-            level: 0,
-        })
-    }
-    fn height(&self, i: u32, j: u32) -> Option<f32> {
-        (i < N && j < N).then(|| 50.0 * ((3 * i + 5 * j) % 7) as f32)
-    }
+    h
 }
 
 const PICKS: u32 = 32;
@@ -61,8 +39,24 @@ fn main() -> ! {
     };
     timer.calibrate(&mut out);
     let mut ok = loop_check(&mut timer, &mut out);
-    let dem = Hills;
-    let Ok(picker) = Picker::<'_, f32, Hills, 16, 4>::new(&dem) else {
+    // The tree built by the kernel's builder (what a user on the target does).
+    let grid = Grid {
+        lat0: 45.0,
+        lon0: 7.0,
+        dlat: 0.01,
+        dlon: 0.01,
+        rows: N,
+        cols: N,
+    };
+    let heights = hills();
+    let mut nodes = [NodeRecord::<f32>::EMPTY; node_slots(N, N, BLOCK)];
+    let Ok(tree) = build_tree(&heights, &grid, BLOCK, &mut nodes) else {
+        finish(&mut out, false)
+    };
+    let Ok(dem) = SliceStorage::new(Ellipsoid::wgs84(), grid, &heights, &nodes, tree) else {
+        finish(&mut out, false)
+    };
+    let Ok(picker) = Picker::<'_, f32, SliceStorage<'_, f32>, 16, 4>::new(&dem) else {
         finish(&mut out, false)
     };
     let e = Ellipsoid::<f32>::wgs84();
