@@ -9,17 +9,21 @@
 //! * no miss: if the brute force finds a hit at a non-grazing angle whose point lies at least 1 mm inside a
 //!   triangle (from every edge), the kernel must return a hit no farther than it (within 1 mm).
 //!
-//! Bit 3 of `rows` (unused by the grid size) makes the storage provide node boxes
-//! ([`TerrainStorage::node_box`]), built here from every vertex of each node, so that half of the inputs run the
-//! traversal's box tests and half its spheroidal volumes (the shipped seeds keep the volumes); bits 4–7 choose
-//! which boxes are in their parent's box frame rather than their parent's own.
+//! The tree is the kernel's builder's (`terrain::build`): with `split`, one-cell leaves under zones (two levels
+//! once a side has more than four cells), else one leaf over the whole grid. Bit 3 of `rows` (unused by the grid
+//! size) makes the storage provide node boxes (`TerrainStorage::node_box`, built by `build_boxes_sharing` from
+//! every vertex of each node), so that half of the inputs run the traversal's box tests and half its spheroidal
+//! volumes (the shipped seeds keep the volumes); bits 4–7 choose which boxes are in their parent's box frame
+//! rather than their parent's own.
 #![no_main]
 
 use arbitrary::Arbitrary;
 use curvicast::Ray;
 use curvicast::geodesy::Ellipsoid;
-use curvicast::terrain::boxes::{NodeBox, anchor_of};
-use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainStorage};
+use curvicast::terrain::build::{
+    NodeRecord, Parts, SliceStorage, TreeStorage, build_boxes_sharing, build_tree, node_slots,
+};
+use curvicast::terrain::{Grid, Node, NodeId, Picker};
 use libfuzzer_sys::fuzz_target;
 
 #[derive(Debug, Arbitrary)]
@@ -40,87 +44,6 @@ struct Input {
     jitter: [i16; 3],
     t_max: Option<u16>,
     split: bool,
-}
-
-struct Tiny {
-    grid: Grid<f64>,
-    h: Vec<Option<f64>>,
-    nodes: Vec<Node<f64>>,
-    zones: Vec<NodeId>,
-    /// Node boxes by id (empty: the storage provides none).
-    boxes: Vec<Option<NodeBox>>,
-}
-
-impl Tiny {
-    fn range(&self, r: [u32; 2], c: [u32; 2]) -> Option<[f64; 2]> {
-        let mut out: Option<[f64; 2]> = None;
-        for i in r[0]..=r[1] {
-            for j in c[0]..=c[1] {
-                if let Some(h) = self.h[(i * self.grid.cols + j) as usize] {
-                    out = Some(out.map_or([h, h], |[a, b]| [a.min(h), b.max(h)]));
-                }
-            }
-        }
-        out
-    }
-    /// The box of every node, from all of its vertices with data, as the storage's contract states it
-    /// (computed while the storage provides no boxes): a child's box in the frame of its parent's box where
-    /// bit `k % 4` of `share` is set (node `k`), else in its parent's own frame (a zone's in the grid's).
-    fn build_boxes(&self, share: u8) -> Vec<Option<NodeBox>> {
-        let e = self.ellipsoid();
-        let parent = |k: usize| {
-            self.nodes
-                .iter()
-                .position(|p| p.children.iter().flatten().any(|c| c.0 as usize == k))
-        };
-        let shared = |k: usize| parent(k).is_some() && (share >> (k % 4)) & 1 == 1;
-        let n = self.nodes.len();
-        (0..n)
-            .map(|k| {
-                let a = anchor_of(k, n, parent, shared).map(|a| &self.nodes[a]);
-                NodeBox::of_vertices(self, &e, &self.nodes[k], a, shared(k))
-            })
-            .collect()
-    }
-    fn node(&self, rows: [u32; 2], cols: [u32; 2], level: u8) -> Node<f64> {
-        Node {
-            rows,
-            cols,
-            heights: self.range(rows, cols),
-            children: [None; 4],
-            level,
-        }
-    }
-}
-
-impl TerrainStorage<f64> for Tiny {
-    fn ellipsoid(&self) -> Ellipsoid<f64> {
-        Ellipsoid::wgs84()
-    }
-    fn grid(&self) -> Grid<f64> {
-        self.grid
-    }
-    fn zone_count(&self) -> usize {
-        self.zones.len()
-    }
-    fn zone(&self, k: usize) -> Option<NodeId> {
-        self.zones.get(k).copied()
-    }
-    fn node(&self, id: NodeId) -> Option<Node<f64>> {
-        self.nodes.get(id.0 as usize).copied()
-    }
-    fn height(&self, i: u32, j: u32) -> Option<f64> {
-        if i >= self.grid.rows || j >= self.grid.cols {
-            return None;
-        }
-        self.h
-            .get((i * self.grid.cols + j) as usize)
-            .copied()
-            .flatten()
-    }
-    fn node_box(&self, id: NodeId) -> Option<NodeBox> {
-        self.boxes.get(id.0 as usize).copied().flatten()
-    }
 }
 
 type P3 = [f64; 3];
@@ -211,47 +134,45 @@ fuzz_target!(|inp: Input| {
         cols,
     };
     let n = (rows * cols) as usize;
-    let h: Vec<Option<f64>> = (0..n)
+    let h: Vec<f64> = (0..n)
         .map(|k| {
-            ((inp.nodata >> k) & 1 == 0 || k >= 128).then(|| f64::from(inp.heights[k % 81]) / 4.0)
+            if (inp.nodata >> k) & 1 == 0 || k >= 128 {
+                f64::from(inp.heights[k % 81]) / 4.0
+            } else {
+                f64::NAN
+            }
         })
         .collect();
-    let mut t = Tiny {
-        grid,
-        h,
-        nodes: Vec::new(),
-        zones: Vec::new(),
-        boxes: Vec::new(),
-    };
     let (cr, cc) = (rows - 1, cols - 1);
-    let root = t.node([0, cr], [0, cc], 0);
-    t.nodes.push(root);
-    if inp.split && cr >= 2 && cc >= 2 {
-        let (mr, mc) = (cr / 2, cc / 2);
-        let mut kids = [None; 4];
-        for (k, (r, c)) in [
-            ([0, mr], [0, mc]),
-            ([0, mr], [mc, cc]),
-            ([mr, cr], [0, mc]),
-            ([mr, cr], [mc, cc]),
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            let node = t.node(r, c, 1);
-            if node.heights.is_some() {
-                kids[k] = Some(NodeId(t.nodes.len() as u32));
-                t.nodes.push(node);
-            }
-        }
-        t.nodes[0].children = kids;
-    }
-    t.zones.push(NodeId(0));
-    if inp.rows & 0x08 != 0 {
-        t.boxes = t.build_boxes(inp.rows >> 4);
-    }
+    // The kernel's builder: one-cell leaves under zones of up to 2 × 2 of them (two levels once a side has more
+    // than four cells), or with `split` unset one block over the whole grid (a single zone that is a leaf).
+    let block = if inp.split { 1 } else { 8 };
+    let mut nodes = vec![NodeRecord::EMPTY; node_slots(rows, cols, block)];
+    let Ok(tree) = build_tree(&h, &grid, block, &mut nodes) else {
+        return;
+    };
     let e = Ellipsoid::<f64>::wgs84();
-    let Ok(picker) = Picker::<'_, f64, Tiny>::new(&t) else {
+    let Ok(bare) = SliceStorage::new(e, grid, &h, &nodes, tree) else {
+        return;
+    };
+    let mut boxes = vec![None; tree.slots()];
+    if inp.rows & 0x08 != 0 {
+        let share = inp.rows >> 4;
+        let shared = |id: NodeId, _: Option<&Node<f64>>| (share >> (id.0 % 4)) & 1 == 1;
+        if build_boxes_sharing(&bare, &mut boxes, shared).is_err() {
+            return;
+        }
+    } else {
+        boxes.clear();
+    }
+    let parts = Parts {
+        boxes: &boxes,
+        ..Parts::new(&h[..], &nodes[..])
+    };
+    let Ok(t) = TreeStorage::with_buffers(e, grid, tree, parts) else {
+        return;
+    };
+    let Ok(picker) = Picker::<'_, f64, _>::new(&t) else {
         return;
     };
     let olat = (f64::from(inp.origin_lat) / 360.0).clamp(-90.0, 90.0);
@@ -281,7 +202,7 @@ fuzz_target!(|inp: Input| {
     let slack = 1e-3 + 1e-12 * norm(o);
     let at = |tt: f64| [o[0] + tt * d[0], o[1] + tt * d[1], o[2] + tt * d[2]];
     let vert = |i: u32, j: u32| {
-        let hh = t.height(i, j)?;
+        let hh = Some(h[(i * cols + j) as usize]).filter(|v| !v.is_nan())?;
         let p = e.geodetic_deg_to_ecef(grid.lat_deg(i), grid.lon_deg(j), hh);
         Some([p.x, p.y, p.z])
     };
