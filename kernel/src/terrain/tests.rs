@@ -1097,71 +1097,79 @@ fn ray_almost_in_the_meridian_plane_of_polar_sliver_triangles() {
 /// stride 2 and four children of 4 × 4 cells at stride 1, with residency and `min_level` chosen per test.
 mod multires {
     use super::*;
+    use build::{
+        MultiRes, NodeRecord, Parts, SliceStorage, TreeStorage, build_multires_tree, build_tree,
+        node_slots,
+    };
+    use core::sync::atomic::{AtomicBool, Ordering};
     use std::vec;
 
-    struct Paged<'a> {
-        dem: &'a TestDem,
-        resident: Vec<bool>,
-    }
-
-    impl TerrainStorage<f64> for Paged<'_> {
-        fn ellipsoid(&self) -> Ellipsoid<f64> {
-            self.dem.ellipsoid()
-        }
-        fn grid(&self) -> Grid<f64> {
-            self.dem.grid()
-        }
-        fn zone_count(&self) -> usize {
-            self.dem.zone_count()
-        }
-        fn zone(&self, k: usize) -> Option<NodeId> {
-            self.dem.zone(k)
-        }
-        fn node(&self, id: NodeId) -> Option<Node<f64>> {
-            self.dem.node(id)
-        }
-        fn height(&self, i: u32, j: u32) -> Option<f64> {
-            self.dem.height(i, j)
-        }
-        fn is_resident(&self, id: NodeId) -> bool {
-            self.resident.get(id.0 as usize).copied().unwrap_or(true)
-        }
-        fn block_stride(&self, id: NodeId) -> u32 {
-            if id == NodeId(0) { 2 } else { 1 }
-        }
-    }
+    /// Vertex rows and columns: 20 × 8 cells, so that the builder's 4 × 4-cell leaves (5 × 2) sit under three
+    /// zones, the first of them 8 × 8 cells with four children.
+    const ROWS: u32 = 21;
+    const COLS: u32 = 9;
 
     /// Flat at 0 m except V(1, 4) at 300 m: on the border between the children of columns 0–3 and 4–7, a vertex
     /// of the fine block that the zone's stride-2 block does not have.
-    fn dem() -> TestDem {
-        let mut h = vec![0.0; 81];
-        h[9 + 4] = 300.0;
-        let d = TestDem::new(grid(10.0, 20.0, 0.01, 0.01, 9, 9), h, 4, 1, 1);
-        assert_eq!(d.nodes.len(), 5);
-        d
+    struct Dem {
+        grid: Grid<f64>,
+        heights: Vec<f64>,
+        nodes: Vec<NodeRecord<f64>>,
+        tree: build::Tree,
+        resident: Vec<AtomicBool>,
+    }
+
+    fn dem() -> Dem {
+        let mut heights = vec![0.0; (ROWS * COLS) as usize];
+        heights[9 + 4] = 300.0;
+        let grid = grid(10.0, 20.0, 0.01, 0.01, ROWS, COLS);
+        let mut nodes = vec![NodeRecord::EMPTY; node_slots(ROWS, COLS, 4)];
+        let tree =
+            build_multires_tree(&heights, &grid, 4, MultiRes::default(), &mut nodes).unwrap();
+        assert_eq!(tree.depth(), 1);
+        let resident = (0..tree.slots()).map(|_| AtomicBool::new(true)).collect();
+        Dem {
+            grid,
+            heights,
+            nodes,
+            tree,
+            resident,
+        }
+    }
+
+    impl Dem {
+        /// The paged storage: the builder's multi-resolution tree with this DEM's residency flags.
+        fn paged(&self) -> SliceStorage<'_, f64> {
+            let parts = Parts {
+                resident: &self.resident,
+                ..Parts::new(&self.heights[..], &self.nodes[..])
+            };
+            TreeStorage::with_buffers(Ellipsoid::wgs84(), self.grid, self.tree, parts).unwrap()
+        }
+        /// The child covering rows 0–3, columns 0–3.
+        fn west_child(&self) -> NodeId {
+            let k = self
+                .nodes
+                .iter()
+                .position(|n| n.level == 1 && n.rows == [0, 4] && n.cols == [0, 4]);
+            NodeId(k.unwrap() as u32)
+        }
+        fn evict(&self, id: NodeId) {
+            self.resident[id.0 as usize].store(false, Ordering::Relaxed);
+        }
     }
 
     fn down_at(e: &Ellipsoid<f64>, lat: f64, lon: f64) -> Ray<f64> {
         radial_ray(e, lat, lon, 2000.0)
     }
 
-    /// The child covering rows 0–3, columns 0–3.
-    fn west_child(d: &TestDem) -> NodeId {
-        let k = d
-            .nodes
-            .iter()
-            .position(|n| n.level == 1 && n.rows == [0, 4] && n.cols == [0, 4]);
-        NodeId(k.unwrap() as u32)
-    }
-
     #[test]
     fn missing_leaf_falls_back_to_the_zone_block_stitched_to_its_fine_neighbour() {
         let d = dem();
-        let mut resident = vec![true; 5];
-        resident[west_child(&d).0 as usize] = false;
-        let s = Paged { dem: &d, resident };
-        let p: Picker<'_, f64, Paged<'_>> = Picker::new(&s).unwrap();
-        let e = d.e;
+        d.evict(d.west_child());
+        let s = d.paged();
+        let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
+        let e = Ellipsoid::wgs84();
         // West of the border, inside the zone's coarse cell (rows 0–2, columns 2–4): traced from the zone.
         let west = p.pick(&down_at(&e, 10.01, 20.0399)).unwrap().unwrap();
         assert_eq!((west.level, west.stride, west.cell), (0, 2, [0, 2]));
@@ -1194,12 +1202,11 @@ mod multires {
     #[test]
     fn needs_block_below_min_level_and_full_resolution_when_all_resident() {
         let d = dem();
-        let w = west_child(&d);
-        let mut resident = vec![true; 5];
-        resident[w.0 as usize] = false;
-        let s = Paged { dem: &d, resident };
-        let e = d.e;
-        let p: Picker<'_, f64, Paged<'_>> = Picker::new(&s).unwrap();
+        let w = d.west_child();
+        d.evict(w);
+        let s = d.paged();
+        let e = Ellipsoid::wgs84();
+        let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
         let p = p.with_min_level(1);
         assert_eq!(
             p.pick(&down_at(&e, 10.01, 20.01)),
@@ -1209,12 +1216,12 @@ mod multires {
         let far = p.pick(&down_at(&e, 10.06, 20.06)).unwrap().unwrap();
         assert_eq!((far.level, far.stride), (1, 1));
         // Everything resident: the full-resolution surface, as the single-resolution storage gives it.
-        let all = Paged {
-            dem: &d,
-            resident: vec![true; 5],
-        };
-        let p: Picker<'_, f64, Paged<'_>> = Picker::new(&all).unwrap();
-        let single: Picker<'_, f64, TestDem> = Picker::new(&d).unwrap();
+        d.resident[w.0 as usize].store(true, Ordering::Relaxed);
+        let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
+        let mut nodes = vec![NodeRecord::EMPTY; node_slots(ROWS, COLS, 4)];
+        let tree = build_tree(&d.heights, &d.grid, 4, &mut nodes).unwrap();
+        let flat = SliceStorage::new(Ellipsoid::wgs84(), d.grid, &d.heights, &nodes, tree).unwrap();
+        let single: Picker<'_, f64, _> = Picker::new(&flat).unwrap();
         for (lat, lon) in [
             (10.01, 20.04),
             (10.013, 20.0399),
