@@ -60,7 +60,14 @@ impl Buffers<f64, f32> for DemBuffers<'_> {
 #[derive(Debug)]
 pub struct DemStorage<'a> {
     dem: &'a Dem,
+    grid: Grid<f64>,
+    ellipsoid: Ellipsoid<f64>,
+    /// The kernel's storage; if the builder refused the DEM (an invalid grid), one over a 2 × 2 grid without
+    /// data, so that the picker over this storage reports the DEM's grid's error ([`DemStorage::grid`] is the
+    /// DEM's) and nothing else changes.
     storage: TreeStorage<f64, f32, DemBuffers<'a>>,
+    /// Why the builder refused the DEM, if it did.
+    refused: Option<build::BuildError>,
 }
 
 /// How [`DemStorage::multi_resolution`] shapes a multi-resolution tree (seed 000 §5, Fig. 11): every node has a
@@ -104,13 +111,53 @@ impl<'a> DemStorage<'a> {
             cols: dem.cols as u32,
         };
         let e = Ellipsoid::new(dem.a, dem.b).unwrap_or_else(|_| Ellipsoid::wgs84());
+        let (storage, refused) = match Self::build_storage(&dem.heights, &grid, &e, block, multires)
+        {
+            Ok(s) => (s, None),
+            Err(why) => {
+                static NODATA: [f32; 4] = [f32::NAN; 4];
+                let g = Grid {
+                    lat0: 0.0,
+                    lon0: 0.0,
+                    dlat: 1.0,
+                    dlon: 1.0,
+                    rows: 2,
+                    cols: 2,
+                };
+                let s = Self::build_storage(&NODATA, &g, &e, 1, None)
+                    .expect("a 2 × 2 grid without data builds");
+                (s, Some(why))
+            }
+        };
+        DemStorage {
+            dem,
+            grid,
+            ellipsoid: e,
+            storage,
+            refused,
+        }
+    }
+
+    /// Why the builder refused the DEM (its grid is invalid: the picker says why), `None` if it did not.
+    pub fn refused(&self) -> Option<build::BuildError> {
+        self.refused
+    }
+
+    /// The builder's tree, tables and boxes in vectors (module docs).
+    fn build_storage(
+        heights: &'a [f32],
+        grid: &Grid<f64>,
+        e: &Ellipsoid<f64>,
+        block: u32,
+        multires: Option<MultiRes>,
+    ) -> Result<TreeStorage<f64, f32, DemBuffers<'a>>, build::BuildError> {
         let slots = node_slots(grid.rows, grid.cols, block);
         let mut nodes = vec![NodeRecord::EMPTY; slots];
         let tree = match multires {
-            None => build::build_tree(&dem.heights, &grid, block, &mut nodes),
+            None => build::build_tree(heights, grid, block, &mut nodes),
             Some(m) => build::build_multires_tree(
-                &dem.heights,
-                &grid,
+                heights,
+                grid,
                 block,
                 build::MultiRes {
                     fine_region: m.fine_region,
@@ -118,14 +165,13 @@ impl<'a> DemStorage<'a> {
                 },
                 &mut nodes,
             ),
-        }
-        .expect("a valid DEM has a tree");
+        }?;
         let (rows, cols) = (
             build::row_table_len(grid.rows),
             build::col_table_len(grid.cols),
         );
         let mut b = DemBuffers {
-            heights: &dem.heights,
+            heights,
             nodes,
             boxes: Vec::new(),
             row_sin_cos: vec![(0.0, 0.0); rows],
@@ -135,23 +181,23 @@ impl<'a> DemStorage<'a> {
             resident: Vec::new(),
         };
         build::trig_tables(
-            &e,
-            &grid,
+            e,
+            grid,
             &mut b.row_sin_cos,
             &mut b.col_sin_cos,
             &mut b.row_parallel,
             &mut b.col_sin_cos_dd,
-        )
-        .expect("tables of the grid's lengths");
+        )?;
         let mut boxes = vec![None; slots];
-        let bare = TreeStorage::with_buffers(e, grid, tree, b.parts()).expect("the builder's tree");
-        build::build_boxes(&bare, &mut boxes).expect("a box per slot");
+        build::build_boxes(
+            &TreeStorage::with_buffers(*e, *grid, tree, b.parts())?,
+            &mut boxes,
+        )?;
         b.boxes = boxes;
         if multires.is_some() {
             b.resident = (0..slots).map(|_| AtomicBool::new(true)).collect();
         }
-        let storage = TreeStorage::with_buffers(e, grid, tree, b).expect("the builder's tree");
-        DemStorage { dem, storage }
+        TreeStorage::with_buffers(*e, *grid, tree, b)
     }
 
     /// The DEM.
@@ -159,10 +205,16 @@ impl<'a> DemStorage<'a> {
         self.dem
     }
 
+    /// The kernel's storage, `None` if the builder refused the DEM.
+    fn kernel(&self) -> Option<&TreeStorage<f64, f32, DemBuffers<'a>>> {
+        self.refused.is_none().then_some(&self.storage)
+    }
+
     /// Marks node `id`'s block resident or not (multi-resolution mode; a single-resolution storage keeps every
     /// block resident and ignores this).
     pub fn set_resident(&self, id: NodeId, resident: bool) {
-        if let Some(flag) = self.storage.buffers().resident.get(id.0 as usize) {
+        let flags = self.kernel().map_or(&[][..], |s| &s.buffers().resident[..]);
+        if let Some(flag) = flags.get(id.0 as usize) {
             flag.store(resident, Ordering::Relaxed);
         }
     }
@@ -171,7 +223,9 @@ impl<'a> DemStorage<'a> {
     /// reachable from the zones, with its parent, level, ranges, stride and residency, in id order.
     pub fn tree(&self) -> Vec<crate::oracle::multires::TreeNode> {
         let mut out = Vec::new();
-        let s = &self.storage;
+        let Some(s) = self.kernel() else {
+            return Vec::new();
+        };
         let mut stack: Vec<(NodeId, Option<u32>)> = (0..s.zone_count())
             .filter_map(|k| s.zone(k))
             .map(|z| (z, None))
@@ -198,24 +252,26 @@ impl<'a> DemStorage<'a> {
 
     /// Cells per leaf-block side.
     pub fn block(&self) -> usize {
-        self.storage.tree().block() as usize
+        self.kernel().map_or(1, |s| s.tree().block() as usize)
     }
 
     /// Number of node records: the id slots of all levels from the leaves up to the zones (levels are stored by
     /// 2 × 2 groups, so a few slots past odd last rows and columns hold no node).
     pub fn node_count(&self) -> usize {
-        self.storage.tree().slots()
+        self.kernel().map_or(0, |s| s.tree().slots())
     }
 
     /// The depth of the tree: the level of the leaves below the zones (zones are level 0).
     pub fn depth(&self) -> u32 {
-        self.storage.tree().depth()
+        self.kernel().map_or(0, |s| s.tree().depth())
     }
 
     /// The memory the tree adds to the heights, in bytes: one record and one box per node slot, the residency
     /// flags, and the per-row / per-column trigonometry tables.
     pub fn overhead_bytes(&self) -> usize {
-        let b = self.storage.buffers();
+        let Some(b) = self.kernel().map(TreeStorage::buffers) else {
+            return 0;
+        };
         b.nodes.len() * std::mem::size_of::<NodeRecord<f64>>()
             + b.boxes.len() * std::mem::size_of::<Option<NodeBox>>()
             + b.resident.len() * std::mem::size_of::<AtomicBool>()
@@ -232,10 +288,10 @@ impl<'a> DemStorage<'a> {
 
 impl TerrainStorage<f64> for DemStorage<'_> {
     fn ellipsoid(&self) -> Ellipsoid<f64> {
-        self.storage.ellipsoid()
+        self.ellipsoid
     }
     fn grid(&self) -> Grid<f64> {
-        self.storage.grid()
+        self.grid
     }
     fn zone_count(&self) -> usize {
         self.storage.zone_count()
@@ -284,11 +340,11 @@ impl TerrainStorage<f64> for DemStorage<'_> {
 /// requires exactly `sin_cos_deg` in `f32`), as the trait's defaults do.
 impl TerrainStorage<f32> for DemStorage<'_> {
     fn ellipsoid(&self) -> Ellipsoid<f32> {
-        let e = self.storage.ellipsoid();
+        let e = self.ellipsoid;
         Ellipsoid::new(e.a() as f32, e.b() as f32).unwrap_or_else(|_| Ellipsoid::wgs84())
     }
     fn grid(&self) -> Grid<f32> {
-        let g = self.storage.grid();
+        let g = self.grid;
         Grid {
             lat0: g.lat0 as f32,
             lon0: g.lon0 as f32,

@@ -1576,7 +1576,8 @@ fn builder_boxes_and_trig_tables_give_the_bare_storages_picks() {
         Picker::<'_, f64, _>::new(&full).unwrap(),
     );
     let mut hits = 0;
-    for _ in 0..300 {
+    let n = if cfg!(miri) { 20 } else { 300 };
+    for _ in 0..n {
         let lat = 46.0 - 16.0 / 1200.0 * r.next();
         let lon = 8.0 + 22.0 / 1200.0 * r.next();
         let target = e.geodetic_deg_to_ecef(lat, lon, 3000.0 * r.next());
@@ -1586,7 +1587,7 @@ fn builder_boxes_and_trig_tables_give_the_bare_storages_picks() {
         assert_eq!(a.map(|h| (h.t, h.cell)), b.map(|h| (h.t, h.cell)));
         hits += usize::from(a.is_some());
     }
-    assert!(hits > 50, "{hits} hits");
+    assert!(hits > n / 6, "{hits} hits of {n}");
 }
 
 #[test]
