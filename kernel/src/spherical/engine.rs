@@ -6,7 +6,7 @@
 //! equal `t` by coordinate (radius first, then the grid's second and third coordinate) — so they agree exactly.
 
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
-use super::stream::{At, Event, Packed, Stream};
+use super::stream::{Event, Stream};
 use super::{Axis, CellCrossing, MarchError};
 use crate::ray::Ray;
 use crate::real::Real;
@@ -205,7 +205,7 @@ fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, 
     if rband >= axes.radial.len {
         match rs.next_radial(&axes.radial, rays.radial(), rays.t_max) {
             Some((t, b)) => {
-                t0 = t.t(); // a radius event: already divided
+                t0 = t;
                 rband = b;
             }
             None => return Ok(None),
@@ -298,27 +298,22 @@ impl<T: Real> Emitter<T> {
         }
     }
 
-    /// The event of `slot` entering `band`. Its parameter is divided (the one division of an azimuth or height
-    /// crossing) only when a crossing of the domain ends or starts there; an event between two band sets that
-    /// are both outside the domain (outside a wedge or a zenith band, or past a z facet) needs no `t`.
+    /// The event of `slot` entering `band` at `t`. The streams' events come in nondecreasing `t`, none
+    /// before the start `t0` and none past `t_max` (each stream takes the larger of a solver's root and its own
+    /// previous event, and stops past `t_max`), so the crossings need no clamping.
     #[inline(always)]
-    fn on(&mut self, at: At<T>, slot: usize, band: u32) -> Option<CellCrossing<T>> {
+    fn on(&mut self, t: T, slot: usize, band: u32) -> Option<CellCrossing<T>> {
         let was_inside = self.outside == 0;
         let before = self.cell;
         self.set(slot, band);
         if !was_inside && self.outside != 0 {
             return None;
         }
-        // Events are ordered by their undivided parameters; two that agree within rounding may come out of
-        // their divisions in the other order, or a hair past t_max: clamp (a zero-length crossing at worst).
-        // (seg_start is the last t computed: an event outside the domain leaves it where it was)
-        let t = at.t();
         if !t.is_finite() {
             // the scaled parameter is finite (the solvers return no other) but t = s·2^-e overflows
             self.unrepresentable = true;
             return None;
         }
-        let t = t.max(self.seg_start).min(self.t_max).max(self.seg_start);
         let mut out = None;
         if was_inside {
             out = self.push(CellCrossing {
@@ -374,7 +369,7 @@ pub struct SerialMarch<'g, T> {
     rays: Option<Rays<T>>,
     streams: [Stream<T>; 3],
     /// Each coordinate's next event (valid where its bit of `live` is set).
-    heads: [Packed<T>; 3],
+    heads: [Event<T>; 3],
     live: u8,
     em: Option<Emitter<T>>,
     t_max: T,
@@ -391,7 +386,7 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             axes,
             rays: None,
             streams: [Stream::Fixed; 3],
-            heads: [Packed::pack((At::exact(T::ZERO), 0)); 3],
+            heads: [(T::ZERO, 0); 3],
             live: 0,
             em: None,
             t_max: ray.t_max(),
@@ -419,7 +414,7 @@ impl<'g, T: Real> SerialMarch<'g, T> {
 
     fn set_head(&mut self, slot: usize, next: Option<Event<T>>) {
         if let (Some(h), Some(e)) = (self.heads.get_mut(slot), next) {
-            *h = Packed::pack(e);
+            *h = e;
             self.live |= 1 << slot;
         }
     }
@@ -443,11 +438,10 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
                 return em.pending.take();
             }
             // the earliest of the live heads; the first slot on a tie
-            let mut best: Option<(At<T>, u32, usize)> = None;
-            for (slot, h) in self.heads.iter().enumerate() {
+            let mut best: Option<(T, u32, usize)> = None;
+            for (slot, &(t, b)) in self.heads.iter().enumerate() {
                 if self.live & (1 << slot) != 0 {
-                    let (t, b) = h.unpack();
-                    if best.is_none_or(|(bt, _, _)| t.lt(&bt)) {
+                    if best.is_none_or(|(bt, _, _)| t < bt) {
                         best = Some((t, b, slot));
                     }
                 }
@@ -470,7 +464,7 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
             if let Some(h) = self.heads.get_mut(slot) {
                 match next {
                     Some(e) => {
-                        *h = Packed::pack(e);
+                        *h = e;
                         self.live |= 1 << slot;
                     }
                     None => self.live &= !(1 << slot),
@@ -499,7 +493,7 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
 /// [`MarchError::BufferFull`] at construction, never a truncated answer.
 #[derive(Debug, Clone)]
 pub struct SeparableMarch<T, const N: usize> {
-    lists: [heapless::Vec<Packed<T>, N>; 3],
+    lists: [heapless::Vec<Event<T>, N>; 3],
     pos: [usize; 3],
     em: Option<Emitter<T>>,
     t_max: T,
@@ -559,20 +553,19 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
             return Ok(());
         };
         let mut streams = s.streams;
-        let mut t_end = At::exact(ray.t_max());
+        let mut t_end = ray.t_max();
         for slot in 0..3 {
             let list = m.lists.get_mut(slot).ok_or(MarchError::IterationBound)?;
             let mut last_band = s.bands.get(slot).copied().unwrap_or(0);
             let mut last_t = None;
             while let Some((t, b)) = next_event(axes, &s.rays, &mut streams, slot) {
-                if slot > 0 && t_end.lt(&t) {
+                if slot > 0 && t > t_end {
                     break;
                 }
-                list.push(Packed::pack((t, b)))
-                    .map_err(|_| MarchError::BufferFull {
-                        axis: axes.axis_name(slot),
-                        capacity: N,
-                    })?;
+                list.push((t, b)).map_err(|_| MarchError::BufferFull {
+                    axis: axes.axis_name(slot),
+                    capacity: N,
+                })?;
                 last_band = b;
                 last_t = Some(t);
             }
@@ -613,10 +606,10 @@ impl<T: Real, const N: usize> Iterator for SeparableMarch<T, N> {
             if self.finished {
                 return em.pending.take();
             }
-            let mut best: Option<(At<T>, u32, usize)> = None;
+            let mut best: Option<(T, u32, usize)> = None;
             for (slot, (list, &p)) in self.lists.iter().zip(self.pos.iter()).enumerate() {
-                if let Some((t, b)) = list.get(p).map(|e| e.unpack()) {
-                    if best.is_none_or(|(bt, _, _)| t.lt(&bt)) {
+                if let Some(&(t, b)) = list.get(p) {
+                    if best.is_none_or(|(bt, _, _)| t < bt) {
                         best = Some((t, b, slot));
                     }
                 }

@@ -3,9 +3,7 @@
 //!
 //! A stream's state is a few scalars; its next crossing is computed only when the previous one has been consumed
 //! (the caller caches it), so each radius or zenith crossing costs one square root and each azimuth or z crossing
-//! one division. An azimuth or z crossing is handed to the engine as an undivided fraction ([`At`]) and divided
-//! only when the engine reports it, so the crossing an engine looks at past the end of the march costs nothing.
-//! The streams are independent of each other, which is what lets the serial and the separable engines interleave
+//! one division. The streams are independent of each other, which is what lets the serial and the separable engines interleave
 //! the very same events and agree exactly.
 //!
 //! **Topology first.** Which boundary comes next is decided by logic that cannot step by more than one band:
@@ -33,145 +31,23 @@ use crate::real::Real;
 use crate::surface::{PlaneZ, Side, Surface, sphere_scaled_roots};
 use crate::vec3::V3;
 
-/// One event: the crossing's parameter and the band (or sector) entered.
-pub(crate) type Event<T> = (At<T>, u32);
+/// One event: the crossing's parameter `t` and the band (or sector) entered.
+pub(crate) type Event<T> = (T, u32);
 
-/// An event as the engines store it (their look-ahead heads and the separable engine's lists): the fields of
-/// [`At`] and the band side by side, so that it takes no more room than its parts (24 bytes in f64, 16 in
-/// f32; a tuple `(At<T>, u32)` would be padded to 32 and 24).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Packed<T> {
-    num: T,
-    den: T,
-    e: i32,
-    band: u32,
-}
-
-impl<T: Real> Packed<T> {
-    #[inline]
-    pub(crate) fn pack((at, band): Event<T>) -> Self {
-        Packed {
-            num: at.num,
-            den: at.den,
-            e: at.e,
-            band,
-        }
+/// The parameter `t = num / den` of a plane crossing given in the scaled parameter of `ray` (`den > 0`): one
+/// division (seed 001 §4.6). The exact rescaling is folded into the denominator (`den·2^e`, exact) when that
+/// stays in the normal range, so the quotient is the correctly rounded `t` with no second rounding; otherwise
+/// the scaled quotient is rescaled exactly.
+#[inline]
+fn plane_t<T: Real>(num: T, den: T, ray: &Ray<T>) -> T {
+    if ray.scale_exponent() == 0 {
+        return num / den;
     }
-    #[inline]
-    pub(crate) fn unpack(self) -> Event<T> {
-        (
-            At {
-                num: self.num,
-                den: self.den,
-                e: self.e,
-            },
-            self.band,
-        )
-    }
-}
-
-/// The parameter `t` of an event. A radius or zenith crossing carries its computed `t`; an azimuth or height
-/// crossing carries the undivided fraction of its plane solver (`t = (num / den) · 2^-e`, `den > 0`, `e` the
-/// ray's exact rescaling), so that a crossing that is only compared with the other coordinates' next
-/// crossings — the serial engine's look-ahead past the end of the march — costs no division. The division is
-/// done once, by [`At::t`], when the engine reports the crossing (seed 001 §4.6: one division per azimuth
-/// facet crossed).
-///
-/// Comparisons cross-multiply (no division); they can differ from a comparison of the divided values only when
-/// the two parameters agree to within rounding, where either order is a valid answer — the engines clamp the
-/// reported `t` to be nondecreasing, so such a pair becomes a zero-length crossing in either order.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct At<T> {
-    num: T,
-    /// Positive; exactly 1 for a parameter that is already divided.
-    den: T,
-    e: i32,
-}
-
-impl<T: Real> At<T> {
-    /// An already computed `t`.
-    #[inline]
-    pub(crate) fn exact(t: T) -> Self {
-        At {
-            num: t,
-            den: T::ONE,
-            e: 0,
-        }
-    }
-
-    /// `(num / den)` in the scaled parameter of `ray` (`den > 0`), not divided yet. The exact rescaling is
-    /// folded into the denominator (`t = num / (den·2^e)`, the same quotient bit for bit) unless that would
-    /// leave the normal range, so that comparisons need no rescaling.
-    #[inline]
-    fn fraction(num: T, den: T, ray: &Ray<T>) -> Self {
-        let e = ray.scale_exponent();
-        if e == 0 {
-            return At { num, den, e };
-        }
-        let folded = ray.t_to_scaled(den); // den · 2^e, exact
-        if folded.is_finite() && folded >= T::MIN_POSITIVE {
-            At {
-                num,
-                den: folded,
-                e: 0,
-            }
-        } else {
-            At { num, den, e }
-        }
-    }
-
-    /// The value: one division for a fraction (bit for bit the plane solver's own root, rescaled exactly),
-    /// none for an exact `t`.
-    #[inline]
-    pub(crate) fn t(&self) -> T {
-        let s = if self.den == T::ONE {
-            self.num
-        } else {
-            self.num / self.den
-        };
-        if self.e == 0 {
-            s
-        } else {
-            s.scalbn(self.e.saturating_neg())
-        }
-    }
-
-    /// True when `self < other`, by cross-multiplication. The side with the exact rescaling to undo is scaled
-    /// into the other's parameter, so an already divided `t` is brought to the scale of the fraction's scaled
-    /// parameter (never the reverse, which could underflow for huge directions).
-    #[inline]
-    pub(crate) fn lt(&self, other: &Self) -> bool {
-        if self.e == other.e {
-            // the common case (every exact t, and every fraction whose rescaling was folded into `den`):
-            // multiplying by a denominator of exactly 1 is exact, so this is the comparison of the values
-            // themselves whenever one side is already divided
-            return self.num * other.den < other.num * self.den;
-        }
-        let mut l = if other.den == T::ONE {
-            self.num
-        } else {
-            self.num * other.den
-        };
-        let mut r = if self.den == T::ONE {
-            other.num
-        } else {
-            other.num * self.den
-        };
-        // self.num/self.den·2^-se < other.num/other.den·2^-oe  ⇔  l·2^oe < r·2^se
-        if self.e == 0 {
-            l = l.scalbn(other.e);
-        } else if other.e == 0 {
-            r = r.scalbn(self.e);
-        } else {
-            l = l.scalbn(other.e.saturating_sub(self.e));
-        }
-        l < r
-    }
-
-    /// The larger of the two (`self` on a tie).
-    #[inline]
-    fn max(self, other: Self) -> Self {
-        if self.lt(&other) { other } else { self }
+    let folded = ray.t_to_scaled(den); // den · 2^e, exact
+    if folded.is_finite() && folded >= T::MIN_POSITIVE {
+        num / folded
+    } else {
+        ray.t_from_scaled(num / den)
     }
 }
 
@@ -206,8 +82,8 @@ pub(crate) enum Stream<T> {
     },
     Azimuth {
         sector: u32,
-        /// The last event's parameter (a fraction, not divided).
-        t_own: At<T>,
+        /// The last event's parameter.
+        t_own: T,
         ccw: bool,
         walk: Option<Walk<T>>,
         /// The horizontal direction where the remaining sweep of φ starts (the last boundary crossed).
@@ -218,8 +94,8 @@ pub(crate) enum Stream<T> {
     },
     Height {
         band: u32,
-        /// The last event's parameter (a fraction, not divided).
-        t_own: At<T>,
+        /// The last event's parameter.
+        t_own: T,
         up: bool,
     },
 }
@@ -441,7 +317,7 @@ impl<T: Real> Stream<T> {
             return (
                 Stream::Azimuth {
                     sector: before,
-                    t_own: At::exact(t0),
+                    t_own: t0,
                     ccw,
                     from: (-d.x, -d.y),
                     crossed: 0,
@@ -467,7 +343,7 @@ impl<T: Real> Stream<T> {
         } else {
             Stream::Azimuth {
                 sector,
-                t_own: At::exact(t0),
+                t_own: t0,
                 ccw: wz > T::ZERO,
                 walk: None,
                 from,
@@ -493,7 +369,7 @@ impl<T: Real> Stream<T> {
         (
             Stream::Height {
                 band,
-                t_own: At::exact(t0),
+                t_own: t0,
                 up: dz > T::ZERO,
             },
             band,
@@ -539,7 +415,7 @@ impl<T: Real> Stream<T> {
                     *band = j;
                     *t_own = t;
                     *cache = Some((j, t_out));
-                    return Some((At::exact(t), j));
+                    return Some((t, j));
                 }
                 None => *descending = false,
             }
@@ -567,7 +443,7 @@ impl<T: Real> Stream<T> {
         let nb = j.saturating_add(1);
         *band = nb;
         *t_own = t;
-        Some((At::exact(t), nb))
+        Some((t, nb))
     }
 
     /// The next zenith event (at most one square root in the common case, two at a hinge not reached through a
@@ -602,7 +478,7 @@ impl<T: Real> Stream<T> {
             };
             let t = w.t.max(*t_own);
             *t_own = t;
-            return Some((At::exact(t), *band));
+            return Some((t, *band));
         }
         for _ in 0..2 {
             // the cone to cross and the side to enter
@@ -644,7 +520,7 @@ impl<T: Real> Stream<T> {
                     *cache = other.map(|(t2, s2)| (j, t2, s2));
                     *band = if *up { j.saturating_add(1) } else { j };
                     *t_own = t;
-                    return Some((At::exact(t), *band));
+                    return Some((t, *band));
                 }
             }
             if *switched {
@@ -686,7 +562,7 @@ impl<T: Real> Stream<T> {
                 b.saturating_sub(1)
             };
             *t_own = t;
-            return Some((At::exact(t), *band));
+            return Some((t, *band));
         }
         *self = Stream::Fixed;
         None
@@ -725,7 +601,7 @@ impl<T: Real> Stream<T> {
             }
             w.remaining = w.remaining.saturating_sub(1);
             *sector = step(*sector, w.up);
-            let t = At::exact(w.t).max(*t_own);
+            let t = w.t.max(*t_own);
             *t_own = t;
             return Some((t, *sector));
         }
@@ -745,12 +621,11 @@ impl<T: Real> Stream<T> {
         if !ahead || *crossed >= axis.boundaries {
             return self.complete_azimuth(axis, ray, t_max);
         }
-        // the crossing as an undivided fraction: divided only if the engine reports it
         let root = axis.plane(j).and_then(|h| h.scaled_root_fraction(ray));
         match root {
             Some((num, den, _)) => {
-                let t = At::fraction(num, den, ray).max(*t_own);
-                if At::exact(t_max).lt(&t) || num.is_nan() {
+                let t = plane_t(num, den, ray).max(*t_own);
+                if t > t_max || num.is_nan() {
                     *self = Stream::Fixed;
                     return None;
                 }
@@ -832,9 +707,8 @@ impl<T: Real> Stream<T> {
         });
         match (j, root) {
             (Some(j), Some((num, den, _))) => {
-                // an undivided fraction: divided only if the engine reports it
-                let t = At::fraction(num, den, ray).max(*t_own);
-                if At::exact(t_max).lt(&t) || num.is_nan() {
+                let t = plane_t(num, den, ray).max(*t_own);
+                if t > t_max || num.is_nan() {
                     *self = Stream::Fixed;
                     return None;
                 }
