@@ -38,7 +38,7 @@ pub(crate) type Event<T> = (T, u32);
 /// division (seed 001 §4.6). The exact rescaling is folded into the denominator (`den·2^e`, exact) when that
 /// stays in the normal range, so the quotient is the correctly rounded `t` with no second rounding; otherwise
 /// the scaled quotient is rescaled exactly.
-#[inline]
+#[inline(always)]
 fn plane_t<T: Real>(num: T, den: T, ray: &Ray<T>) -> T {
     if ray.scale_exponent() == 0 {
         return num / den;
