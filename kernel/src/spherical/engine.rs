@@ -36,46 +36,50 @@ pub(crate) struct Axes<'a, T> {
     pub slots: [SlotKind; 3],
 }
 
-/// What decides whether a set of bands is a cell of the domain, and which.
+/// What decides whether a set of bands is a cell of the domain, and which: per slot, the inside bands are
+/// `first .. first + count` and band `b` is cell index `b − first` (a banded coordinate: bands 1 to L − 1 of L
+/// breakpoints; the azimuth: every sector but the outside one of a wedge; an absent slot: its one band 0).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct CellRule {
-    slots: [SlotKind; 3],
-    /// Breakpoint count of banded slots; number of inside sectors of the azimuth slot.
-    lens: [u32; 3],
+    first: [u32; 3],
+    count: [u32; 3],
 }
 
 impl CellRule {
     /// The cell index of `band` in `slot`, or `None` when that band is outside the domain (band 0 and the top
-    /// band of a banded coordinate, the outside sector of a wedge).
+    /// band of a banded coordinate, the outside sector of a wedge). One subtraction and one comparison.
     #[inline]
     fn index(&self, slot: usize, band: u32) -> Option<u32> {
-        let (Some(&k), Some(&n)) = (self.slots.get(slot), self.lens.get(slot)) else {
+        let (Some(&first), Some(&count)) = (self.first.get(slot), self.count.get(slot)) else {
             return Some(0);
         };
-        match k {
-            SlotKind::Absent => Some(0),
-            SlotKind::Azimuth => (band < n).then_some(band),
-            _ => (band >= 1 && band < n).then(|| band.saturating_sub(1)),
-        }
+        let i = band.wrapping_sub(first);
+        (i < count).then_some(i)
     }
 }
 
 impl<T: Real> Axes<'_, T> {
     pub(crate) fn rule(&self) -> CellRule {
-        let mut lens = [0u32; 3];
-        for (l, k) in lens.iter_mut().zip(self.slots.iter()) {
-            *l = match k {
-                SlotKind::Radial => self.radial.len,
-                SlotKind::Zenith => self.zenith.map_or(0, |z| z.len),
-                SlotKind::Azimuth => self.azimuth.sectors,
-                SlotKind::Height => self.height.map_or(0, |h| h.len),
-                SlotKind::Absent => 0,
+        let mut rule = CellRule {
+            first: [0; 3],
+            count: [u32::MAX; 3],
+        };
+        for ((f, c), k) in rule
+            .first
+            .iter_mut()
+            .zip(rule.count.iter_mut())
+            .zip(self.slots.iter())
+        {
+            let banded = |len: u32| (1, len.saturating_sub(1));
+            (*f, *c) = match k {
+                SlotKind::Radial => banded(self.radial.len),
+                SlotKind::Zenith => banded(self.zenith.map_or(0, |z| z.len)),
+                SlotKind::Azimuth => (0, self.azimuth.sectors),
+                SlotKind::Height => banded(self.height.map_or(0, |h| h.len)),
+                SlotKind::Absent => (0, u32::MAX),
             };
         }
-        CellRule {
-            slots: self.slots,
-            lens,
-        }
+        rule
     }
 
     fn axis_name(&self, slot: usize) -> Axis {
@@ -353,7 +357,7 @@ impl<T: Real> Emitter<T> {
     /// True while the radius band (slot 0) is at or beyond the outer radius.
     #[inline]
     fn beyond_outer_radius(&self, band: u32) -> bool {
-        self.rule.lens.first().is_some_and(|&n| band >= n)
+        band >= self.rule.first[0].saturating_add(self.rule.count[0])
     }
 }
 
@@ -366,13 +370,12 @@ impl<T: Real> Emitter<T> {
 #[derive(Debug, Clone)]
 pub struct SerialMarch<'g, T> {
     axes: &'g Axes<'g, T>,
-    rays: Option<Rays<T>>,
+    rays: Rays<T>,
     streams: [Stream<T>; 3],
     /// Each coordinate's next event (valid where its bit of `live` is set).
     heads: [Event<T>; 3],
     live: u8,
-    em: Option<Emitter<T>>,
-    t_max: T,
+    em: Emitter<T>,
     steps: u32,
     /// The iteration bound (`Axes::max_events`).
     bound: u32,
@@ -382,14 +385,18 @@ pub struct SerialMarch<'g, T> {
 
 impl<'g, T: Real> SerialMarch<'g, T> {
     pub(crate) fn new(axes: &'g Axes<'g, T>, ray: &Ray<T>) -> Self {
+        // (a march that does not start keeps the caller's ray and an empty emitter; `finished` is set)
         let mut m = SerialMarch {
             axes,
-            rays: None,
+            rays: Rays {
+                rel: *ray,
+                flat: None,
+                t_max: ray.t_max(),
+            },
             streams: [Stream::Fixed; 3],
             heads: [(T::ZERO, 0); 3],
             live: 0,
-            em: None,
-            t_max: ray.t_max(),
+            em: Emitter::new(axes.rule(), [0; 3], T::ZERO, ray.t_max()),
             steps: 0,
             bound: axes.max_events(),
             finished: true,
@@ -402,8 +409,8 @@ impl<'g, T: Real> SerialMarch<'g, T> {
                     m.set_head(slot, next_event(axes, &s.rays, &mut streams, slot));
                 }
                 m.streams = streams;
-                m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0, ray.t_max()));
-                m.rays = Some(s.rays);
+                m.em = Emitter::new(axes.rule(), s.bands, s.t0, ray.t_max());
+                m.rays = s.rays;
                 m.finished = false;
             }
             Ok(None) => {}
@@ -431,8 +438,8 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
     type Item = CellCrossing<T>;
 
     fn next(&mut self) -> Option<CellCrossing<T>> {
-        let em = self.em.as_mut()?;
-        let rays = self.rays.as_ref()?;
+        let em = &mut self.em;
+        let rays = &self.rays;
         loop {
             if self.finished {
                 return em.pending.take();
@@ -448,7 +455,7 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
             }
             let Some((t, band, slot)) = best else {
                 self.finished = true;
-                if let Some(c) = em.finish(self.t_max) {
+                if let Some(c) = em.finish(em.t_max) {
                     return Some(c);
                 }
                 continue;
