@@ -131,20 +131,29 @@ struct Setup<T> {
     t0: T,
 }
 
+/// Advances slot `slot`'s stream to its next event (then its `t` and `band`); false when it has none.
 #[inline(always)]
 fn next_event<T: Real>(
     axes: &Axes<'_, T>,
     rays: &Rays<T>,
     streams: &mut [Stream<T>; 3],
     slot: usize,
-) -> Option<Event<T>> {
-    let s = streams.get_mut(slot)?;
-    match axes.slots.get(slot)? {
-        SlotKind::Radial => s.next_radial(&axes.radial, rays.radial(), rays.t_max),
-        SlotKind::Zenith => s.next_zenith(axes.zenith.as_ref()?, &rays.rel, rays.t_max),
-        SlotKind::Azimuth => s.next_azimuth(&axes.azimuth, &rays.rel, rays.t_max),
-        SlotKind::Height => s.next_height(axes.height.as_ref()?, &rays.rel, rays.t_max),
-        SlotKind::Absent => None,
+) -> bool {
+    let Some(s) = streams.get_mut(slot) else {
+        return false;
+    };
+    match axes.slots.get(slot) {
+        Some(SlotKind::Radial) => s.next_radial(&axes.radial, rays.radial(), rays.t_max),
+        Some(SlotKind::Zenith) => axes
+            .zenith
+            .as_ref()
+            .is_some_and(|z| s.next_zenith(z, &rays.rel, rays.t_max)),
+        Some(SlotKind::Azimuth) => s.next_azimuth(&axes.azimuth, &rays.rel, rays.t_max),
+        Some(SlotKind::Height) => axes
+            .height
+            .as_ref()
+            .is_some_and(|h| s.next_height(h, &rays.rel, rays.t_max)),
+        _ => false,
     }
 }
 
@@ -197,23 +206,22 @@ fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, 
     if radial_moves && !outer_ball_representable(axes, rays.radial(), t_min, rays.t_max) {
         return Err(MarchError::Unrepresentable);
     }
-    let mut streams = [Stream::Fixed; 3];
+    let mut streams = [Stream::fixed(0); 3];
     let mut bands = [0u32; 3];
     let (mut rs, mut rband) = if radial_moves {
         Stream::radial(&axes.radial, rays.radial(), t_min)
     } else {
         let p = rel.origin();
-        (Stream::Fixed, axes.radial.band_of_r2(p.x * p.x + p.y * p.y))
+        let band = axes.radial.band_of_r2(p.x * p.x + p.y * p.y);
+        (Stream::fixed(band), band)
     };
     let mut t0 = t_min;
     if rband >= axes.radial.len {
-        match rs.next_radial(&axes.radial, rays.radial(), rays.t_max) {
-            Some((t, b)) => {
-                t0 = t;
-                rband = b;
-            }
-            None => return Ok(None),
+        if !rs.next_radial(&axes.radial, rays.radial(), rays.t_max) {
+            return Ok(None);
         }
+        t0 = rs.t;
+        rband = rs.band;
         if !t0.is_finite() {
             // the line enters the outer radius where t overflows: a crossing that t cannot express
             return Err(MarchError::Unrepresentable);
@@ -230,14 +238,14 @@ fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, 
         let (s, b) = match axes.slots.get(slot) {
             Some(SlotKind::Zenith) => match axes.zenith.as_ref() {
                 Some(z) if t0.is_finite() => Stream::zenith(z, &rays.rel, t0),
-                _ => (Stream::Fixed, 0),
+                _ => (Stream::fixed(0), 0),
             },
             Some(SlotKind::Azimuth) => Stream::azimuth(&axes.azimuth, &rays.rel, t0),
             Some(SlotKind::Height) => match axes.height.as_ref() {
                 Some(h) => Stream::height(h, &rays.rel, t0),
-                None => (Stream::Fixed, 0),
+                None => (Stream::fixed(0), 0),
             },
-            _ => (Stream::Fixed, 0),
+            _ => (Stream::fixed(0), 0),
         };
         if let (Some(sl), Some(bl)) = (streams.get_mut(slot), bands.get_mut(slot)) {
             *sl = s;
@@ -371,10 +379,8 @@ impl<T: Real> Emitter<T> {
 pub struct SerialMarch<'g, T> {
     axes: &'g Axes<'g, T>,
     rays: Rays<T>,
+    /// Each coordinate's stream, at its next event while it is live.
     streams: [Stream<T>; 3],
-    /// Each coordinate's next event (valid where its bit of `live` is set).
-    heads: [Event<T>; 3],
-    live: u8,
     em: Emitter<T>,
     steps: u32,
     /// The iteration bound (`Axes::max_events`).
@@ -393,9 +399,7 @@ impl<'g, T: Real> SerialMarch<'g, T> {
                 flat: None,
                 t_max: ray.t_max(),
             },
-            streams: [Stream::Fixed; 3],
-            heads: [(T::ZERO, 0); 3],
-            live: 0,
+            streams: [Stream::fixed(0); 3],
             em: Emitter::new(axes.rule(), [0; 3], T::ZERO, ray.t_max()),
             steps: 0,
             bound: axes.max_events(),
@@ -406,7 +410,7 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             Ok(Some(s)) => {
                 let mut streams = s.streams;
                 for slot in 0..3 {
-                    m.set_head(slot, next_event(axes, &s.rays, &mut streams, slot));
+                    next_event(axes, &s.rays, &mut streams, slot); // its first event, or it ends
                 }
                 m.streams = streams;
                 m.em = Emitter::new(axes.rule(), s.bands, s.t0, ray.t_max());
@@ -417,13 +421,6 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             Err(e) => m.error = Some(e),
         }
         m
-    }
-
-    fn set_head(&mut self, slot: usize, next: Option<Event<T>>) {
-        if let (Some(h), Some(e)) = (self.heads.get_mut(slot), next) {
-            *h = e;
-            self.live |= 1 << slot;
-        }
     }
 
     /// Why the march stopped early, if it did: the ray could not be put into the grid's frame
@@ -444,13 +441,11 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
             if self.finished {
                 return em.pending.take();
             }
-            // the earliest of the live heads; the first slot on a tie
+            // the earliest of the live streams' next events; the first slot on a tie
             let mut best: Option<(T, u32, usize)> = None;
-            for (slot, &(t, b)) in self.heads.iter().enumerate() {
-                if self.live & (1 << slot) != 0 {
-                    if best.is_none_or(|(bt, _, _)| t < bt) {
-                        best = Some((t, b, slot));
-                    }
+            for (slot, s) in self.streams.iter().enumerate() {
+                if s.live() && best.is_none_or(|(bt, _, _)| s.t < bt) {
+                    best = Some((s.t, s.band, slot));
                 }
             }
             let Some((t, band, slot)) = best else {
@@ -466,17 +461,7 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
                 self.finished = true;
                 continue;
             }
-            let next = next_event(self.axes, rays, &mut self.streams, slot);
-            let ended = next.is_none();
-            if let Some(h) = self.heads.get_mut(slot) {
-                match next {
-                    Some(e) => {
-                        *h = e;
-                        self.live |= 1 << slot;
-                    }
-                    None => self.live &= !(1 << slot),
-                }
-            }
+            let ended = !next_event(self.axes, rays, &mut self.streams, slot);
             let out = em.on(t, slot, band);
             if em.unrepresentable {
                 self.error = Some(MarchError::Unrepresentable);
@@ -565,7 +550,10 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
             let list = m.lists.get_mut(slot).ok_or(MarchError::IterationBound)?;
             let mut last_band = s.bands.get(slot).copied().unwrap_or(0);
             let mut last_t = None;
-            while let Some((t, b)) = next_event(axes, &s.rays, &mut streams, slot) {
+            while next_event(axes, &s.rays, &mut streams, slot) {
+                let Some(&Stream { t, band: b, .. }) = streams.get(slot) else {
+                    break;
+                };
                 if slot > 0 && t > t_end {
                     break;
                 }
