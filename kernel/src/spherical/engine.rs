@@ -123,14 +123,6 @@ impl<T: Real> Rays<T> {
     }
 }
 
-/// The state at the start of a march: streams, bands, the start `t`.
-struct Setup<T> {
-    rays: Rays<T>,
-    streams: [Stream<T>; 3],
-    bands: [u32; 3],
-    t0: T,
-}
-
 /// Advances slot `slot`'s stream to its next event (then its `t` and `band`); false when it has none.
 #[inline(always)]
 fn next_event<T: Real>(
@@ -181,9 +173,15 @@ fn outer_ball_representable<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>, t_min: T,
     }
 }
 
-/// Locates the ray, finds where it enters the outer radius, and starts the other coordinates there.
-/// `Ok(None)` when the ray cannot meet the domain.
-fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, MarchError> {
+/// Locates the ray, finds where it enters the outer radius, and starts the other coordinates there: fills in
+/// `rays` and `streams` (in place: a march's state is not moved around) and returns the start `t`. The
+/// streams' bands are the bands at the start. `Ok(None)` when the ray cannot meet the domain.
+fn setup<T: Real>(
+    axes: &Axes<'_, T>,
+    ray: &Ray<T>,
+    rays: &mut Rays<T>,
+    streams: &mut [Stream<T>; 3],
+) -> Result<Option<T>, MarchError> {
     let rel = ray
         .relative_to(axes.center)
         .and_then(|r| r.with_interval(ray.t_min(), T::INFINITY))
@@ -197,7 +195,7 @@ fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, 
         None
     };
     let radial_moves = !axes.flat_radius || flat.is_some();
-    let rays = Rays {
+    *rays = Rays {
         rel,
         flat,
         t_max: ray.t_max(),
@@ -206,8 +204,6 @@ fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, 
     if radial_moves && !outer_ball_representable(axes, rays.radial(), t_min, rays.t_max) {
         return Err(MarchError::Unrepresentable);
     }
-    let mut streams = [Stream::fixed(0); 3];
-    let mut bands = [0u32; 3];
     let (mut rs, mut rband) = if radial_moves {
         Stream::radial(&axes.radial, rays.radial(), t_min)
     } else {
@@ -230,12 +226,11 @@ fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, 
     if !radial_moves && rband == 0 {
         return Ok(None); // a vertical line inside the hole of a cylinder grid
     }
-    if let (Some(s), Some(b)) = (streams.get_mut(0), bands.get_mut(0)) {
+    if let Some(s) = streams.get_mut(0) {
         *s = rs;
-        *b = rband;
     }
     for slot in 1..3 {
-        let (s, b) = match axes.slots.get(slot) {
+        let (s, _) = match axes.slots.get(slot) {
             Some(SlotKind::Zenith) => match axes.zenith.as_ref() {
                 Some(z) if t0.is_finite() => Stream::zenith(z, &rays.rel, t0),
                 _ => (Stream::fixed(0), 0),
@@ -247,17 +242,11 @@ fn setup<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<Option<Setup<T>>, 
             },
             _ => (Stream::fixed(0), 0),
         };
-        if let (Some(sl), Some(bl)) = (streams.get_mut(slot), bands.get_mut(slot)) {
+        if let Some(sl) = streams.get_mut(slot) {
             *sl = s;
-            *bl = b;
         }
     }
-    Ok(Some(Setup {
-        rays,
-        streams,
-        bands,
-        t0,
-    }))
+    Ok(Some(t0))
 }
 
 /// Turns band changes into cell crossings. Holds back one finished crossing so that a zero-length excursion out
@@ -406,15 +395,12 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             finished: true,
             error: None,
         };
-        match setup(axes, ray) {
-            Ok(Some(s)) => {
-                let mut streams = s.streams;
+        match setup(axes, ray, &mut m.rays, &mut m.streams) {
+            Ok(Some(t0)) => {
+                m.em = Emitter::new(axes.rule(), m.streams.map(|s| s.band), t0, ray.t_max());
                 for slot in 0..3 {
-                    next_event(axes, &s.rays, &mut streams, slot); // its first event, or it ends
+                    next_event(axes, &m.rays, &mut m.streams, slot); // its first event, or it ends
                 }
-                m.streams = streams;
-                m.em = Emitter::new(axes.rule(), s.bands, s.t0, ray.t_max());
-                m.rays = s.rays;
                 m.finished = false;
             }
             Ok(None) => {}
@@ -541,16 +527,22 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
 
     fn fill_lists(&mut self, axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<(), MarchError> {
         let m = self;
-        let Some(s) = setup(axes, ray)? else {
+        let mut rays = Rays {
+            rel: *ray,
+            flat: None,
+            t_max: ray.t_max(),
+        };
+        let mut streams = [Stream::fixed(0); 3];
+        let Some(t0) = setup(axes, ray, &mut rays, &mut streams)? else {
             return Ok(());
         };
-        let mut streams = s.streams;
+        let bands = streams.map(|s| s.band);
         let mut t_end = ray.t_max();
         for slot in 0..3 {
             let list = m.lists.get_mut(slot).ok_or(MarchError::IterationBound)?;
-            let mut last_band = s.bands.get(slot).copied().unwrap_or(0);
+            let mut last_band = bands.get(slot).copied().unwrap_or(0);
             let mut last_t = None;
-            while next_event(axes, &s.rays, &mut streams, slot) {
+            while next_event(axes, &rays, &mut streams, slot) {
                 let Some(&Stream { t, band: b, .. }) = streams.get(slot) else {
                     break;
                 };
@@ -570,7 +562,7 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
                 }
             }
         }
-        m.em = Some(Emitter::new(axes.rule(), s.bands, s.t0, ray.t_max()));
+        m.em = Some(Emitter::new(axes.rule(), bands, t0, ray.t_max()));
         m.finished = false;
         Ok(())
     }
