@@ -249,8 +249,9 @@ fn setup<T: Real>(
     Ok(Some(t0))
 }
 
-/// Turns band changes into cell crossings. Holds back one finished crossing so that a zero-length excursion out
-/// of the domain (a touch of its boundary from inside) that returns to the same cell is merged away.
+/// Turns band changes into cell crossings. A crossing that ends inside the domain is final at once (the next one
+/// is another cell); one that ends by leaving the domain is held until the ray comes back, so that a zero-length
+/// excursion out of the domain (a touch of its boundary from inside) that returns to the same cell is merged away.
 ///
 /// The cell is kept up to date one slot at a time: `cell[s]` is the index of slot `s`'s band and bit `s` of
 /// `outside` is set while that band is outside the domain, so an event costs one band lookup, not a
@@ -262,6 +263,7 @@ pub(crate) struct Emitter<T> {
     outside: u8,
     seg_start: T,
     t_max: T,
+    /// The crossing that ended by leaving the domain, while the ray is outside.
     pending: Option<CellCrossing<T>>,
     /// Set when an event inside the domain has a `t` that is not finite (see [`MarchError::Unrepresentable`]).
     unrepresentable: bool,
@@ -315,36 +317,40 @@ impl<T: Real> Emitter<T> {
             self.unrepresentable = true;
             return None;
         }
-        let mut out = None;
         if was_inside {
-            out = self.push(CellCrossing {
+            let c = CellCrossing {
                 cell: before,
                 t_enter: self.seg_start,
                 t_exit: t,
-            });
+            };
+            self.seg_start = t;
+            if self.outside == 0 {
+                return Some(c); // the cell changes: nothing can merge with it
+            }
+            // left the domain: held until the ray comes back (it may come back into this cell at this t)
+            self.pending = Some(c);
+            return None;
         }
+        // back into the domain: the held crossing continues if this is the same cell at the same t (a touch of
+        // the boundary from inside), else it is final
         self.seg_start = t;
-        out
-    }
-
-    #[inline]
-    fn push(&mut self, c: CellCrossing<T>) -> Option<CellCrossing<T>> {
-        match self.pending.as_mut() {
-            Some(p) if p.cell == c.cell && p.t_exit == c.t_enter => {
-                p.t_exit = c.t_exit;
+        match self.pending.take() {
+            Some(p) if p.cell == self.cell && p.t_exit == t => {
+                self.seg_start = p.t_enter;
                 None
             }
-            _ => self.pending.replace(c),
+            p => p,
         }
     }
 
+    /// The end of the march at `t_end`: the crossing in progress, or the held one.
     fn finish(&mut self, t_end: T) -> Option<CellCrossing<T>> {
         if self.outside != 0 {
-            return None;
+            return self.pending.take();
         }
         let t_exit = t_end.max(self.seg_start);
         self.outside = 0xff;
-        self.push(CellCrossing {
+        Some(CellCrossing {
             cell: self.cell,
             t_enter: self.seg_start,
             t_exit,
