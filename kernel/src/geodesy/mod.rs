@@ -458,37 +458,48 @@ pub fn hypot<T: Real>(x: T, y: T) -> T {
     m * (xs * xs + ys * ys).sqrt()
 }
 
-/// The real cube root. The scalar trait has no cube root, so this rounds through `f64` (exact widening for every
-/// implementor; one `libm::cbrt` rounding, then one rounding back).
+/// The real cube root ([`Real::cbrt`]: libm's in `f64`, a routine in `f32` arithmetic within 1 ulp in `f32`, so
+/// that an `f32` geodetic conversion needs no software double precision on a single-precision FPU).
 #[inline]
 pub fn cbrt<T: Real>(x: T) -> T {
-    T::from_f64(libm::cbrt(x.to_f64()))
+    x.cbrt()
 }
 
 /// `(sin x, cos x)` for `x` in degrees, exact at multiples of 90° (the angle is reduced to `[−45°, 45°]` first, so
 /// `sin_cos_deg(90) = (1, 0)` and a pole row maps exactly onto the z axis).
+///
+/// Computed in the scalar's own arithmetic (no `f64` in `f32`): the reduction `r = x − 90 q` is exact while
+/// `90 q` is (|x| below 2²⁴·90/2⁷, about 1.2e7 degrees, in `f32`; 2⁵³·90/2⁷ in `f64`), and `r` is converted to
+/// radians with `π/180` split into a leading part and the rest (`f64`: the rest is 0, as before).
 pub fn sin_cos_deg<T: Real>(x: T) -> (T, T) {
     if !x.is_finite() {
         return (T::NAN, T::NAN);
     }
-    let x64 = x.to_f64();
-    // Reduce in f64 (exact for |x| < 2^40 degrees, far beyond any grid): q = nearest multiple of 90.
-    let q = libm::round(x64 / 90.0);
-    let r = x64 - q * 90.0;
-    let rad = T::from_f64(r * (core::f64::consts::PI / 180.0));
+    let ninety = T::from_i32(90);
+    // q = nearest multiple of 90.
+    let q = (x / ninety).round();
+    let r = x - q * ninety;
+    // π/180 = hi + lo in the scalar (constants: both fold at compile time).
+    let rad_hi = T::from_f64(core::f64::consts::PI / 180.0);
+    let rad_lo = T::from_f64(core::f64::consts::PI / 180.0 - rad_hi.to_f64());
+    let rad = r * rad_hi + r * rad_lo;
     let (s, c) = (rad.sin(), rad.cos());
-    let quadrant = libm::fmod(q, 4.0);
-    let quadrant = if quadrant < 0.0 {
-        quadrant + 4.0
+    // q mod 4 in [0, 4): q − 4 round(q/4) is exact (an integer in [−2, 2]).
+    let four = T::from_i32(4);
+    let quadrant = q - four * (q / four).round();
+    let quadrant = if quadrant < T::ZERO {
+        quadrant + four
     } else {
         quadrant
     };
+    let half = T::HALF;
+    let (one_half, two_half) = (T::ONE + half, T::TWO + half);
     // 0: (s, c); 1: (c, −s); 2: (−s, −c); 3: (−c, s). `+ 0` turns −0 into +0.
-    let (s, c) = if quadrant < 0.5 {
+    let (s, c) = if quadrant < half {
         (s, c)
-    } else if quadrant < 1.5 {
+    } else if quadrant < one_half {
         (c, -s)
-    } else if quadrant < 2.5 {
+    } else if quadrant < two_half {
         (-s, -c)
     } else {
         (-c, s)
