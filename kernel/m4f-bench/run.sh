@@ -54,6 +54,9 @@ echo "pick-f32: $pick_softf64 soft double-precision routines"
 # Where the march-only f32 firmware's bytes go (opt "s"), by the kernel function they were inlined from.
 echo "march-f32 .text (opt \"s\") by kernel function (inlined code included):"
 OBJDUMP=$OBJDUMP ./text-by-function.sh "$march32" 64 | tee march-f32-text.txt
+# And its stack: the frames (opt 3, the build whose stack is measured) of 64 B or more.
+echo "march-f32 stack frames (opt 3) of 64 B or more:"
+OBJDUMP=$OBJDUMP ./stack-frames.sh "target/$TARGET/release/march-f32" 64 | tee march-f32-frames.txt
 
 field() { grep -oE "$2 [-0-9.]+" <<<"${OUT[$1]}" | head -n "${3:-1}" | tail -n 1 | awk '{ print $2 }'; }
 grid() { grep -E "^m4f-bench $1: grid $2 " <<<"${OUT[$1]}" | grep -oE "$3 [-0-9.]+" | awk '{ print $2 }'; }
@@ -106,8 +109,13 @@ verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "me
     kernel=$(awk '$2 == "kernel" { print $1 }' march-f32-text.txt)
     echo "| $kernel | the kernel, all of its functions |"
     echo "| $(( march_s - kernel )) | the rest beyond the empty firmware: libraries (libm, compiler-builtins) and the firmware's own code (breakpoints, rays, the loop over the crossings) |"
+    echo
+    echo "The march's stack by frame (opt 3, from each function's prologue by \`stack-frames.sh\`; a frame holds" \
+         "what was inlined into it): the firmware's \`march_once\` holds the inlined set-up and the \`SerialMarch\`" \
+         "itself;" \
+         "$(awk '$2 ~ /march_once|curvicast::/ { b = $1; $1 = ""; sub(/^ /, ""); printf "%s`%s` %d B", sep, $0, b; sep = ", " }' march-f32-frames.txt)."
 } > embedded.md
-rm -f march-f32-text.txt
+rm -f march-f32-text.txt march-f32-frames.txt
 echo
 cat embedded.md
 exit $status

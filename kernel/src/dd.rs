@@ -15,6 +15,11 @@
 //!   which is well conditioned there (`cos x ≥ 1/√2`). Multiples of 90° are exact, as in the scalar
 //!   `geodesy::sin_cos_deg`.
 //!
+//! Everything stays in the scalar's own arithmetic: the constants (the series' factors, the table of
+//! [`sin_cos_deg`]'s reduction, `π/180`) are written as `f64` pairs and turned into `f32` pairs at compile time, and
+//! the reductions round in the scalar, so a pick in `f32` runs no `f64` operation, which a single-precision FPU
+//! (a Cortex-M4F) would do in software.
+//!
 //! Overflow and NaN propagate (a pair with a non-finite `hi` is meaningless); the callers check finiteness of the
 //! final result. Products whose low part underflows lose that low part only.
 //!

@@ -140,7 +140,10 @@ impl<T: Real> WatertightRay<T> {
         if neg && pos {
             let norm = |p: V3<T>| p.x.abs().max(p.y.abs()).max(p.z.abs());
             let scale = norm(self.origin) + norm(a).max(norm(b)).max(norm(c));
-            [u, v, w] = close_border_edges(scale, [ax, ay, bx, by, cx, cy], [u, v, w], border)?;
+            // Through `dyn`, so that one copy serves every caller's closure.
+            let mut border = Some(border);
+            let mut open = || border.take().map_or([false; 3], |b| b());
+            [u, v, w] = close_border_edges(scale, [ax, ay, bx, by, cx, cy], [u, v, w], &mut open)?;
         }
         let det = u + v + w;
         if det == T::ZERO || det.is_nan() {
@@ -175,13 +178,14 @@ impl<T: Real> WatertightRay<T> {
 /// The edge functions `f = [U, V, W]` of a ray that misses the triangle by their signs, with each one of the
 /// wrong sign set to 0 if its edge is on the border and the miss is within rounding (module docs); `None` if
 /// any edge function keeps the wrong sign. `scale` is `m` of the module docs, `p` the vertices' sheared
-/// coordinates `[ax, ay, bx, by, cx, cy]`. Out of line: it runs only for misses.
+/// coordinates `[ax, ay, bx, by, cx, cy]`, `border` says which edges are on the border (called at most once).
+/// Out of line: it runs only for misses.
 #[inline(never)]
 fn close_border_edges<T: Real>(
     scale: T,
     [ax, ay, bx, by, cx, cy]: [T; 6],
     mut f: [T; 3],
-    border: impl FnOnce() -> [bool; 3],
+    border: &mut dyn FnMut() -> [bool; 3],
 ) -> Option<[T; 3]> {
     let det = f.iter().fold(T::ZERO, |s, &x| s + x);
     // The orientation is the sign of the sum: only rounding-sized terms can have the other sign.
