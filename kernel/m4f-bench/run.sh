@@ -56,7 +56,9 @@ echo "march-f32 .text (opt \"s\") by kernel function (inlined code included):"
 OBJDUMP=$OBJDUMP ./text-by-function.sh "$march32" 64 | tee march-f32-text.txt
 # And its stack: the frames (opt 3, the build whose stack is measured) of 64 B or more.
 echo "march-f32 stack frames (opt 3) of 64 B or more:"
-OBJDUMP=$OBJDUMP ./stack-frames.sh "target/$TARGET/release/march-f32" 64 | tee march-f32-frames.txt
+OBJDUMP=$OBJDUMP ./stack-frames.sh "target/$TARGET/release/march-f32" | tee march-f32-all-frames.txt \
+    | awk '$1 >= 64' | tee march-f32-frames.txt
+closure_frame=$(grep -F 'march_bench::_$u7b$$u7b$closure$u7d$$u7d$' march-f32-all-frames.txt | awk '{ print $1 }' | head -n 1)
 
 field() { grep -oE "$2 [-0-9.]+" <<<"${OUT[$1]}" | head -n "${3:-1}" | tail -n 1 | awk '{ print $2 }'; }
 grid() { grep -E "^m4f-bench $1: grid $2 " <<<"${OUT[$1]}" | grep -oE "$3 [-0-9.]+" | awk '{ print $2 }'; }
@@ -89,7 +91,8 @@ verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "me
          "calibration $(field empty calibration_instructions) instructions = $(field empty calibration_ticks) ticks" \
          "($(field empty instructions_per_tick) per tick); a delay loop of 2 instructions per iteration measures" \
          "$(field empty loop_per_iteration). Per crossing: least-squares slope over the hitting rays (marginal), with" \
-         "its intercept as the set-up per ray. Stack: painted-stack high-water mark of one call." \
+         "its intercept as the set-up per ray. Stack: painted-stack high-water mark of one call, including the" \
+         "frame of the closure through which the harness makes it (march-f32: ${closure_frame:-?} B)." \
          "The empty firmware (the measuring harness alone) is $empty_s B (opt \"s\") / $empty_3 B (opt 3)." \
          "The f32 march firmware holds $vsqrt \`vsqrt.f32\` and $softf64 soft double-precision routines, the f32" \
          "pick firmware $pick_softf64." \
@@ -115,7 +118,7 @@ verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "me
          "itself;" \
          "$(awk '$2 ~ /march_once|curvicast::/ { b = $1; $1 = ""; sub(/^ /, ""); printf "%s`%s` %d B", sep, $0, b; sep = ", " }' march-f32-frames.txt)."
 } > embedded.md
-rm -f march-f32-text.txt march-f32-frames.txt
+rm -f march-f32-text.txt march-f32-frames.txt march-f32-all-frames.txt
 echo
 cat embedded.md
 exit $status
