@@ -54,7 +54,10 @@ echo "pick-f32: $pick_softf64 soft double-precision routines"
 # Where the march-only f32 firmware's bytes go (opt "s"), by the kernel function they were inlined from.
 echo "march-f32 .text (opt \"s\") by kernel function (inlined code included):"
 OBJDUMP=$OBJDUMP ./text-by-function.sh "$march32" 64 | tee march-f32-text.txt
-# And its stack: the frames (opt 3, the build whose stack is measured) of 64 B or more.
+# The pick firmware's too, in the log only (functions of 512 B or more).
+echo "pick-f32 .text (opt \"s\") by kernel function, 512 B or more:"
+OBJDUMP=$OBJDUMP ./text-by-function.sh "$pick32" 512
+# And the march's stack: the frames (opt 3, the build whose stack is measured) of 64 B or more.
 echo "march-f32 stack frames (opt 3) of 64 B or more:"
 OBJDUMP=$OBJDUMP ./stack-frames.sh "target/$TARGET/release/march-f32" | tee march-f32-all-frames.txt \
     | awk '$1 >= 64' | tee march-f32-frames.txt
