@@ -176,6 +176,11 @@ fn outer_ball_representable<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>, t_min: T,
 /// Locates the ray, finds where it enters the outer radius, and starts the other coordinates there: fills in
 /// `rays` and `streams` (in place: a march's state is not moved around) and returns the start `t`. The
 /// streams' bands are the bands at the start. `Ok(None)` when the ray cannot meet the domain.
+///
+/// Not inlined: its temporaries (the rays, each coordinate's start) then live in its own frame, which is gone
+/// before the march's first crossing, instead of in the caller's for the whole march (on a Cortex-M4F the
+/// stack of one march drops from 1 632 to 1 560 bytes).
+#[inline(never)]
 fn setup<T: Real>(
     axes: &Axes<'_, T>,
     ray: &Ray<T>,
@@ -195,11 +200,9 @@ fn setup<T: Real>(
         None
     };
     let radial_moves = !axes.flat_radius || flat.is_some();
-    *rays = Rays {
-        rel,
-        flat,
-        t_max: ray.t_max(),
-    };
+    rays.rel = rel;
+    rays.flat = flat;
+    rays.t_max = ray.t_max();
     let t_min = rel.t_min();
     if radial_moves && !outer_ball_representable(axes, rays.radial(), t_min, rays.t_max) {
         return Err(MarchError::Unrepresentable);
