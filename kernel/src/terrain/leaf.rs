@@ -1,5 +1,28 @@
 //! Leaf tracing (seed 000 §4): a traced unit's cells walked column by column, clipped against their meridian and
 //! row planes, culled by height, and their triangles tested.
+//!
+//! In a leaf, each cell (triangle pair) has its own volume bounded by four *planes*: the meridian planes of its
+//! two columns and, for each of its two rows, the plane through the spheroid normals at the row's two grid
+//! vertices (both normals of one latitude pass through the latitude cone's apex, so they are coplanar). All four
+//! corner vertices lie in that convex volume, so both triangles do — exactly, with no containment problem at
+//! this level — and neighbouring cells share their walls. Only the triangle pairs whose volume the ray crosses
+//! are tested, with the watertight ray–triangle test ([`triangle`]). The paper steps from one pair's volume to
+//! the next through the wall the ray leaves by; here the unit is walked by columns (the meridian walls clip
+//! the ray once per column), which visits the same pairs.
+//!
+//! Beyond the paper, two shortcuts: at full resolution, away from the axis, a column's row planes are ordered,
+//! so only the rows between those of the column segment's two ends are visited ([`Picker::crossed_rows`]
+//! states the bound); and a cell's two triangles are tested only when the ray's part inside the cell is not
+//! wholly above (or below) its four corners in the unit's local frame — the triangles are their convex hull.
+//! A coarse unit's border cells are stitched to finer neighbours (`stitch.rs`).
+//!
+//! # Cost
+//!
+//! Per leaf: a clip against two meridian planes per column (columns the ray misses are skipped), the rows the
+//! column's segment can cross (a few plane signs from the previous column's row), two row planes per such
+//! cell, the height cull, and the triangle test for what is left. No trigonometry is needed per ray when the
+//! storage caches the sines and cosines of its rows and columns ([`TerrainStorage::row_sin_cos`]); the prime
+//! vertical radius is computed once per row of a leaf.
 
 use super::*;
 
@@ -113,8 +136,7 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     }
 
     /// The triangle pairs of one column (§4, Fig. 9): each cell the ray can cross is clipped against its two
-    /// row planes, a coarse unit's border cell is stitched to finer neighbours (§6; module docs,
-    /// "Multi-resolution"), a cell whose part of the ray passes wholly above or below its corners is skipped,
+    /// row planes, a coarse unit's border cell is stitched to finer neighbours (§6; `stitch.rs`), a cell whose part of the ray passes wholly above or below its corners is skipped,
     /// and the rest have their two triangles tested.
     #[inline]
     fn trace_column(

@@ -1,5 +1,90 @@
 //! The quad traversal (seed 000 §3.5, §5): a zone's quadtree visited depth first, nearest child first, with an
 //! explicit stack; what to do at a node under multi-resolution paging; the traced unit that covers a cell.
+//!
+//! # Zones and quads
+//!
+//! **Zones** come from the storage ([`TerrainStorage::zone`]), aligned to the DEM's grid (for a global DEM the
+//! storage typically uses 8 × 4 = 32 zones bounded by meridians and parallels; a regional DEM its own extent).
+//! Each zone's volume is tested against the ray (after the global clip to `B^{h_max}`) and the zones are
+//! visited in order of entry.
+//!
+//! **Quads** (§3.1–3.5): each node's volume is a [`HeightQuadBounds`] — meridian wedge, latitude cones, upper
+//! spheroid `B^{h_max}`, lower sphere — and the ray's parameter hull inside it comes from the crossings of those
+//! walls (the §3.5 "side interval against `B^h` interval" test, generalised so that a volume entered twice
+//! yields one hull over both visits). The traversal itself tests zones and children against a relaxed, convex
+//! superset of that volume ([`crate::geodesy::relaxed_interval`]: each latitude cone replaced by a plane
+//! bounding its side, so the hull needs no point tests), and a child only against its walls on the parent's
+//! internal partition ([`crate::geodesy::SideWalls`]). Children are visited nearest entry first, with an
+//! explicit stack of fixed capacity (the const generic `STACK`; no recursion).
+//!
+//! This replaces the paper's sequential stepping between children (the child entered from `side_in` and the
+//! internal partition half-spaces, the next child from `side_out`, the 3-or-4-side exit rule): those rules
+//! assume that the quads' walls partition space, which the *conservative* volumes needed for triangles (the
+//! containment problem of §4, below) no longer do — inflated neighbours overlap. Ordering by the entry
+//! parameter gives the same visiting order where the volumes do not overlap (the zone or quad containing the
+//! origin has entry `t_min` and is visited first; the next one is the one whose wall the ray crosses next),
+//! handles a quad the ray enters twice (one hull over both visits), and is what the no-miss proof below needs.
+//! Traversal ends when no pending quad can be entered before the best hit, or at `t_global_exit`.
+//!
+//! When the storage gives node boxes ([`TerrainStorage::node_box`]; beyond the paper), zones and children are
+//! tested against those instead: a box around all of the node's vertices in a local frame ([`boxes`]: its
+//! parent's, or the one its parent's box is in, down from nodes narrow enough to share one), so that the ray is
+//! moved into each frame once and each child costs three slabs — a small fraction of the relaxed test — and,
+//! for a node a few kilometres across, the tighter bound. (A global grid's zones, whose boxes lie in one frame
+//! for the whole grid, are clipped by their volumes too.)
+//!
+//! # No misses: what is proven
+//!
+//! The paper's walls are not walls for triangles: a planar triangle dips below its vertices (so §3.2's sphere
+//! through the lowest vertex is not a lower bound) and, along a latitude border, bulges across the cone wall into
+//! the neighbouring quad (§4's containment problem, Fig. 10); the paper then stops at the first quad with a hit.
+//! Here instead:
+//!
+//! * every quad's volume provably contains all of its triangles ([`crate::geodesy::HeightQuadBounds`] derives
+//!   the sagitta bound for the lower wall and the bulge bound for the latitude walls from the curvature of the
+//!   height and cone functions; meridian walls and the upper bound are exact for triangles by convexity), and
+//!   the relaxed volume the traversal tests contains those triangles too (each of its planes bounds a cone's
+//!   side, on the quad's wedge; [`crate::geodesy::relaxed_interval`]); a node box ([`boxes`]) contains all of
+//!   the node's vertices, hence the convex hull of any triangle traced under it, with no curvature bound needed;
+//! * every cell's planar volume contains its two triangles exactly; the rows a column's segment skips lie
+//!   beyond the planes it does not cross, and a cell skipped by the height cull has its corners' convex hull
+//!   wholly on one side of the ray's part in the cell (both tests inflated by the rounding; `leaf.rs`);
+//! * the traversal keeps the best hit `t*` found so far and discards a quad only when its entry parameter exceeds
+//!   `t*`, and stops only when no pending quad or zone can start before `t*`.
+//!
+//! Hence a triangle hit at `t < t*` lies in some quad whose interval contains `t`, which is never discarded, down
+//! to its leaf and its cell, which is tested: the returned hit is the **nearest** one (up to the floating-point
+//! tolerance of the point tests, which inflate every wall by a few ulps of the coordinates, and the rounding of
+//! the triangle test itself). Overlapping inflated volumes only cost extra tests, never a miss. CesiumJS's picking
+//! returns the first tile with a hit (its issue #3423); this traversal cannot.
+//!
+//! # Which blocks are traced (multi-resolution, §5)
+//!
+//! The traversal descends from the zones. A node shallower than the picker's `min_level`
+//! ([`Picker::with_min_level`]) is only passed through, unless it is a leaf: then its own block is traced, or
+//! [`TerrainError::NeedsBlock`] is reported if it is missing. From `min_level` on, a resident node becomes the
+//! *source*: the nearest resident ancestor of everything below it (§5). A resident leaf traces its own block.
+//! Below a missing block the traversal goes on down as long as the source's cells fit inside the children
+//! (their ranges fall on the source's sample lattice), so that a deeper resident block still answers for its own
+//! region; a missing leaf, or a missing node whose children are smaller than the source's cells, is traced whole
+//! with the source's block — the part of the source's block over the node, cells `(r − r_A)/s_A` of the source
+//! `A` (the §5 block subset: for a leaf `k` levels below `A`, [`subset::BlockSubset`]'s rectangle after `k`
+//! steps, `B >> k` cells wide). So a source cell is never split: where it is larger than the leaves below it
+//! (the paper's "at least one cell"), it answers for all of them, and resident blocks inside it are not used.
+//! That keeps the traced regions disjoint — a coarse cell never overlaps finer data — so the surface is one
+//! sheet. A missing node without a source (at `min_level`), or off its source's lattice, needs its own block.
+//!
+//! **`NeedsBlock`.** A missing block is reported only if the ray reaches its node before the nearest hit found
+//! elsewhere: the answer depends on it. The caller pages the block in and asks again.
+//!
+//! # Cost
+//!
+//! Per child of a visited quad, only along the part of the ray inside the parent: with node boxes, three slabs
+//! (the ray is rotated into each frame once: on a regional DEM once per zone or per ray); without them, the
+//! child's walls on the parent's internal partition: the internal meridian plane (a division), then the rest of
+//! the relaxed volume (the internal latitude plane, the upper spheroid, the lower sphere), each step only if the
+//! interval is still non-empty. [`PickStats`] counts quads, triangle pairs (cells whose planar volume the ray
+//! crosses) and triangles tested per ray.
 
 use super::*;
 
@@ -163,7 +248,7 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         )?)
     }
 
-    /// What to do at a node (module docs, "Multi-resolution"): `stride` is its block stride, `src` the source
+    /// What to do at a node (this file's docs, "Which blocks are traced"): `stride` is its block stride, `src` the source
     /// inherited from its parent.
     #[inline(always)]
     pub(super) fn step(
