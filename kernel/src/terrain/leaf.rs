@@ -136,8 +136,9 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     }
 
     /// The triangle pairs of one column (§4, Fig. 9): each cell the ray can cross is clipped against its two
-    /// row planes, a coarse unit's border cell is stitched to finer neighbours (§6; `stitch.rs`), a cell whose part of the ray passes wholly above or below its corners is skipped,
-    /// and the rest have their two triangles tested.
+    /// row planes, a coarse unit's border cell is stitched to finer neighbours (§6; `stitch.rs`), a cell whose
+    /// part of the ray passes wholly above or below its corners is skipped, and the rest have their two
+    /// triangles tested.
     #[inline]
     fn trace_column(
         &self,
