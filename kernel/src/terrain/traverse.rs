@@ -1,5 +1,6 @@
-//! The quad traversal (seed 000 §3.5, §5): a zone's quadtree visited depth first, nearest child first, with an
-//! explicit stack; what to do at a node under multi-resolution paging; the traced unit that covers a cell.
+//! The traversal (seed 000 §3.5, §5): the global clip and the zones in order of entry (`nearest`); a zone's
+//! quadtree visited depth first, nearest child first, with an explicit stack; what to do at a node under
+//! multi-resolution paging; the traced unit that covers a cell.
 //!
 //! # Zones and quads
 //!
@@ -91,6 +92,113 @@ use super::*;
 impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     Picker<'_, T, S, STACK, ZONES>
 {
+    /// The traversal (phases 1–4 of the module docs): the nearest triangle, before the refinement.
+    pub(super) fn nearest(
+        &self,
+        ray: &Ray<T>,
+        stats: &mut PickStats,
+    ) -> Result<Option<Candidate<T>>, TerrainError> {
+        // 1. Global clip to B^{h_max}: [t_enter, t_global_exit].
+        let Some(upper) = &self.upper else {
+            return Ok(None); // no zone with data
+        };
+        let cr = upper.crossings(ray);
+        let inside0 = upper.side_of(V3::from(ray.at(ray.t_min()))) != Some(Side::Positive);
+        let mut t_enter = if inside0 { Some(ray.t_min()) } else { None };
+        let mut t_exit = ray.t_max();
+        for c in &cr {
+            match c.into {
+                Side::Negative => {
+                    if t_enter.is_none() {
+                        t_enter = Some(c.t);
+                    }
+                }
+                Side::Positive => {
+                    if t_enter.is_some() {
+                        t_exit = c.t;
+                    }
+                }
+            }
+        }
+        let Some(t_enter) = t_enter else {
+            return Ok(None);
+        };
+        // Inflate the clip by a few ulps: the triangle test decides hits, the clip only culls.
+        let slack = T::from_f64(64.0) * T::EPSILON * (t_enter.abs() + t_exit.abs());
+        let t_lo = (t_enter - slack).max(ray.t_min());
+        let t_hi = (t_exit + slack).min(ray.t_max());
+        if !t_hi.is_finite() || !(t_lo <= t_hi) {
+            return Ok(None);
+        }
+        let clipped = ray.with_interval(t_lo, t_hi)?;
+        let wray = WatertightRay::new(ray.origin(), ray.dir())
+            .ok_or(TerrainError::Ray(RayError::ZeroDirection))?;
+
+        // 2. Zones in order of entry.
+        let mut order: heapless::Vec<(usize, T, T), ZONES> = heapless::Vec::new();
+        let grid_ray = self.grid_frame.ray(ray, [t_lo, t_hi]);
+        for (k, bbox) in self.zone_boxes.iter().enumerate().take(self.zone_count) {
+            let volume = |r: &Ray<T>| match self.zones.get(k) {
+                Some(Some((_, _, ZoneVolume::Cached(b)))) => b.ray_interval(r),
+                Some(Some((_, _, ZoneVolume::Relaxed(v)))) => v.interval(r),
+                _ => None,
+            };
+            // The box in the grid's frame is tight for a regional grid; across a global one its faces tilt by up
+            // to 180°, so the zone's own volume then clips what the box leaves.
+            let interval = match bbox {
+                Some(b) if self.regional => grid_ray.interval(b, [t_lo, t_hi]),
+                Some(b) => grid_ray
+                    .interval(b, [t_lo, t_hi])
+                    .and_then(|(a, c)| clipped.with_interval(a, c).ok())
+                    .and_then(|r| volume(&r)),
+                None => volume(&clipped),
+            };
+            if let Some((a, c)) = interval {
+                // At most `ZONES` zones (checked by `new`), so the push cannot fail.
+                let _ = order.push((k, a, c));
+            }
+        }
+        insertion_sort(&mut order, |x, y| x.1 < y.1);
+
+        let mut best: Option<Candidate<T>> = None;
+        let mut pending: Option<(T, NodeId)> = None;
+        let mut budget = node_budget(&self.grid, self.zone_count);
+        for &(k, a, c) in order.iter() {
+            if let Some(h) = &best {
+                if a > h.t {
+                    break;
+                }
+            }
+            let Some(Some((id, _, _))) = self.zones.get(k) else {
+                continue;
+            };
+            let root = Entry {
+                id: *id,
+                parent: None,
+                t_in: a,
+                t_out: c,
+                parent_stride: u32::MAX,
+                src: None,
+                frame: 0,
+                depth: 0,
+            };
+            let mut walk = Walk {
+                ray,
+                wray: &wray,
+                best: &mut best,
+                pending: &mut pending,
+                stats,
+            };
+            self.traverse(root, &grid_ray, &mut walk, &mut budget)?;
+        }
+        // A missing block matters only if it could hold a hit before the nearest one found.
+        match (pending, &best) {
+            (Some((t, id)), Some(h)) if t <= h.t => Err(TerrainError::NeedsBlock(id)),
+            (Some((_, id)), None) => Err(TerrainError::NeedsBlock(id)),
+            _ => Ok(best),
+        }
+    }
+
     /// Depth-first, nearest-child-first traversal of one zone with an explicit stack. `grid_ray` is the ray in
     /// the grid's frame, where the zones' boxes are.
     ///
@@ -382,4 +490,14 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         }
         Err(TerrainError::TraversalBound)
     }
+}
+
+/// The most nodes a well-formed forest over this grid can have (each node has ≥ 1 cell and children are
+/// strictly smaller; a quadtree has fewer than 4/3 nodes per leaf) with generous slack.
+fn node_budget<T: Real>(g: &Grid<T>, zones: usize) -> u64 {
+    let cells = u64::from(g.cell_rows()).saturating_mul(u64::from(g.cell_cols()));
+    cells
+        .saturating_mul(4)
+        .saturating_add(u64::try_from(zones).unwrap_or(u64::MAX))
+        .saturating_add(16)
 }
