@@ -88,34 +88,37 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     #[inline]
     fn clip_column(&self, tr: &UnitTrace<T>, k: u32, lo: T, hi: T) -> Option<Column<T>> {
         let (o, d) = (tr.origin, tr.dir);
-        let s = tr.unit.stride;
-        let j = tr.unit.cols[0].saturating_add(k.saturating_mul(s));
-        let j1 = j.saturating_add(s).min(tr.unit.cols[1]);
-        let (sw, cw) = self.storage.col_sin_cos(j);
-        let (se, ce) = self.storage.col_sin_cos(j1);
-        let (s_half, c_half) = if j1.saturating_sub(j) == s {
-            self.half_cell(s)
+        let stride = tr.unit.stride;
+        let j = tr.unit.cols[0].saturating_add(k.saturating_mul(stride));
+        let j1 = j.saturating_add(stride).min(tr.unit.cols[1]);
+        let (sin_w, cos_w) = self.storage.col_sin_cos(j);
+        let (sin_e, cos_e) = self.storage.col_sin_cos(j1);
+        let (sin_half, cos_half) = if j1.saturating_sub(j) == stride {
+            self.half_cell(stride)
         } else {
             sin_cos_deg(self.grid.dlon * T::HALF * self.scale(j1.saturating_sub(j)))
         };
         // The cell's middle meridian λ_j + w/2 by the addition theorem (a few ulps; the row plane only needs its
         // direction, and the vertices' rounding is covered by `tau`).
-        let (sm, cm) = (sw * c_half + cw * s_half, cw * c_half - sw * s_half);
+        let (sin_m, cos_m) = (
+            sin_w * cos_half + cos_w * sin_half,
+            cos_w * cos_half - sin_w * sin_half,
+        );
         let (mut lo, mut hi) = (lo, hi);
         let mag = (o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * (lo.abs().max(hi.abs()));
         let tol = tr.tau * mag;
         clip_half_space(
             &mut lo,
             &mut hi,
-            cw * o.y - sw * o.x,
-            cw * d.y - sw * d.x,
+            cos_w * o.y - sin_w * o.x,
+            cos_w * d.y - sin_w * d.x,
             tol,
         );
         clip_half_space(
             &mut lo,
             &mut hi,
-            -(ce * o.y - se * o.x),
-            -(ce * d.y - se * d.x),
+            -(cos_e * o.y - sin_e * o.x),
+            -(cos_e * d.y - sin_e * d.x),
             tol,
         );
         if !(lo <= hi) {
@@ -123,12 +126,12 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         }
         Some(Column {
             cols: [j, j1],
-            west: (sw, cw),
-            east: (se, ce),
-            cos_half: c_half,
+            west: (sin_w, cos_w),
+            east: (sin_e, cos_e),
+            cos_half,
             lo,
             hi,
-            radial: (cm * o.x + sm * o.y, cm * d.x + sm * d.y),
+            radial: (cos_m * o.x + sin_m * o.y, cos_m * d.x + sin_m * d.y),
             row_mag: o.x.abs()
                 + o.y.abs()
                 + (d.x.abs() + d.y.abs() + d.z.abs()) * (lo.abs().max(hi.abs())),
@@ -169,7 +172,7 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 low = self.border_wall(tr, col, row_i, true);
                 high = self.border_wall(tr, col, row_i1, false);
             }
-            let Some((clo, chi)) =
+            let Some((cell_lo, cell_hi)) =
                 clip_cell(tr.north_up, low, high, col.lo, col.hi.min(w.best_t()))
             else {
                 continue;
@@ -183,7 +186,7 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             let v00 = reuse.map_or_else(|| self.grid_vertex(tr, row_i, j, col.west), |(_, a, _)| a);
             let v11 = self.grid_vertex(tr, row_i1, j1, col.east);
             if tr.stitchable && border {
-                match self.stitch(u, &cell, v00, v11, w, clo)? {
+                match self.stitch(u, &cell, v00, v11, w, cell_lo)? {
                     Stitch::Done => continue,
                     Stitch::Plain => {}
                 }
@@ -193,7 +196,7 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             let v10 = self.grid_vertex(tr, row_i1, j, col.west);
             shared = Some((row_i1, v10, v11));
             let corners = [v00, v01, v10, v11];
-            if tr.cull.passes_clear_of(&corners, clo, chi) {
+            if tr.cull.passes_clear_of(&corners, cell_lo, cell_hi) {
                 continue;
             }
             self.test_triangle_pair(w, u, cell, corners);
@@ -216,7 +219,7 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         }
         let (o, d) = (tr.origin, tr.dir);
         let (radial_o, radial_d) = col.radial;
-        let c_half = col.cos_half;
+        let cos_half = col.cos_half;
         self.crossed_rows(
             &tr.unit,
             [col.lo, col.hi],
@@ -225,8 +228,9 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             // `row_wall(i, false)` at `t`, without its tolerance (formed inline: the unused tolerance is not
             // optimised away and costs 3 % of a camera pick).
             &|i, t| {
-                let (sp, cp, kz, _) = self.row_at(&tr.rows, i);
-                cp * c_half * (o.z - kz) - sp * radial_o + t * (cp * c_half * d.z - sp * radial_d)
+                let (sin_lat, cos_lat, apex_z, _) = self.row_at(&tr.rows, i);
+                cos_lat * cos_half * (o.z - apex_z) - sin_lat * radial_o
+                    + t * (cos_lat * cos_half * d.z - sin_lat * radial_d)
             },
             row_hint,
         )
@@ -242,13 +246,13 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     fn row_wall(&self, tr: &UnitTrace<T>, col: &Column<T>, i: u32, tangent: bool) -> Wall<T> {
         let (o, d) = (tr.origin, tr.dir);
         let (radial_o, radial_d) = col.radial;
-        let (sp, cp, kz, _) = self.row_at(&tr.rows, i);
-        let ch = if tangent { T::ONE } else { col.cos_half };
-        let qz = o.z - kz;
+        let (sin_lat, cos_lat, apex_z, _) = self.row_at(&tr.rows, i);
+        let cos_half = if tangent { T::ONE } else { col.cos_half };
+        let z_above_apex = o.z - apex_z;
         Wall {
-            at_origin: cp * ch * qz - sp * radial_o,
-            rate: cp * ch * d.z - sp * radial_d,
-            tol: tr.tau * (col.row_mag + qz.abs()),
+            at_origin: cos_lat * cos_half * z_above_apex - sin_lat * radial_o,
+            rate: cos_lat * cos_half * d.z - sin_lat * radial_d,
+            tol: tr.tau * (col.row_mag + z_above_apex.abs()),
         }
     }
 
@@ -262,12 +266,12 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     #[inline(always)]
     fn border_wall(&self, tr: &UnitTrace<T>, col: &Column<T>, i: u32, low: bool) -> Wall<T> {
         let south = low == tr.north_up;
-        let sp = self.row_at(&tr.rows, i).0;
+        let sin_lat = self.row_at(&tr.rows, i).0;
         self.row_wall(
             tr,
             col,
             i,
-            (south && sp > T::ZERO) || (!south && sp < T::ZERO),
+            (south && sin_lat > T::ZERO) || (!south && sin_lat < T::ZERO),
         )
     }
 
@@ -287,13 +291,13 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// Row `i`'s `(sin ψ, cos ψ, cone apex k, prime vertical radius N)`.
     #[inline]
     fn row_values(&self, i: u32) -> RowValues<T> {
-        let (sp, cp) = self.storage.row_sin_cos(i);
+        let (sin_lat, cos_lat) = self.storage.row_sin_cos(i);
         let e = &self.ellipsoid;
         (
-            sp,
-            cp,
-            e.latitude_cone_apex(sp),
-            e.prime_vertical_radius(sp),
+            sin_lat,
+            cos_lat,
+            e.latitude_cone_apex(sin_lat),
+            e.prime_vertical_radius(sin_lat),
         )
     }
 
@@ -311,8 +315,11 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         if !h.is_finite() {
             return None;
         }
-        let (sl, cl, _, n) = self.row_at(&tr.rows, i);
-        Some(self.ellipsoid.ecef_from_parts(sl, cl, n, s_lon, c_lon, h))
+        let (sin_lat, cos_lat, _, prime_vertical) = self.row_at(&tr.rows, i);
+        Some(
+            self.ellipsoid
+                .ecef_from_parts(sin_lat, cos_lat, prime_vertical, s_lon, c_lon, h),
+        )
     }
 
     /// The two triangles of a traced cell (§4's triangle pair: `V00 V01 V11` and `V00 V11 V10`), each tested if
@@ -637,11 +644,23 @@ struct Wall<T> {
 /// one (`low`, `high`: the walls of its lower and higher row), or `None` when the ray passes outside the cell.
 #[inline(always)]
 fn clip_cell<T: Real>(north_up: bool, low: Wall<T>, high: Wall<T>, lo: T, hi: T) -> Option<(T, T)> {
-    let (mut clo, mut chi) = (lo, hi);
+    let (mut cell_lo, mut cell_hi) = (lo, hi);
     let (south, north) = if north_up { (low, high) } else { (high, low) };
-    clip_half_space(&mut clo, &mut chi, south.at_origin, south.rate, south.tol);
-    clip_half_space(&mut clo, &mut chi, -north.at_origin, -north.rate, north.tol);
-    (clo <= chi).then_some((clo, chi))
+    clip_half_space(
+        &mut cell_lo,
+        &mut cell_hi,
+        south.at_origin,
+        south.rate,
+        south.tol,
+    );
+    clip_half_space(
+        &mut cell_lo,
+        &mut cell_hi,
+        -north.at_origin,
+        -north.rate,
+        north.tol,
+    );
+    (cell_lo <= cell_hi).then_some((cell_lo, cell_hi))
 }
 
 /// The height cull (beyond the paper): in the unit's local frame, a cell whose part of the ray lies wholly above
@@ -659,18 +678,18 @@ impl<T: Real> HeightCull<T> {
     /// Whether the ray's part `[clo, chi]` in a cell passes wholly above or below the cell's corners (those
     /// with data).
     #[inline(always)]
-    fn passes_clear_of(&self, corners: &[Option<V3<T>>; 4], clo: T, chi: T) -> bool {
+    fn passes_clear_of(&self, corners: &[Option<V3<T>>; 4], cell_lo: T, cell_hi: T) -> bool {
         let (mut z_min, mut z_max) = (T::INFINITY, T::NEG_INFINITY);
         for v in corners.iter().flatten() {
             let z = self.frame.up(*v);
             z_min = z_min.min(z);
             z_max = z_max.max(z);
         }
-        let (za, zb) = (
-            self.up_origin + clo * self.up_rate,
-            self.up_origin + chi * self.up_rate,
+        let (up_lo, up_hi) = (
+            self.up_origin + cell_lo * self.up_rate,
+            self.up_origin + cell_hi * self.up_rate,
         );
-        za.min(zb) > z_max + self.tol || za.max(zb) < z_min - self.tol
+        up_lo.min(up_hi) > z_max + self.tol || up_lo.max(up_hi) < z_min - self.tol
     }
 }
 
