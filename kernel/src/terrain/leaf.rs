@@ -389,43 +389,13 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         if !(ordered && lo.is_finite() && hi.is_finite()) {
             return (r0, r1);
         }
-        // The cell containing the point at `t`: the last plane i in [r0, r1] that the point lies on the
-        // increasing-row side of (rows increase northwards when dlat > 0), or r0 − 1 (before the unit).
         let north_up = self.grid.dlat > T::ZERO;
-        let (first_plane, last_plane) = (i64::from(r0), i64::from(r1));
-        let cell_of = |t: T, hint: Option<i64>| -> i64 {
-            let after = |i: i64| past_plane(plane, i, t, [r0, r1], north_up);
-            // From the hint (the cell found last in this unit: the ray crosses few rows per column), a few
-            // steps; else a binary search. The answer a: after(a), !after(a + 1), a in [r0 − 1, r1].
-            if let Some(h) = hint {
-                let mut a = h.max(first_plane.saturating_sub(1)).min(last_plane);
-                for _ in 0..4 {
-                    if !after(a) {
-                        a = a.saturating_sub(1);
-                    } else if after(a.saturating_add(1)) {
-                        a = a.saturating_add(1);
-                    } else {
-                        return a;
-                    }
-                }
-            }
-            let (mut a, mut b) = (first_plane.saturating_sub(1), last_plane);
-            while a < b {
-                let m = a.saturating_add(b.saturating_sub(a).saturating_add(1).wrapping_shr(1));
-                if after(m) {
-                    a = m;
-                } else {
-                    b = m.saturating_sub(1);
-                }
-            }
-            a
-        };
         // The end on the column's western meridian first: it is shared with the previous column, whose eastern
         // end is the hint (longitude grows along the ray when (o × d)_z > 0).
         let east_at_hi = az_rate > T::ZERO;
         let (t_west, t_east) = if east_at_hi { (lo, hi) } else { (hi, lo) };
-        let ca = cell_of(t_west, *hint);
-        let cb = cell_of(t_east, Some(ca));
+        let ca = row_cell(plane, t_west, *hint, u.rows, north_up);
+        let cb = row_cell(plane, t_east, Some(ca), u.rows, north_up);
         *hint = Some(cb);
         let first = ca.min(cb).saturating_sub(1).max(i64::from(r0));
         let end = ca.max(cb).saturating_add(2).min(i64::from(r1));
@@ -574,6 +544,46 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             }
         }
     }
+}
+
+/// The cell row of a unit's column containing the point at `t` ([`Picker::crossed_rows`]): the last row plane
+/// `i` in `[r0, r1]` that the point lies on the increasing-row side of (rows increase northwards when
+/// `north_up`), or `r0 − 1` (before the unit); `plane` the planes' signed distances. From `hint` (the cell found
+/// last in this unit: the ray crosses few rows per column) a few steps, else a binary search. Out of line: inlined
+/// into `crossed_rows`, it costs about 1 % more instructions per camera pick (callgrind).
+#[inline(never)]
+fn row_cell<T: Real>(
+    plane: &impl Fn(u32, T) -> T,
+    t: T,
+    hint: Option<i64>,
+    [r0, r1]: [u32; 2],
+    north_up: bool,
+) -> i64 {
+    let (first_plane, last_plane) = (i64::from(r0), i64::from(r1));
+    let after = |i: i64| past_plane(plane, i, t, [r0, r1], north_up);
+    // The answer a: after(a), !after(a + 1), a in [r0 − 1, r1].
+    if let Some(h) = hint {
+        let mut a = h.max(first_plane.saturating_sub(1)).min(last_plane);
+        for _ in 0..4 {
+            if !after(a) {
+                a = a.saturating_sub(1);
+            } else if after(a.saturating_add(1)) {
+                a = a.saturating_add(1);
+            } else {
+                return a;
+            }
+        }
+    }
+    let (mut a, mut b) = (first_plane.saturating_sub(1), last_plane);
+    while a < b {
+        let m = a.saturating_add(b.saturating_sub(a).saturating_add(1).wrapping_shr(1));
+        if after(m) {
+            a = m;
+        } else {
+            b = m.saturating_sub(1);
+        }
+    }
+    a
 }
 
 /// Whether the point at `t` lies past row plane `i` of a unit with rows `[r0, r1]` (on its increasing-row side;
