@@ -406,9 +406,13 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     ) {
         w.stats.triangles_tested = w.stats.triangles_tested.saturating_add(1);
         let limit = w.best.as_ref().map_or(w.ray.t_max(), |h| h.t);
-        if let Some((t, _)) = w
+        // the watertight ray is sheared from the exactly rescaled direction (any direction length works, down
+        // to subnormal ones): its parameter is the ray's scaled one
+        let (lo, hi) = (w.ray.t_to_scaled(w.ray.t_min()), w.ray.t_to_scaled(limit));
+        if let Some(t) = w
             .wray
-            .intersect_with_border(a, b, c, w.ray.t_min(), limit, border)
+            .intersect_with_border(a, b, c, lo, hi, border)
+            .map(|(s, _)| w.ray.t_from_scaled(s))
         {
             if w.best.as_ref().is_none_or(|h| t < h.t) {
                 *w.best = Some(Candidate {

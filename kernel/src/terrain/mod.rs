@@ -126,6 +126,11 @@ pub enum TerrainError {
     /// below the picker's `min_level` can stand in for it (§5): page it in and ask again. Reported only when
     /// the node could hold a hit nearer than any found.
     NeedsBlock(NodeId),
+    /// The ray meets the terrain's bounding volume, but where its parameter `t` is beyond the largest finite
+    /// value of the scalar type (a direction so short, like `[1e-308, 0, 0]` from a thousand kilometres away,
+    /// that `t = distance / |d|` overflows), and no hit was found at a representable `t`. Answered as an error
+    /// rather than as a miss.
+    Unrepresentable,
 }
 
 impl core::fmt::Display for TerrainError {
@@ -144,6 +149,9 @@ impl core::fmt::Display for TerrainError {
             }
             TerrainError::TraversalBound => f.write_str("traversal exceeded its node bound"),
             TerrainError::NeedsBlock(id) => write!(f, "needs the block of node {}", id.0),
+            TerrainError::Unrepresentable => f.write_str(
+                "the ray meets the terrain where its t exceeds the largest finite value (direction too short)",
+            ),
         }
     }
 }

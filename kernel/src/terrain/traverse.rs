@@ -123,15 +123,24 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let Some(t_enter) = t_enter else {
             return Ok(None);
         };
+        if t_enter == T::INFINITY {
+            // the line enters the volume where t overflows (a direction too short for its distance)
+            return Err(TerrainError::Unrepresentable);
+        }
+        // A line that leaves the volume where t overflows is searched up to the largest finite t; if no hit is
+        // found there, the answer is not representable (below).
+        let beyond = t_exit == T::INFINITY;
+        let t_exit = if beyond { T::MAX } else { t_exit };
         // Inflate the clip by a few ulps: the triangle test decides hits, the clip only culls.
         let slack = T::from_f64(64.0) * T::EPSILON * (t_enter.abs() + t_exit.abs());
         let t_lo = (t_enter - slack).max(ray.t_min());
-        let t_hi = (t_exit + slack).min(ray.t_max());
+        let t_hi = (t_exit + slack).min(ray.t_max()).min(T::MAX);
         if !t_hi.is_finite() || !(t_lo <= t_hi) {
             return Ok(None);
         }
         let clipped = ray.with_interval(t_lo, t_hi)?;
-        let wray = WatertightRay::new(ray.origin(), ray.dir())
+        // sheared from the exactly rescaled direction, in the ray's scaled parameter (`leaf::test_triangle`)
+        let wray = WatertightRay::new(ray.origin(), ray.scaled_dir())
             .ok_or(TerrainError::Ray(RayError::ZeroDirection))?;
 
         // 2. Zones in order of entry.
@@ -195,6 +204,7 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         match (pending, &best) {
             (Some((t, id)), Some(h)) if t <= h.t => Err(TerrainError::NeedsBlock(id)),
             (Some((_, id)), None) => Err(TerrainError::NeedsBlock(id)),
+            (None, None) if beyond => Err(TerrainError::Unrepresentable),
             _ => Ok(best),
         }
     }
