@@ -80,7 +80,7 @@ fn tiny_direction_whose_hit_t_overflows_is_an_error_line_not_a_miss() {
 /// below the smallest normal f64): the hit is at t ≈ 1e306, representable, while the far side of the terrain's
 /// bounding shell is not (about 1.3e315). The hit is found, 1 cm along the ray, at the peak's height. (Deeper
 /// subnormal lengths, 1e-309 and below, are still answered with the error of a `t` beyond the largest finite
-/// value: see the README's known limits.)
+/// value: a known limit, stated in the README's command-line contract.)
 #[test]
 fn subnormal_direction_with_a_representable_hit_finds_it() {
     let u = up();
