@@ -3,6 +3,7 @@
 //!
 //! * [`oracle`]: independent arbitrary-precision reference answers. The oracle never calls kernel code paths.
 //! * [`scenes`]: the input formats of the command-line contract, analytic fields, real datasets, hard cases.
+//! * [`march_run`]: the kernel's marchers run on the scenes' grids and rays and compared with the oracle.
 //! * [`batch`]: many rays marched at once across cores (rayon).
 //! * [`baselines`]: what a user would otherwise do (Cartesian resampling, a general mesh ray caster, brute force).
 //! * [`render`]: images of fields on spherical grids, native and Cartesian (`curvicast render`).
@@ -12,6 +13,7 @@
 pub mod baselines;
 pub mod batch;
 pub mod cli;
+pub mod march_run;
 pub mod oracle;
 pub mod render;
 pub mod report;

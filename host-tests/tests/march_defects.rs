@@ -2,9 +2,8 @@
 //! at the ray's `t_max` bit for bit, and a ray whose crossings lie where `t` overflows (a tiny direction) is a
 //! typed error — in the kernel and as an error line of `curvicast march` — never a miss or a `null` t.
 
-use curvicast_host::scenes::march_cases::{
-    Engine, Precision, partial_grid, random_grid, random_ray, run_engine,
-};
+use curvicast_host::march_run::{Engine, Precision, run_engine};
+use curvicast_host::scenes::march_cases::{partial_grid, random_grid, random_ray};
 use rand::{Rng, SeedableRng};
 use std::io::Write;
 use std::process::{Command, Stdio};

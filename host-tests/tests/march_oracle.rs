@@ -9,8 +9,9 @@
 //! The full random suite (≥ 200 000 rays) is `cargo test -p curvicast-host --test march_oracle -- --ignored`, or
 //! `curvicast march-oracle --rays 200000`.
 
+use curvicast_host::march_run::{self as run, Engine, Precision};
 use curvicast_host::oracle::march::{KernelCrossing, MarchOracle, compare};
-use curvicast_host::scenes::march_cases::{self as mc, Case, Engine, Precision};
+use curvicast_host::scenes::march_cases::{self as mc, Case};
 use curvicast_host::scenes::spec::{GridSpec, RaySpec};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -197,7 +198,7 @@ fn oracle_is_consistent_with_its_own_classification_on_random_rays() {
 // ---- engines against the oracle ----------------------------------------------------------------------------------
 
 fn engine_list(g: &GridSpec, r: &RaySpec, e: Engine, p: Precision) -> Vec<KernelCrossing> {
-    mc::run_engine(g, r, e, p).unwrap_or_else(|err| panic!("{err}\n  grid {g:?}\n  ray {r:?}"))
+    run::run_engine(g, r, e, p).unwrap_or_else(|err| panic!("{err}\n  grid {g:?}\n  ray {r:?}"))
 }
 
 /// Runs every ray of the cases through both engines in every precision; asserts the criterion in f64 and the
@@ -226,7 +227,7 @@ fn check_cases(cases: Vec<Case>) {
                     if let Err(msg) = o.check_oracle_structure(&reference) {
                         failures.push(format!("oracle: {msg}\n  ray {ray:?}"));
                     }
-                    let k = match mc::run_engine(&g, &ray, e, p) {
+                    let k = match run::run_engine(&g, &ray, e, p) {
                         Ok(k) => k,
                         Err(msg) => {
                             failures.push(format!("{key}: {msg}\n  grid {g:?}\n  ray {ray:?}"));
@@ -349,7 +350,7 @@ fn direction_length_1e30() {
 
 fn random_suite(n: usize, seed: u64) {
     let inputs = mc::random_suite_inputs(n, seed);
-    let rows = mc::run_suite(&inputs, &mc::ALL_MODES);
+    let rows = run::run_suite(&inputs, &run::ALL_MODES);
     let mut failures = Vec::new();
     for r in &rows {
         let (e, p) = (r.engine.unwrap(), r.precision.unwrap());
@@ -401,7 +402,7 @@ fn far_ray_regression(name: &'static str, grid: GridSpec, ray: RaySpec, limit: f
     let o = MarchOracle::new_for(&grid, Precision::F64.eps()).unwrap();
     let reference = o.march(&ray);
     for e in [Engine::Serial, Engine::Separable] {
-        let k = mc::run_engine(&grid, &ray, e, Precision::F64).unwrap();
+        let k = run::run_engine(&grid, &ray, e, Precision::F64).unwrap();
         let s = compare(&o, &reference, &k, Precision::F64.eps(), Some(16.0)).unwrap();
         println!("{name} {e:?}: max backward {:.2} eps·L", s.max_backward_eps);
         assert!(

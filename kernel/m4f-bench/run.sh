@@ -3,8 +3,9 @@
 # QEMU's mps2-an386 (Cortex-M4F) with instruction counting, checks the f32 march firmware's code (VSQRT.F32
 # present, no soft double precision), prints the table and writes it to `embedded.md` next to this script.
 #
-# Needs: the thumbv7em-none-eabihf target, qemu-system-arm, and llvm-objdump / llvm-nm (rustup's llvm-tools
-# component, or the system's). Exits non-zero if a firmware fails its own checks or a code check fails.
+# Needs: the thumbv7em-none-eabihf target, qemu-system-arm, llvm-objdump / llvm-nm (rustup's llvm-tools
+# component, or the system's) and binutils' addr2line (for text-by-function.sh). Exits non-zero if a firmware
+# fails its own checks or a code check fails.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")"
 
@@ -36,12 +37,31 @@ for f in "${FIRMWARES[@]}"; do
     grep -q "^m4f-bench $f: status ok$" <<<"$log" || { echo "!!! $f failed"; status=1; }
 done
 
-# The f32 march firmware: the hardware square root is there, soft double precision is not.
+# The f32 firmwares: the hardware square root is there, soft double precision is not. The Cortex-M4F has no
+# double-precision unit, so any f64 operation (arithmetic, comparison, conversion; libm's f64 functions included)
+# calls one of compiler-builtins' routines below.
 march32=target/$TARGET/release-s/march-f32
+pick32=target/$TARGET/release-s/pick-f32
+SOFT_F64='__(aeabi_d[a-z0-9]+|aeabi_[a-z0-9]*2d|[a-z]+df[0-9])$'
 vsqrt=$("$OBJDUMP" -d "$march32" | grep -c 'vsqrt.f32' || true)
-softf64=$("$NM" "$march32" | grep -cE '__(adddf3|muldf3|divdf3|subdf3|aeabi_dadd|aeabi_dmul)' || true)
+softf64=$("$NM" "$march32" | awk '{ print $NF }' | grep -cE "$SOFT_F64" || true)
 echo "march-f32: $vsqrt vsqrt.f32 instructions, $softf64 soft double-precision routines"
 [[ $vsqrt -gt 0 && $softf64 -eq 0 ]] || { echo "!!! march-f32: expected vsqrt.f32 and no soft f64"; status=1; }
+pick_softf64=$("$NM" "$pick32" | awk '{ print $NF }' | grep -cE "$SOFT_F64" || true)
+echo "pick-f32: $pick_softf64 soft double-precision routines"
+[[ $pick_softf64 -eq 0 ]] || { echo "!!! pick-f32: expected no soft f64"; "$NM" "$pick32" | awk '{ print $NF }' | grep -E "$SOFT_F64"; status=1; }
+
+# Where the march-only f32 firmware's bytes go (opt "s"), by the kernel function they were inlined from.
+echo "march-f32 .text (opt \"s\") by kernel function (inlined code included):"
+OBJDUMP=$OBJDUMP ./text-by-function.sh "$march32" 64 | tee march-f32-text.txt
+# The pick firmware's too, in the log only (functions of 512 B or more).
+echo "pick-f32 .text (opt \"s\") by kernel function, 512 B or more:"
+OBJDUMP=$OBJDUMP ./text-by-function.sh "$pick32" 512
+# And the march's stack: the frames (opt 3, the build whose stack is measured) of 64 B or more.
+echo "march-f32 stack frames (opt 3) of 64 B or more:"
+OBJDUMP=$OBJDUMP ./stack-frames.sh "target/$TARGET/release/march-f32" | tee march-f32-all-frames.txt \
+    | awk '$1 >= 64' | tee march-f32-frames.txt
+closure_frame=$(grep -F 'march_bench::_$u7b$$u7b$closure$u7d$$u7d$' march-f32-all-frames.txt | awk '{ print $1 }' | head -n 1)
 
 field() { grep -oE "$2 [-0-9.]+" <<<"${OUT[$1]}" | head -n "${3:-1}" | tail -n 1 | awk '{ print $2 }'; }
 grid() { grep -E "^m4f-bench $1: grid $2 " <<<"${OUT[$1]}" | grep -oE "$3 [-0-9.]+" | awk '{ print $2 }'; }
@@ -74,16 +94,34 @@ verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "me
          "calibration $(field empty calibration_instructions) instructions = $(field empty calibration_ticks) ticks" \
          "($(field empty instructions_per_tick) per tick); a delay loop of 2 instructions per iteration measures" \
          "$(field empty loop_per_iteration). Per crossing: least-squares slope over the hitting rays (marginal), with" \
-         "its intercept as the set-up per ray. Stack: painted-stack high-water mark of one call." \
+         "its intercept as the set-up per ray. Stack: painted-stack high-water mark of one call, including the" \
+         "frame of the closure through which the harness makes it (march-f32: ${closure_frame:-?} B)." \
          "The empty firmware (the measuring harness alone) is $empty_s B (opt \"s\") / $empty_3 B (opt 3)." \
-         "The f32 march firmware holds $vsqrt \`vsqrt.f32\` and $softf64 soft double-precision routines." \
+         "The f32 march firmware holds $vsqrt \`vsqrt.f32\` and $softf64 soft double-precision routines, the f32" \
+         "pick firmware $pick_softf64." \
          "$(grep -oE 'checked [0-9]+ mismatches [0-9]+' <<<"${OUT[sqrt-check]}" | sed 's/^/VSQRT.F32 against libm: /')."
     echo
     echo "Targets for f32 marching: at most 150 instructions per crossing ($per_crossing on both grids:" \
          "$(verdict "$per_crossing" 150)); march-only firmware at most 12 KiB of \`.text\` at opt \"s\"" \
          "($march_s B: $(verdict "$march_s" 12288)); one march's stack at most 1 KiB ($march_stack B:" \
          "$(verdict "$march_stack" 1024))."
+    echo
+    echo "Where the march-f32 firmware's \`.text\` goes (opt \"s\"; each instruction charged to the outermost kernel" \
+         "function it was inlined from, by \`text-by-function.sh\`; functions of 256 B or more):"
+    echo
+    echo "| bytes | function |"
+    echo "|---:|---|"
+    awk '$1 >= 256 && $2 !~ /^\[/ && $2 != "kernel" && $2 != "libraries" && $2 != "firmware" { b = $1; $1 = ""; sub(/^ /, ""); printf "| %d | `%s` |\n", b, $0 }' march-f32-text.txt
+    kernel=$(awk '$2 == "kernel" { print $1 }' march-f32-text.txt)
+    echo "| $kernel | the kernel, all of its functions |"
+    echo "| $(( march_s - kernel )) | the rest beyond the empty firmware: libraries (libm, compiler-builtins) and the firmware's own code (breakpoints, rays, the loop over the crossings) |"
+    echo
+    echo "The march's stack by frame (opt 3, from each function's prologue by \`stack-frames.sh\`; a frame holds" \
+         "what was inlined into it): the firmware's \`march_once\` holds the inlined set-up and the \`SerialMarch\`" \
+         "itself;" \
+         "$(awk '$2 ~ /march_once|curvicast::/ { b = $1; $1 = ""; sub(/^ /, ""); printf "%s`%s` %d B", sep, $0, b; sep = ", " }' march-f32-frames.txt)."
 } > embedded.md
+rm -f march-f32-text.txt march-f32-frames.txt march-f32-all-frames.txt
 echo
 cat embedded.md
 exit $status

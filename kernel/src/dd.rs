@@ -15,6 +15,11 @@
 //!   which is well conditioned there (`cos x ≥ 1/√2`). Multiples of 90° are exact, as in the scalar
 //!   `geodesy::sin_cos_deg`.
 //!
+//! Everything stays in the scalar's own arithmetic: the constants (the series' factors, the table of
+//! [`sin_cos_deg`]'s reduction, `π/180`) are written as `f64` pairs and turned into `f32` pairs at compile time, and
+//! the reductions round in the scalar, so a pick in `f32` runs no `f64` operation, which a single-precision FPU
+//! (a Cortex-M4F) would do in software.
+//!
 //! Overflow and NaN propagate (a pair with a non-finite `hi` is meaningless); the callers check finiteness of the
 //! final result. Products whose low part underflows lose that low part only.
 //!
@@ -200,14 +205,53 @@ impl<T: Real> Dd<T> {
 /// `π/180` rounded to a pair of `f64`s (leading part, trailing part).
 const RAD_PER_DEG: (f64, f64) = (1.745_329_251_994_329_5e-2, 2.948_652_270_870_168_7e-19);
 
-/// A constant given as a pair of `f64`s, as a pair of scalars (for `f32`: leading part the `f32` rounding of the
-/// value, trailing part the rest rounded, accurate to about `2⁻⁴⁸` relative).
+/// A constant given as a pair of `f64`s, as a pair of `f32`s: leading part the `f32` rounding of the value,
+/// trailing part the rest rounded, accurate to about `2⁻⁴⁸` relative. Evaluated at compile time (the tables
+/// below), so that an `f32` program converts no `f64` at run time (software on a single-precision FPU).
+const fn f32_pair((hi64, lo64): (f64, f64)) -> (f32, f32) {
+    #[allow(clippy::cast_possible_truncation)]
+    let hi = hi64 as f32;
+    #[allow(clippy::cast_possible_truncation)]
+    let lo = ((hi64 - hi as f64) + lo64) as f32;
+    (hi, lo)
+}
+
+/// [`f32_pair`] of every entry of a table (at compile time).
+// Const evaluation: an index out of range would be a compile error, and `i < N` holds.
+#[allow(clippy::indexing_slicing, clippy::arithmetic_side_effects)]
+const fn f32_pairs<const N: usize, const M: usize>(
+    t: [[(f64, f64); M]; N],
+) -> [[(f32, f32); M]; N] {
+    let mut out = [[(0.0_f32, 0.0_f32); M]; N];
+    let mut i = 0;
+    while i < N {
+        let mut j = 0;
+        while j < M {
+            out[i][j] = f32_pair(t[i][j]);
+            j += 1;
+        }
+        i += 1;
+    }
+    out
+}
+
+/// A constant as a pair of scalars, from its `f64` pair and its `f32` pair ([`f32_pair`]): the `f32` pair for
+/// a single-precision scalar (the choice folds at compile time), else the `f64` pair rounded.
 #[inline]
-fn pair_of<T: Real>((hi64, lo64): (f64, f64)) -> Dd<T> {
+fn pair_of<T: Real>((hi64, lo64): (f64, f64), (hi32, lo32): (f32, f32)) -> Dd<T> {
+    if T::MANTISSA_DIGITS == f32::MANTISSA_DIGITS {
+        return Dd {
+            hi: T::from_f32(hi32),
+            lo: T::from_f32(lo32),
+        };
+    }
     let hi = T::from_f64(hi64);
     let lo = T::from_f64((hi64 - hi.to_f64()) + lo64);
     Dd { hi, lo }
 }
+
+/// [`RAD_PER_DEG`] as `f32`s.
+const RAD_PER_DEG_F32: (f32, f32) = f32_pair(RAD_PER_DEG);
 
 /// The Horner factors `1/((2k)(2k+1))`, `k = 1, 2, …`, of the sine's Taylor series, as `f64` pairs.
 const SIN_STEPS: [(f64, f64); 18] = [
@@ -230,6 +274,19 @@ const SIN_STEPS: [(f64, f64); 18] = [
     (0.0008403361344537816, -5.029240329512592e-20),
     (0.0007507507507507507, 6.511724759672699e-21),
 ];
+
+/// [`SIN_STEPS`] as `f32` pairs.
+const SIN_STEPS_F32: [[(f32, f32); 18]; 1] = f32_pairs([SIN_STEPS]);
+
+/// The `k`-th Horner factor of [`SIN_STEPS`] (`k ≥ 1`; 0 beyond the table) as a pair of scalars.
+#[inline]
+fn sin_step<T: Real>(k: u32) -> Dd<T> {
+    let i = usize::try_from(k).unwrap_or(0).saturating_sub(1);
+    match (SIN_STEPS.get(i), SIN_STEPS_F32[0].get(i)) {
+        (Some(&p64), Some(&p32)) => pair_of(p64, p32),
+        _ => Dd::from(T::ZERO),
+    }
+}
 
 /// The most Taylor terms of [`sin_cos_deg`] (the `f64` pair needs 14 at `|x| = π/4`).
 const MAX_TERMS: u32 = 18;
@@ -291,27 +348,27 @@ const SIXTEENTHS: [[(f64, f64); 2]; 14] = [
     ],
 ];
 
+/// [`SIXTEENTHS`] as `f32` pairs.
+const SIXTEENTHS_F32: [[(f32, f32); 2]; 14] = f32_pairs(SIXTEENTHS);
+
 /// `(sin x, cos x)` for `|x| ≤ π/4` (a little more is harmless): `x = k/16 + y` with `|y| ≤ 1/32`, the
 /// tabulated `(sin, cos)(k/16)` rotated by [`sin_cos_taylor`]`(y)` (three pair levels instead of seven).
 fn sin_cos_small<T: Real>(x: Dd<T>) -> (Dd<T>, Dd<T>) {
-    let kf = libm::round(x.hi.to_f64() * 16.0);
-    // |kf| ≤ 13 for |x| ≤ π/4 (anything else falls back to the plain series, which converges for any x).
-    #[allow(clippy::cast_possible_truncation)]
-    let k = kf as i64;
-    let entry = usize::try_from(k.unsigned_abs())
-        .ok()
-        .and_then(|i| SIXTEENTHS.get(i));
+    let sixteen = T::from_i32(16);
+    let kf = (x.hi * sixteen).round();
+    // |kf| ≤ 13 for |x| ≤ π/4 (anything else falls back to the plain series, which converges for any x); the
+    // index is found by comparison, so that no conversion leaves the scalar.
+    let index =
+        (1..SIXTEENTHS.len()).find(|&i| T::from_i32(i32::try_from(i).unwrap_or(0)) == kf.abs());
+    let entry = index.and_then(|i| Some((*SIXTEENTHS.get(i)?, *SIXTEENTHS_F32.get(i)?)));
     match entry {
-        Some(&[st, ct]) if k != 0 => {
-            let y = x.minus(Dd::from(T::from_f64(kf / 16.0)));
-            let st = if k < 0 {
-                pair_of::<T>(st).negated()
-            } else {
-                pair_of(st)
-            };
-            rotate((st, pair_of(ct)), sin_cos_taylor(y))
+        Some(([st, ct], [st32, ct32])) => {
+            let y = x.minus(Dd::from(kf / sixteen));
+            let st = pair_of::<T>(st, st32);
+            let st = if kf < T::ZERO { st.negated() } else { st };
+            rotate((st, pair_of(ct, ct32)), sin_cos_taylor(y))
         }
-        _ => sin_cos_taylor(x),
+        None => sin_cos_taylor(x),
     }
 }
 
@@ -324,18 +381,13 @@ fn sin_cos_taylor<T: Real>(x: Dd<T>) -> (Dd<T>, Dd<T>) {
     let x2 = x.times(x);
     // Levels: keep k ≤ K with x^{2K}/(2K+1)! ≥ ε²/4 (the first omitted term is below that, relative to x);
     // levels from `k_pair` on (term below ε) in scalars.
-    let eps = T::EPSILON.to_f64();
-    let tol = 0.25 * eps * eps;
-    let x2f = x2.hi.to_f64();
-    let step = |k: u32| {
-        let i = usize::try_from(k).unwrap_or(0).saturating_sub(1);
-        SIN_STEPS.get(i).copied().unwrap_or((0.0, 0.0))
-    };
-    let mut term = 1.0_f64;
+    let eps = T::EPSILON;
+    let tol = T::from_f64(0.25) * eps * eps;
+    let mut term = T::ONE;
     let mut k_max = MAX_TERMS;
     let mut k_pair = MAX_TERMS;
     for k in 1..=MAX_TERMS {
-        term *= x2f * step(k).0;
+        term *= x2.hi * sin_step::<T>(k).hi;
         if term < eps && k_pair == MAX_TERMS {
             k_pair = k;
         }
@@ -346,12 +398,12 @@ fn sin_cos_taylor<T: Real>(x: Dd<T>) -> (Dd<T>, Dd<T>) {
     }
     let mut u = T::ZERO;
     for k in (k_pair..=k_max).rev() {
-        let c = T::from_f64(step(k).0);
+        let c = sin_step::<T>(k).hi;
         u = -(x2.hi * c) * (T::ONE + u);
     }
     let mut acc = Dd::one().plus_t(u);
     for k in (1..k_pair.min(k_max.saturating_add(1))).rev() {
-        let c = pair_of(step(k));
+        let c = sin_step(k);
         acc = Dd::one().minus(x2.times(c).times(acc));
     }
     let s = x.times(acc);
@@ -377,20 +429,25 @@ pub fn sin_cos_deg<T: Real>(deg: Dd<T>) -> (Dd<T>, Dd<T>) {
     if !deg.hi.is_finite() || !deg.lo.is_finite() {
         return (nan, nan);
     }
-    // Nearest multiple of 90°; `r = deg − 90 q` is exact for any grid angle (|deg| < 2^24·… in f32).
-    let q = libm::round((deg.hi / T::from_f64(90.0)).to_f64());
-    let r = deg.minus(Dd::from(T::from_f64(q * 90.0)));
-    let (s, c) = sin_cos_small(r.times(pair_of(RAD_PER_DEG)));
-    // q is an integer-valued f64 (saturating for absurd angles); its two low bits in two's complement are
-    // q mod 4 in [0, 4).
-    #[allow(clippy::cast_possible_truncation)]
-    let quadrant = (q as i64) & 3;
-    // 0: (s, c); 1: (c, −s); 2: (−s, −c); 3: (−c, s).
-    match quadrant {
-        0 => (s, c),
-        1 => (c, s.negated()),
-        2 => (s.negated(), c.negated()),
-        _ => (c.negated(), s),
+    // Nearest multiple of 90°; `r = deg − 90 q` is exact for any grid angle (while `90 q` is exact: |deg| up to
+    // about 1e7 degrees in f32). Everything in the scalar's own arithmetic.
+    let ninety = T::from_i32(90);
+    let q = (deg.hi / ninety).round();
+    let r = deg.minus(Dd::from(q * ninety));
+    let (s, c) = sin_cos_small(r.times(pair_of(RAD_PER_DEG, RAD_PER_DEG_F32)));
+    // q mod 4: q − 4 round(q/4) is exact, an integer in [−2, 2].
+    let four = T::from_i32(4);
+    let q4 = q - four * (q / four).round();
+    let half = T::HALF;
+    // 0: (s, c); 1 (or −3): (c, −s); ±2: (−s, −c); −1 (or 3): (−c, s).
+    if q4.abs() < half {
+        (s, c)
+    } else if (q4 - T::ONE).abs() < half {
+        (c, s.negated())
+    } else if (q4 + T::ONE).abs() < half {
+        (c.negated(), s)
+    } else {
+        (s.negated(), c.negated())
     }
 }
 

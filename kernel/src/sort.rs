@@ -3,6 +3,7 @@
 
 /// Sorts a short slice stably in place so that no element is preceded by one it goes `before` (incomparable
 /// elements such as NaNs stay where they are).
+#[inline]
 pub(crate) fn insertion_sort<E>(v: &mut [E], before: impl Fn(&E, &E) -> bool) {
     for i in 1..v.len() {
         let mut j = i;

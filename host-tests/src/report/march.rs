@@ -4,8 +4,9 @@
 
 use super::{Options, Section};
 use crate::baselines::dda::{VoxelCrossing, VoxelGrid};
+use crate::march_run::{self as run, Engine, Precision};
 use crate::oracle::march::{KernelCrossing, MarchOracle, compare, same_sequence};
-use crate::scenes::march_cases::{self as mc, Engine, Precision};
+use crate::scenes::march_cases as mc;
 use crate::scenes::spec::{GridSpec, RaySpec};
 use curvicast::ray::Ray;
 use curvicast::real::{F32Fast, Real};
@@ -205,7 +206,7 @@ fn accuracy(g: &GridSpec, sample: &[RaySpec], e: Engine, p: Precision) -> Accura
         .map(|r0| {
             let r = p.round_ray(r0);
             let reference = o.march(&r);
-            match mc::run_engine(&g, &r, e, p) {
+            match run::run_engine(&g, &r, e, p) {
                 Ok(k) => match compare(&o, &reference, &k, p.eps(), None) {
                     Ok(s) => (true, s.max_backward_eps),
                     Err(_) => (false, 0.0),
@@ -264,7 +265,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
     let mut serial_f64 = [f64::NAN; 2];
     let mut acc_cache: Vec<((Engine, Precision), Accuracy)> = Vec::new();
     for (vi, (vname, rays)) in views.iter().enumerate() {
-        for &(e, p) in &mc::ALL_MODES {
+        for &(e, p) in &run::ALL_MODES {
             let t = time_mode(&grid, rays, e, p, reps)?;
             if e == Engine::Serial && p == Precision::F64 {
                 serial_f64[vi] = t.ns_per_ray;
@@ -346,7 +347,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
     // the random suite
     let n_suite = if quick { 1000 } else { 20_000 };
     let inputs = mc::random_suite_inputs(n_suite, 99);
-    let rows = mc::run_suite(&inputs, &mc::ALL_MODES);
+    let rows = run::run_suite(&inputs, &run::ALL_MODES);
     writeln!(
         md,
         "\nRandom suite: {n_suite} random rays over {} random non-uniform full and partial grids (spherical, \
@@ -381,7 +382,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
 /// text and whether every f64 ray passed the criterion with no structural violation in any precision.
 pub fn oracle_suite_text(n: usize, seed: u64) -> (String, bool) {
     let inputs = mc::random_suite_inputs(n, seed);
-    let rows = mc::run_suite(&inputs, &mc::ALL_MODES);
+    let rows = run::run_suite(&inputs, &run::ALL_MODES);
     let mut s = String::new();
     let mut ok = true;
     for r in &rows {

@@ -3,6 +3,7 @@
 //!
 //! Each section lives in its own module and returns a [`Section`]; [`run`] runs them in order.
 
+pub mod embedded;
 pub mod march;
 pub mod plot;
 pub mod render;
@@ -52,6 +53,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
         terrain_multires::section,
         tessellate::section,
         render::section,
+        embedded::section,
     ];
     let mut done = Vec::new();
     let mut md = String::from("# curvicast report\n\n");

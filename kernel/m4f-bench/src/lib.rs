@@ -13,6 +13,14 @@
 //!   arithmetic (no soft double precision in the firmware, whose size is measured).
 //! * [`stack_high_water`]: paints the stack below the caller with a pattern, runs a closure, and finds the
 //!   lowest word it overwrote.
+//! * [`measure`]: one point of a series (instructions and stack of one workload), the step that the march and
+//!   the loop check share.
+//!
+//! **A fair subtraction.** Every firmware's code size is quoted minus the `empty` firmware's, so the measuring
+//! code must be the same bytes in both: the closures are passed as `&mut dyn FnMut() -> u32` (one copy of the
+//! timing, stack and fit code, not one per closure type), and the `empty` firmware's loop check goes through
+//! the same [`measure`] and [`print_fit`] as the march. What a firmware adds over `empty` is then the kernel and
+//! what a user of it writes: building the grid's breakpoints, making rays, folding the crossings.
 //! * [`Out`]: one line of text over semihosting, integers and strings only (`core::fmt`'s float formatting has
 //!   panic paths of its own and would break the panic-free proof).
 //!
@@ -55,14 +63,18 @@ impl Timer {
         Some(Timer { syst, per_tick: 0 })
     }
 
-    /// Ticks elapsed while `f` runs (runs must stay below 2²⁴ ticks).
+    /// Ticks elapsed while `f` runs `repeat` times (runs must stay below 2²⁴ ticks together), and the last
+    /// run's result.
     #[inline(never)]
-    fn ticks<R>(&mut self, f: impl FnOnce() -> R) -> (u64, R) {
+    fn ticks(&mut self, repeat: u32, f: &mut dyn FnMut() -> u32) -> (u64, u32) {
         let a = SYST::get_current();
-        let r = core::hint::black_box(f());
+        let mut last = 0;
+        for _ in 0..repeat {
+            last = core::hint::black_box(f());
+        }
         let b = SYST::get_current();
         let _ = &mut self.syst;
-        (u64::from(a.wrapping_sub(b) & RELOAD), r)
+        (u64::from(a.wrapping_sub(b) & RELOAD), last)
     }
 
     /// Times `cortex_m::asm::delay` (a loop of two instructions per iteration, `n + 1` iterations) for two
@@ -72,8 +84,14 @@ impl Timer {
     pub fn calibrate(&mut self, out: &mut Out) -> (u64, u64) {
         const SHORT: u32 = 100_000;
         const LONG: u32 = 300_000;
-        let (t_short, ()) = self.ticks(|| cortex_m::asm::delay(SHORT));
-        let (t_long, ()) = self.ticks(|| cortex_m::asm::delay(LONG));
+        let (t_short, _) = self.ticks(1, &mut || {
+            cortex_m::asm::delay(SHORT);
+            SHORT
+        });
+        let (t_long, _) = self.ticks(1, &mut || {
+            cortex_m::asm::delay(LONG);
+            LONG
+        });
         let instructions = 2 * u64::from(LONG - SHORT);
         let ticks = t_long.saturating_sub(t_short);
         self.per_tick = instructions.checked_div(ticks).unwrap_or(0);
@@ -88,15 +106,10 @@ impl Timer {
     }
 
     /// Instructions per run of `f`, over `repeat` runs timed together (for a resolution of
-    /// `instructions_per_tick / repeat`); the last run's result is returned through `black_box`.
-    pub fn instructions<R>(&mut self, repeat: u32, mut f: impl FnMut() -> R) -> (u64, Option<R>) {
-        let (t, r) = self.ticks(|| {
-            let mut last = None;
-            for _ in 0..repeat {
-                last = Some(core::hint::black_box(f()));
-            }
-            last
-        });
+    /// `instructions_per_tick / repeat`; an indirect call per run is included, a constant), and the last run's
+    /// result.
+    pub fn instructions(&mut self, repeat: u32, f: &mut dyn FnMut() -> u32) -> (u64, u32) {
+        let (t, r) = self.ticks(repeat, f);
         let total = t.saturating_mul(self.per_tick);
         (total.checked_div(u64::from(repeat)).unwrap_or(0), r)
     }
@@ -122,16 +135,6 @@ impl Fit {
         self.sy = self.sy.saturating_add(y);
         self.sxx = self.sxx.saturating_add(x.saturating_mul(x));
         self.sxy = self.sxy.saturating_add(x.saturating_mul(y));
-    }
-
-    /// Adds every point of `other`.
-    #[inline(never)]
-    pub fn merge(&mut self, other: &Fit) {
-        self.n = self.n.saturating_add(other.n);
-        self.sx = self.sx.saturating_add(other.sx);
-        self.sy = self.sy.saturating_add(other.sy);
-        self.sxx = self.sxx.saturating_add(other.sxx);
-        self.sxy = self.sxy.saturating_add(other.sxy);
     }
 
     /// The number of points.
@@ -210,7 +213,7 @@ fn bench_ray<T: Real>(rng: &mut Rng) -> Option<Ray<T>> {
 }
 
 /// One march: the sum of the crossings' lengths and the cell indices, folded so that nothing is optimised away,
-/// and the number of crossings.
+/// and the number of crossings (`u32::MAX` if the march failed).
 #[inline(never)]
 fn march_once<T: Real>(grid: &SphericalGrid<'_, T>, ray: &Ray<T>) -> (T, u32, u32) {
     let mut march = grid.march(ray);
@@ -258,45 +261,60 @@ pub fn march_bench<T: Real>(timer: &mut Timer, out: &mut Out) -> bool {
                 ok = false;
                 continue;
             };
-            let (instr, res) = timer.instructions(REPEAT, || march_once(&grid, &ray));
-            let count = res.map_or(u32::MAX, |(_, _, c)| c);
-            if count == u32::MAX {
+            let mut run = || {
+                let (length, cells, count) = march_once(&grid, &ray);
+                core::hint::black_box((length, cells));
+                count
+            };
+            if measure(timer, &mut [&mut fit, &mut all], &mut stack, &mut run) == u32::MAX {
                 ok = false;
-            } else if count > 0 {
-                fit.add(u64::from(count), instr);
-                let (bytes, _) = stack_high_water(|| march_once(&grid, &ray));
-                stack = stack.max(bytes);
             }
         }
         out.str("grid ").num(n as u64 - 1).str("^3");
-        print_fit(out, &fit);
-        all.merge(&fit);
+        print_fit(out, &fit, MARCH_LABELS);
     }
     out.str("grid both");
-    print_fit(out, &all);
+    print_fit(out, &all, MARCH_LABELS);
     out.str("march_stack_bytes ").num(stack as u64);
     out.flush();
     ok
 }
 
-/// ` rays N crossings N per_crossing X.Y setup N` and the end of the line.
-fn print_fit(out: &mut Out, fit: &Fit) {
-    out.str(" rays ")
-        .num(fit.points())
-        .str(" crossings ")
-        .num(fit.total_x());
-    print_line(out, fit, " per_crossing ");
+/// One point of a series: `run` (which returns its `x`, e.g. its crossings; 0 for a run that does not count,
+/// `u32::MAX` for a failure) is timed over [`REPEAT`] runs and, if `0 < x < u32::MAX`, `(x, instructions per
+/// run)` is added to every fit of `fits` and `stack` raised to its stack high-water mark. Returns `x`.
+#[inline(never)]
+pub fn measure(
+    timer: &mut Timer,
+    fits: &mut [&mut Fit],
+    stack: &mut usize,
+    run: &mut dyn FnMut() -> u32,
+) -> u32 {
+    let (instructions, x) = timer.instructions(REPEAT, run);
+    if x > 0 && x < u32::MAX {
+        for fit in fits.iter_mut() {
+            fit.add(u64::from(x), instructions);
+        }
+        let (bytes, _) = stack_high_water(run);
+        *stack = (*stack).max(bytes);
+    }
+    x
 }
 
-/// `<label>X.Y setup N` (the fit's slope and intercept) and the end of the line.
+/// `<points> N<x> N<slope> X.Y setup N` (the fit's number of points, total `x`, slope and intercept; the labels
+/// name them, e.g. `" rays "`, `" crossings "`, `" per_crossing "`) and the end of the line.
 #[inline(never)]
-fn print_line(out: &mut Out, fit: &Fit, label: &str) {
+pub fn print_fit(out: &mut Out, fit: &Fit, [points, x, slope]: [&str; 3]) {
+    out.str(points).num(fit.points()).str(x).num(fit.total_x());
     match fit.slope_tenths_and_intercept() {
-        Some((b, a)) => out.str(label).tenths(b).str(" setup ").int(a),
-        None => out.str(label).str("none"),
+        Some((b, a)) => out.str(slope).tenths(b).str(" setup ").int(a),
+        None => out.str(slope).str("none"),
     };
     out.flush();
 }
+
+/// [`print_fit`]'s labels for a march.
+const MARCH_LABELS: [&str; 3] = [" rays ", " crossings ", " per_crossing "];
 
 /// The measuring pipeline checked on a loop of known length: `cortex_m::asm::delay(n)` runs `n + 1` iterations
 /// of two instructions, so the least-squares slope over n = 50, 100, …, 800 must be 2.0 instructions per
@@ -304,12 +322,20 @@ fn print_line(out: &mut Out, fit: &Fit, label: &str) {
 #[inline(never)]
 pub fn loop_check(timer: &mut Timer, out: &mut Out) -> bool {
     let mut fit = Fit::default();
+    let mut stack = 0;
     for k in 1..=16u32 {
         let n = k.wrapping_mul(50);
-        let (instr, _) = timer.instructions(REPEAT, || cortex_m::asm::delay(n));
-        fit.add(u64::from(n), instr);
+        measure(timer, &mut [&mut fit], &mut stack, &mut || {
+            cortex_m::asm::delay(n);
+            n
+        });
     }
-    print_line(out, &fit, "loop_per_iteration ");
+    out.str("delay_loop");
+    print_fit(
+        out,
+        &fit,
+        [" runs ", " iterations ", " loop_per_iteration "],
+    );
     fit.slope_tenths_and_intercept()
         .is_some_and(|(b, _)| b == 20)
 }
@@ -331,7 +357,7 @@ const PAINT: u32 = 0xC5AC_CE55;
 /// `DEPTH` bytes): the words below the current stack pointer are painted with a pattern, `f` runs, and the
 /// lowest word no longer holding the pattern marks the high-water mark. Returns `(bytes, f's result)`.
 #[inline(never)]
-pub fn stack_high_water<R>(f: impl FnOnce() -> R) -> (usize, R) {
+pub fn stack_high_water(f: &mut dyn FnMut() -> u32) -> (usize, u32) {
     /// How deep below the current stack pointer the pattern goes.
     const DEPTH: usize = 16 * 1024;
     let sp = cortex_m::register::msp::read() as usize;

@@ -3,9 +3,7 @@
 //!
 //! A stream's state is a few scalars; its next crossing is computed only when the previous one has been consumed
 //! (the caller caches it), so each radius or zenith crossing costs one square root and each azimuth or z crossing
-//! one division. An azimuth or z crossing is handed to the engine as an undivided fraction ([`At`]) and divided
-//! only when the engine reports it, so the crossing an engine looks at past the end of the march costs nothing.
-//! The streams are independent of each other, which is what lets the serial and the separable engines interleave
+//! one division. The streams are independent of each other, which is what lets the serial and the separable engines interleave
 //! the very same events and agree exactly.
 //!
 //! **Topology first.** Which boundary comes next is decided by logic that cannot step by more than one band:
@@ -33,145 +31,23 @@ use crate::real::Real;
 use crate::surface::{PlaneZ, Side, Surface, sphere_scaled_roots};
 use crate::vec3::V3;
 
-/// One event: the crossing's parameter and the band (or sector) entered.
-pub(crate) type Event<T> = (At<T>, u32);
+/// One event: the crossing's parameter `t` and the band (or sector) entered.
+pub(crate) type Event<T> = (T, u32);
 
-/// An event as the engines store it (their look-ahead heads and the separable engine's lists): the fields of
-/// [`At`] and the band side by side, so that it takes no more room than its parts (24 bytes in f64, 16 in
-/// f32; a tuple `(At<T>, u32)` would be padded to 32 and 24).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Packed<T> {
-    num: T,
-    den: T,
-    e: i32,
-    band: u32,
-}
-
-impl<T: Real> Packed<T> {
-    #[inline]
-    pub(crate) fn pack((at, band): Event<T>) -> Self {
-        Packed {
-            num: at.num,
-            den: at.den,
-            e: at.e,
-            band,
-        }
+/// The parameter `t = num / den` of a plane crossing given in the scaled parameter of `ray` (`den > 0`): one
+/// division (seed 001 §4.6). The exact rescaling is folded into the denominator (`den·2^e`, exact) when that
+/// stays in the normal range, so the quotient is the correctly rounded `t` with no second rounding; otherwise
+/// the scaled quotient is rescaled exactly.
+#[inline(always)]
+fn plane_t<T: Real>(num: T, den: T, ray: &Ray<T>) -> T {
+    if ray.scale_exponent() == 0 {
+        return num / den;
     }
-    #[inline]
-    pub(crate) fn unpack(self) -> Event<T> {
-        (
-            At {
-                num: self.num,
-                den: self.den,
-                e: self.e,
-            },
-            self.band,
-        )
-    }
-}
-
-/// The parameter `t` of an event. A radius or zenith crossing carries its computed `t`; an azimuth or height
-/// crossing carries the undivided fraction of its plane solver (`t = (num / den) · 2^-e`, `den > 0`, `e` the
-/// ray's exact rescaling), so that a crossing that is only compared with the other coordinates' next
-/// crossings — the serial engine's look-ahead past the end of the march — costs no division. The division is
-/// done once, by [`At::t`], when the engine reports the crossing (seed 001 §4.6: one division per azimuth
-/// facet crossed).
-///
-/// Comparisons cross-multiply (no division); they can differ from a comparison of the divided values only when
-/// the two parameters agree to within rounding, where either order is a valid answer — the engines clamp the
-/// reported `t` to be nondecreasing, so such a pair becomes a zero-length crossing in either order.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct At<T> {
-    num: T,
-    /// Positive; exactly 1 for a parameter that is already divided.
-    den: T,
-    e: i32,
-}
-
-impl<T: Real> At<T> {
-    /// An already computed `t`.
-    #[inline]
-    pub(crate) fn exact(t: T) -> Self {
-        At {
-            num: t,
-            den: T::ONE,
-            e: 0,
-        }
-    }
-
-    /// `(num / den)` in the scaled parameter of `ray` (`den > 0`), not divided yet. The exact rescaling is
-    /// folded into the denominator (`t = num / (den·2^e)`, the same quotient bit for bit) unless that would
-    /// leave the normal range, so that comparisons need no rescaling.
-    #[inline]
-    fn fraction(num: T, den: T, ray: &Ray<T>) -> Self {
-        let e = ray.scale_exponent();
-        if e == 0 {
-            return At { num, den, e };
-        }
-        let folded = ray.t_to_scaled(den); // den · 2^e, exact
-        if folded.is_finite() && folded >= T::MIN_POSITIVE {
-            At {
-                num,
-                den: folded,
-                e: 0,
-            }
-        } else {
-            At { num, den, e }
-        }
-    }
-
-    /// The value: one division for a fraction (bit for bit the plane solver's own root, rescaled exactly),
-    /// none for an exact `t`.
-    #[inline]
-    pub(crate) fn t(&self) -> T {
-        let s = if self.den == T::ONE {
-            self.num
-        } else {
-            self.num / self.den
-        };
-        if self.e == 0 {
-            s
-        } else {
-            s.scalbn(self.e.saturating_neg())
-        }
-    }
-
-    /// True when `self < other`, by cross-multiplication. The side with the exact rescaling to undo is scaled
-    /// into the other's parameter, so an already divided `t` is brought to the scale of the fraction's scaled
-    /// parameter (never the reverse, which could underflow for huge directions).
-    #[inline]
-    pub(crate) fn lt(&self, other: &Self) -> bool {
-        if self.e == other.e {
-            // the common case (every exact t, and every fraction whose rescaling was folded into `den`):
-            // multiplying by a denominator of exactly 1 is exact, so this is the comparison of the values
-            // themselves whenever one side is already divided
-            return self.num * other.den < other.num * self.den;
-        }
-        let mut l = if other.den == T::ONE {
-            self.num
-        } else {
-            self.num * other.den
-        };
-        let mut r = if self.den == T::ONE {
-            other.num
-        } else {
-            other.num * self.den
-        };
-        // self.num/self.den·2^-se < other.num/other.den·2^-oe  ⇔  l·2^oe < r·2^se
-        if self.e == 0 {
-            l = l.scalbn(other.e);
-        } else if other.e == 0 {
-            r = r.scalbn(self.e);
-        } else {
-            l = l.scalbn(other.e.saturating_sub(self.e));
-        }
-        l < r
-    }
-
-    /// The larger of the two (`self` on a tie).
-    #[inline]
-    fn max(self, other: Self) -> Self {
-        if self.lt(&other) { other } else { self }
+    let folded = ray.t_to_scaled(den); // den · 2^e, exact
+    if folded.is_finite() && folded >= T::MIN_POSITIVE {
+        num / folded
+    } else {
+        ray.t_from_scaled(num / den)
     }
 }
 
@@ -183,21 +59,30 @@ pub(crate) struct Walk<T> {
     up: bool,
 }
 
-/// The state of one coordinate's stream.
+/// The state of one coordinate's stream: the band entered and the `t` of its last event (its start before the
+/// first) — which, once the stream has produced an event, *is* that event: the engines read a coordinate's next
+/// crossing from here, so it is stored once — and what the coordinate's kind needs to find the next one.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum Stream<T> {
-    /// No events (a coordinate that is constant along the ray, or the absent third axis of a polar grid).
+pub(crate) struct Stream<T> {
+    /// The band (or sector) entered at the last event.
+    pub(crate) band: u32,
+    /// The last event's parameter.
+    pub(crate) t: T,
+    kind: Kind<T>,
+}
+
+/// What a stream of each kind keeps besides its band and `t`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Kind<T> {
+    /// No further events (a coordinate that is constant along the ray, the absent third axis of a polar grid,
+    /// or a stream that has ended).
     Fixed,
     Radial {
-        band: u32,
-        t_own: T,
         descending: bool,
         /// The leaving root of the sphere last entered: `(sphere index, t)`.
         cache: Option<(u32, T)>,
     },
     Zenith {
-        band: u32,
-        t_own: T,
         up: bool,
         switched: bool,
         /// The other root of the cone last crossed: `(cone index, t, side entered)`.
@@ -205,9 +90,6 @@ pub(crate) enum Stream<T> {
         walk: Option<Walk<T>>,
     },
     Azimuth {
-        sector: u32,
-        /// The last event's parameter (a fraction, not divided).
-        t_own: At<T>,
         ccw: bool,
         walk: Option<Walk<T>>,
         /// The horizontal direction where the remaining sweep of φ starts (the last boundary crossed).
@@ -217,9 +99,6 @@ pub(crate) enum Stream<T> {
         crossed: u32,
     },
     Height {
-        band: u32,
-        /// The last event's parameter (a fraction, not divided).
-        t_own: At<T>,
         up: bool,
     },
 }
@@ -317,6 +196,22 @@ pub(crate) fn point_at<T: Real>(ray: &Ray<T>, t: T) -> V3<T> {
 }
 
 impl<T: Real> Stream<T> {
+    /// A stream without events, in `band`.
+    #[inline]
+    pub(crate) fn fixed(band: u32) -> Self {
+        Stream {
+            band,
+            t: T::ZERO,
+            kind: Kind::Fixed,
+        }
+    }
+
+    /// True while the stream may have events: it has not ended (its `band` and `t` are its last event).
+    #[inline]
+    pub(crate) fn live(&self) -> bool {
+        !matches!(self.kind, Kind::Fixed)
+    }
+
     /// The radius stream for a ray starting at `t0` (finite, or −∞).
     pub(crate) fn radial(axis: &RadialAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
         let r2 = if t0.is_finite() {
@@ -331,11 +226,13 @@ impl<T: Real> Stream<T> {
             axis.len
         };
         (
-            Stream::Radial {
+            Stream {
                 band,
-                t_own: t0,
-                descending: before_hinge(ray, t0),
-                cache: None,
+                t: t0,
+                kind: Kind::Radial {
+                    descending: before_hinge(ray, t0),
+                    cache: None,
+                },
             },
             band,
         )
@@ -348,10 +245,8 @@ impl<T: Real> Stream<T> {
         let p = ray.origin();
         if p.z == T::ZERO && d.z == T::ZERO {
             // a line in the plane z = 0: θ = π/2 throughout
-            return (
-                Stream::Fixed,
-                axis.band_of(V3::new(T::ONE, T::ZERO, T::ZERO), false),
-            );
+            let band = axis.band_of(V3::new(T::ONE, T::ZERO, T::ZERO), false);
+            return (Stream::fixed(band), band);
         }
         // p × d = 0, or its horizontal part is 0 (which for a line not in the plane z = 0 means p × d is a
         // rounding residue): the line passes through the center.
@@ -362,21 +257,23 @@ impl<T: Real> Stream<T> {
             let t_c = ray.t_from_scaled(-ray.pd() / ray.dd());
             let after = axis.band_of(d, false);
             if !(t_c > t0) {
-                return (Stream::Fixed, after);
+                return (Stream::fixed(after), after);
             }
             let before = axis.band_of(d.negated(), false);
             return (
-                Stream::Zenith {
+                Stream {
                     band: before,
-                    t_own: t0,
-                    up: after > before,
-                    switched: true,
-                    cache: None,
-                    walk: Some(Walk {
-                        t: t_c,
-                        remaining: after.abs_diff(before),
+                    t: t0,
+                    kind: Kind::Zenith {
                         up: after > before,
-                    }),
+                        switched: true,
+                        cache: None,
+                        walk: Some(Walk {
+                            t: t_c,
+                            remaining: after.abs_diff(before),
+                            up: after > before,
+                        }),
+                    },
                 },
                 before,
             );
@@ -400,13 +297,15 @@ impl<T: Real> Stream<T> {
             g < T::ZERO
         };
         (
-            Stream::Zenith {
+            Stream {
                 band,
-                t_own: t0,
-                up,
-                switched: false,
-                cache: None,
-                walk: None,
+                t: t0,
+                kind: Kind::Zenith {
+                    up,
+                    switched: false,
+                    cache: None,
+                    walk: None,
+                },
             },
             band,
         )
@@ -417,7 +316,8 @@ impl<T: Real> Stream<T> {
         let d = ray.scaled_dir();
         let p = ray.origin();
         if d.x == T::ZERO && d.y == T::ZERO {
-            return (Stream::Fixed, axis.sector_of(p.x, p.y)); // parallel to the z axis
+            let sector = axis.sector_of(p.x, p.y); // parallel to the z axis
+            return (Stream::fixed(sector), sector);
         }
         let wz = ray.p_cross_d().z;
         let (pm, dm) = (
@@ -430,26 +330,29 @@ impl<T: Real> Stream<T> {
             let t_a = ray.t_from_scaled(s_a);
             if !t_a.is_finite() {
                 // d's horizontal part is too small to place the axis crossing: parallel to the z axis
-                return (Stream::Fixed, axis.sector_of(p.x, p.y));
+                let sector = axis.sector_of(p.x, p.y);
+                return (Stream::fixed(sector), sector);
             }
             let after = axis.sector_of(d.x, d.y);
             if !(t_a > t0) {
-                return (Stream::Fixed, after);
+                return (Stream::fixed(after), after);
             }
             let before = axis.sector_of(-d.x, -d.y);
             let (ccw, steps) = walk_way(axis, before, after, None);
             return (
-                Stream::Azimuth {
-                    sector: before,
-                    t_own: At::exact(t0),
-                    ccw,
-                    from: (-d.x, -d.y),
-                    crossed: 0,
-                    walk: Some(Walk {
-                        t: t_a,
-                        remaining: steps,
-                        up: ccw,
-                    }),
+                Stream {
+                    band: before,
+                    t: t0,
+                    kind: Kind::Azimuth {
+                        ccw,
+                        from: (-d.x, -d.y),
+                        crossed: 0,
+                        walk: Some(Walk {
+                            t: t_a,
+                            remaining: steps,
+                            up: ccw,
+                        }),
+                    },
                 },
                 before,
             );
@@ -463,15 +366,17 @@ impl<T: Real> Stream<T> {
         };
         let from = if on_axis { (-d.x, -d.y) } else { (q.x, q.y) };
         let stream = if axis.boundaries <= 1 && axis.full {
-            Stream::Fixed // one sector all round: no boundary to cross
+            Stream::fixed(sector) // one sector all round: no boundary to cross
         } else {
-            Stream::Azimuth {
-                sector,
-                t_own: At::exact(t0),
-                ccw: wz > T::ZERO,
-                walk: None,
-                from,
-                crossed: 0,
+            Stream {
+                band: sector,
+                t: t0,
+                kind: Kind::Azimuth {
+                    ccw: wz > T::ZERO,
+                    walk: None,
+                    from,
+                    crossed: 0,
+                },
             }
         };
         (stream, sector)
@@ -488,34 +393,26 @@ impl<T: Real> Stream<T> {
             axis.len
         };
         if dz == T::ZERO {
-            return (Stream::Fixed, axis.band_of(ray.origin().z));
+            let band = axis.band_of(ray.origin().z);
+            return (Stream::fixed(band), band);
         }
         (
-            Stream::Height {
+            Stream {
                 band,
-                t_own: At::exact(t0),
-                up: dz > T::ZERO,
+                t: t0,
+                kind: Kind::Height { up: dz > T::ZERO },
             },
             band,
         )
     }
 
-    /// The next radius event (at most one square root), or `None` when there is none up to the ray's `t_max`.
-    pub(crate) fn next_radial(
-        &mut self,
-        axis: &RadialAxis<'_, T>,
-        ray: &Ray<T>,
-        t_max: T,
-    ) -> Option<Event<T>> {
-        let Stream::Radial {
-            band,
-            t_own,
-            descending,
-            cache,
-        } = self
-        else {
-            return None;
+    /// Advances to the next radius event (at most one square root); false when there is none up to the ray's
+    /// `t_max`.
+    pub(crate) fn next_radial(&mut self, axis: &RadialAxis<'_, T>, ray: &Ray<T>, t_max: T) -> bool {
+        let Kind::Radial { descending, cache } = &mut self.kind else {
+            return false;
         };
+        let (band, t_own) = (&mut self.band, &mut self.t);
         if *descending {
             let inner = band.checked_sub(1);
             let hit = match inner {
@@ -533,13 +430,13 @@ impl<T: Real> Stream<T> {
                 Some((j, (t_in, t_out))) => {
                     let t = t_in.max(*t_own);
                     if t > t_max {
-                        *self = Stream::Fixed;
-                        return None;
+                        self.kind = Kind::Fixed;
+                        return false;
                     }
                     *band = j;
                     *t_own = t;
                     *cache = Some((j, t_out));
-                    return Some((At::exact(t), j));
+                    return true;
                 }
                 None => *descending = false,
             }
@@ -547,8 +444,8 @@ impl<T: Real> Stream<T> {
         // ascending: leave the sphere of the band's upper radius
         let j = *band;
         if j >= axis.len {
-            *self = Stream::Fixed;
-            return None;
+            self.kind = Kind::Fixed;
+            return false;
         }
         let t_out = match *cache {
             Some((k, t)) if k == j => t,
@@ -561,38 +458,32 @@ impl<T: Real> Stream<T> {
         *cache = None;
         let t = t_out.max(*t_own);
         if t > t_max {
-            *self = Stream::Fixed;
-            return None;
+            self.kind = Kind::Fixed;
+            return false;
         }
         let nb = j.saturating_add(1);
         *band = nb;
         *t_own = t;
-        Some((At::exact(t), nb))
+        true
     }
 
     /// The next zenith event (at most one square root in the common case, two at a hinge not reached through a
     /// cached root), or `None`.
-    pub(crate) fn next_zenith(
-        &mut self,
-        axis: &ZenithAxis<'_, T>,
-        ray: &Ray<T>,
-        t_max: T,
-    ) -> Option<Event<T>> {
-        let Stream::Zenith {
-            band,
-            t_own,
+    pub(crate) fn next_zenith(&mut self, axis: &ZenithAxis<'_, T>, ray: &Ray<T>, t_max: T) -> bool {
+        let Kind::Zenith {
             up,
             switched,
             cache,
             walk,
-        } = self
+        } = &mut self.kind
         else {
-            return None;
+            return false;
         };
+        let (band, t_own) = (&mut self.band, &mut self.t);
         if let Some(w) = walk {
             if w.remaining == 0 || w.t > t_max {
-                *self = Stream::Fixed;
-                return None;
+                self.kind = Kind::Fixed;
+                return false;
             }
             w.remaining = w.remaining.saturating_sub(1);
             *band = if w.up {
@@ -602,7 +493,7 @@ impl<T: Real> Stream<T> {
             };
             let t = w.t.max(*t_own);
             *t_own = t;
-            return Some((At::exact(t), *band));
+            return true;
         }
         for _ in 0..2 {
             // the cone to cross and the side to enter
@@ -638,13 +529,13 @@ impl<T: Real> Stream<T> {
                 }
                 if let (Some((t, other)), Some(j)) = (found, cone_j) {
                     if t > t_max {
-                        *self = Stream::Fixed;
-                        return None;
+                        self.kind = Kind::Fixed;
+                        return false;
                     }
                     *cache = other.map(|(t2, s2)| (j, t2, s2));
                     *band = if *up { j.saturating_add(1) } else { j };
                     *t_own = t;
-                    return Some((At::exact(t), *band));
+                    return true;
                 }
             }
             if *switched {
@@ -674,8 +565,8 @@ impl<T: Real> Stream<T> {
             // limit band, so there are at most as many repairs as bands.
             let t = ray.t_closest().max(*t_own);
             if !(t <= t_max) {
-                *self = Stream::Fixed;
-                return None;
+                self.kind = Kind::Fixed;
+                return false;
             }
             *up = target > b;
             *switched = true;
@@ -686,30 +577,29 @@ impl<T: Real> Stream<T> {
                 b.saturating_sub(1)
             };
             *t_own = t;
-            return Some((At::exact(t), *band));
+            return true;
         }
-        *self = Stream::Fixed;
-        None
+        self.kind = Kind::Fixed;
+        false
     }
 
-    /// The next azimuth event (one division), or `None`.
+    /// The next azimuth event (one division); false when there is none.
     pub(crate) fn next_azimuth(
         &mut self,
         axis: &AzimuthAxis<'_, T>,
         ray: &Ray<T>,
         t_max: T,
-    ) -> Option<Event<T>> {
-        let Stream::Azimuth {
-            sector,
-            t_own,
+    ) -> bool {
+        let Kind::Azimuth {
             ccw,
             walk,
             from,
             crossed,
-        } = self
+        } = &mut self.kind
         else {
-            return None;
+            return false;
         };
+        let (sector, t_own) = (&mut self.band, &mut self.t);
         let nb = axis.boundaries.max(1);
         let step = |s: u32, ccw: bool| -> u32 {
             if ccw {
@@ -720,14 +610,14 @@ impl<T: Real> Stream<T> {
         };
         if let Some(w) = walk {
             if w.remaining == 0 || w.t > t_max {
-                *self = Stream::Fixed;
-                return None;
+                self.kind = Kind::Fixed;
+                return false;
             }
             w.remaining = w.remaining.saturating_sub(1);
             *sector = step(*sector, w.up);
-            let t = At::exact(w.t).max(*t_own);
+            let t = w.t.max(*t_own);
             *t_own = t;
-            return Some((t, *sector));
+            return true;
         }
         let j = if *ccw { step(*sector, true) } else { *sector };
         // Topology first: the boundary is crossed only if its direction lies in the arc that φ still sweeps,
@@ -745,20 +635,19 @@ impl<T: Real> Stream<T> {
         if !ahead || *crossed >= axis.boundaries {
             return self.complete_azimuth(axis, ray, t_max);
         }
-        // the crossing as an undivided fraction: divided only if the engine reports it
         let root = axis.plane(j).and_then(|h| h.scaled_root_fraction(ray));
         match root {
             Some((num, den, _)) => {
-                let t = At::fraction(num, den, ray).max(*t_own);
-                if At::exact(t_max).lt(&t) || num.is_nan() {
-                    *self = Stream::Fixed;
-                    return None;
+                let t = plane_t(num, den, ray).max(*t_own);
+                if t > t_max || num.is_nan() {
+                    self.kind = Kind::Fixed;
+                    return false;
                 }
                 *sector = step(*sector, *ccw);
                 *t_own = t;
                 *from = (bc, bs);
                 *crossed = crossed.saturating_add(1);
-                Some((t, *sector))
+                true
             }
             None => self.complete_azimuth(axis, ray, t_max),
         }
@@ -768,18 +657,11 @@ impl<T: Real> Stream<T> {
     /// sector must end as the sector of d (unless d lies exactly on a boundary, approached from one side). When
     /// the line passes within rounding of the z axis the half-plane tests cannot order the crossings there; they
     /// are completed here, at the closest approach to the axis, in the turning sense.
-    fn complete_azimuth(
-        &mut self,
-        axis: &AzimuthAxis<'_, T>,
-        ray: &Ray<T>,
-        t_max: T,
-    ) -> Option<Event<T>> {
-        let Stream::Azimuth {
-            sector, ccw, walk, ..
-        } = self
-        else {
-            return None;
+    fn complete_azimuth(&mut self, axis: &AzimuthAxis<'_, T>, ray: &Ray<T>, t_max: T) -> bool {
+        let Kind::Azimuth { ccw, walk, .. } = &mut self.kind else {
+            return false;
         };
+        let sector = &mut self.band;
         let d = ray.scaled_dir();
         let p = ray.origin();
         // the cheap tests first: a line that passes the z axis clearly (every ordinary ray) ends here
@@ -789,8 +671,8 @@ impl<T: Real> Stream<T> {
                 * p.x.abs().max(p.y.abs()).max(axis.scale)
                 * d.x.abs().max(d.y.abs());
         if !near_axis || walk.is_some() {
-            *self = Stream::Fixed;
-            return None;
+            self.kind = Kind::Fixed;
+            return false;
         }
         let target = axis.sector_of(d.x, d.y);
         let (way, steps) = walk_way(axis, *sector, target, Some(*ccw));
@@ -799,8 +681,8 @@ impl<T: Real> Stream<T> {
             c * d.y - s * d.x == T::ZERO && c * d.x + s * d.y > T::ZERO
         });
         if steps == 0 || on_boundary {
-            *self = Stream::Fixed;
-            return None;
+            self.kind = Kind::Fixed;
+            return false;
         }
         let s_a = -(p.x * d.x + p.y * d.y) / (d.x * d.x + d.y * d.y);
         *walk = Some(Walk {
@@ -811,16 +693,12 @@ impl<T: Real> Stream<T> {
         self.next_azimuth(axis, ray, t_max)
     }
 
-    /// The next height event (one division), or `None`.
-    pub(crate) fn next_height(
-        &mut self,
-        axis: &HeightAxis<'_, T>,
-        ray: &Ray<T>,
-        t_max: T,
-    ) -> Option<Event<T>> {
-        let Stream::Height { band, t_own, up } = self else {
-            return None;
+    /// The next height event (one division); false when there is none.
+    pub(crate) fn next_height(&mut self, axis: &HeightAxis<'_, T>, ray: &Ray<T>, t_max: T) -> bool {
+        let Kind::Height { up } = &mut self.kind else {
+            return false;
         };
+        let (band, t_own) = (&mut self.band, &mut self.t);
         let j = if *up {
             if *band >= axis.len { None } else { Some(*band) }
         } else {
@@ -832,19 +710,18 @@ impl<T: Real> Stream<T> {
         });
         match (j, root) {
             (Some(j), Some((num, den, _))) => {
-                // an undivided fraction: divided only if the engine reports it
-                let t = At::fraction(num, den, ray).max(*t_own);
-                if At::exact(t_max).lt(&t) || num.is_nan() {
-                    *self = Stream::Fixed;
-                    return None;
+                let t = plane_t(num, den, ray).max(*t_own);
+                if t > t_max || num.is_nan() {
+                    self.kind = Kind::Fixed;
+                    return false;
                 }
                 *band = if *up { j.saturating_add(1) } else { j };
                 *t_own = t;
-                Some((t, *band))
+                true
             }
             _ => {
-                *self = Stream::Fixed;
-                None
+                self.kind = Kind::Fixed;
+                false
             }
         }
     }

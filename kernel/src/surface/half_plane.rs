@@ -89,9 +89,9 @@ impl<T: Real> HalfPlane<T> {
     }
 
     /// The crossing in the ray's scaled parameter as the fraction `num / den` with `den > 0`, not yet divided:
-    /// a marcher compares candidate crossings by cross-multiplication and divides only for a crossing it
-    /// reports (seed 001 §4.6: one division per azimuth crossing, none for one only looked at). `num / den` is
-    /// bit for bit the value [`HalfPlane::scaled_root`] returns (the sign is moved to the numerator exactly).
+    /// the marcher divides it itself, folding the ray's exact rescaling into the denominator (seed 001 §4.6: one
+    /// division per azimuth crossing). `num / den` is bit for bit the value [`HalfPlane::scaled_root`] returns
+    /// (the sign is moved to the numerator exactly).
     #[inline]
     pub(crate) fn scaled_root_fraction(&self, ray: &Ray<T>) -> Option<(T, T, Side)> {
         let nd = self.normal_dot(ray.scaled_dir());

@@ -35,7 +35,7 @@ impl<T: Real> PlaneZ<T> {
     }
 
     /// The crossing in the ray's scaled parameter as the fraction `num / den` with `den > 0`, not yet divided
-    /// (a marcher divides only for a crossing it reports); `num / den` is bit for bit
+    /// (the marcher divides it itself, folding in the ray's exact rescaling); `num / den` is bit for bit
     /// [`PlaneZ::scaled_root`]'s value. `None` for a horizontal ray (or a NaN direction component).
     #[inline]
     pub(crate) fn scaled_root_fraction(&self, ray: &Ray<T>) -> Option<(T, T, Side)> {

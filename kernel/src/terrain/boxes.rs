@@ -5,8 +5,8 @@
 //! needed. The traversal moves the ray into a frame once and tests boxes with three slabs each (a small fraction
 //! of the cost of the spheroidal volume's relaxed test, [`crate::geodesy::relaxed_interval`]); for a node a few
 //! kilometres across the box is also the tighter of the two (its faces follow the local horizon; the volume's
-//! lower wall is a sphere). The no-miss argument of the module docs holds unchanged with the box as the node's
-//! volume.
+//! lower wall is a sphere). The no-miss argument (`traverse.rs`, "No misses: what is proven") holds unchanged
+//! with the box as the node's volume.
 //!
 //! **Which frame.** A zone's box is in the frame of the whole grid. A child's box is in its parent's own frame
 //! ([`LocalFrame::of`]), or, when the box says so ([`NodeBox::shared_frame`]), in the frame its parent's box is

@@ -1,4 +1,21 @@
 //! The hit of the traversal's nearest triangle, refined (`refine.rs`) and with its geodetic coordinates.
+//!
+//! Refinement of the nearest hit (beyond the paper; once per ray, after the traversal): the traversal's
+//! vertices carry a few ulps of rounding, which a grazing ray amplifies by `1 / sin(elevation)` along itself
+//! (1.4 µm at 0.15° and 150 km in `f64`). The hit triangle's vertices are recomputed in double-double
+//! ([`crate::dd`]) and `t` is taken from its plane, with a containment walk at edge and vertex ties and a
+//! guard that keeps the traversal's `t` if the refinement is not sound (`refine.rs` documents all three).
+//! [`Hit::cell`] and [`Hit::level`] are the traversal's; [`Hit::t`], [`Hit::ecef`] and the geodetic
+//! coordinates are the refined ones. In `f64` the hit point is then within about 1e-9 m of the exact
+//! surface's (the host oracle's worst over 187 000 rays: 3.5e-9 m). The geodetic coordinates come from
+//! [`Ellipsoid::ecef_to_geodetic_near`] seeded at the hit cell's corner vertex (no arctangent or cube root;
+//! the closed form where the seed does not apply). [`Picker::pick_t`] stops before this step. The refinement
+//! needs no trigonometry per ray when the storage caches its rows' and columns' double-double parallels and
+//! meridians ([`TerrainStorage::row_parallel`]).
+//!
+//! Coarse and stitched hits (multi-resolution) are refined like full-resolution ones, without the containment
+//! walk (a refined point beyond an edge keeps the traversal's hit), and the walk of a full-resolution hit steps
+//! only into cells traced at full resolution. [`Hit::level`] and [`Hit::stride`] say which block answered.
 
 use super::*;
 

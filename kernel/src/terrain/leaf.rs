@@ -1,15 +1,40 @@
 //! Leaf tracing (seed 000 §4): a traced unit's cells walked column by column, clipped against their meridian and
 //! row planes, culled by height, and their triangles tested.
+//!
+//! In a leaf, each cell (triangle pair) has its own volume bounded by four *planes*: the meridian planes of its
+//! two columns and, for each of its two rows, the plane through the spheroid normals at the row's two grid
+//! vertices (both normals of one latitude pass through the latitude cone's apex, so they are coplanar). All four
+//! corner vertices lie in that convex volume, so both triangles do — exactly, with no containment problem at
+//! this level — and neighbouring cells share their walls. Only the triangle pairs whose volume the ray crosses
+//! are tested, with the watertight ray–triangle test ([`triangle`]). The paper steps from one pair's volume to
+//! the next through the wall the ray leaves by; here the unit is walked by columns (the meridian walls clip
+//! the ray once per column), which visits the same pairs.
+//!
+//! Beyond the paper, two shortcuts: at full resolution, away from the axis, a column's row planes are ordered,
+//! so only the rows between those of the column segment's two ends are visited ([`Picker::crossed_rows`]
+//! states the bound); and a cell's two triangles are tested only when the ray's part inside the cell is not
+//! wholly above (or below) its four corners in the unit's local frame — the triangles are their convex hull.
+//! A coarse unit's border cells are stitched to finer neighbours (`stitch.rs`).
+//!
+//! # Cost
+//!
+//! Per leaf: a clip against two meridian planes per column (columns the ray misses are skipped), the rows the
+//! column's segment can cross (a few plane signs from the previous column's row), two row planes per such
+//! cell, the height cull, and the triangle test for what is left. No trigonometry is needed per ray when the
+//! storage caches the sines and cosines of its rows and columns ([`TerrainStorage::row_sin_cos`]); the prime
+//! vertical radius is computed once per row of a leaf.
 
 use super::*;
+
+mod crossed;
 
 impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     Picker<'_, T, S, STACK, ZONES>
 {
-    /// Traces the cells of a unit (§4; §5 for a coarser block): clip per column of cells against its meridian
-    /// planes, per cell against its two row planes (planes through the spheroid normals at the cell's corner
-    /// vertices), then the watertight test. A coarse cell on the unit's border whose neighbour is finer is
-    /// stitched to it (module docs, "Multi-resolution").
+    /// Traces the cells of a unit (§4; §5 for a coarser block), column by column: each column of cells is
+    /// clipped against its two meridian planes ([`Picker::clip_column`]), then each of its cells that the ray
+    /// can reach against its two row planes, and the triangle pairs whose volume the ray crosses are tested
+    /// ([`Picker::trace_column`]).
     #[inline(never)]
     pub(super) fn trace_unit(
         &self,
@@ -18,413 +43,325 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         t_out: T,
         w: &mut Walk<'_, '_, T>,
     ) -> Result<(), TerrainError> {
-        let g = &self.grid;
-        let e = &self.ellipsoid;
-        let ray = w.ray;
-        let o = ray.origin();
-        let d = ray.dir();
-        let tau = T::from_f64(64.0) * T::EPSILON;
-        let s = u.stride;
-        let [r0, r1] = u.rows;
-        let [c0, c1] = u.cols;
-        let step = |i: u32, end: u32| i.saturating_add(s).min(end);
-        let north_up = g.dlat > T::ZERO;
-        // Per-unit cache of the lattice rows' values (sin ψ, cos ψ, cone apex k, prime vertical radius N) for
-        // units up to ROW_CACHE − 1 cells tall, filled as rows are first asked for (a ray from above needs few).
-        let rows_cache: [Cell<Option<RowValues<T>>>; ROW_CACHE] =
-            core::array::from_fn(|_| Cell::new(None));
-        let n_rows = div_ceil_pow2(r1.saturating_sub(r0), s);
-        let row_vals = |i: u32| -> RowValues<T> {
-            let (sp, cp) = self.storage.row_sin_cos(i);
-            (
-                sp,
-                cp,
-                e.latitude_cone_apex(sp),
-                e.prime_vertical_radius(sp),
-            )
-        };
-        // Strides are powers of two: lattice row k·s is entry k, the last row entry n_rows.
-        let shift = s.trailing_zeros();
-        let mask = s.wrapping_sub(1);
-        let row_at = |i: u32| -> RowValues<T> {
-            let k = i.wrapping_sub(r0);
-            let entry = if k & mask == 0 {
-                k.wrapping_shr(shift)
-            } else if i == r1 {
-                n_rows
-            } else {
-                u32::MAX
-            };
-            let Some(slot) = usize::try_from(entry).ok().and_then(|k| rows_cache.get(k)) else {
-                return row_vals(i);
-            };
-            slot.get().unwrap_or_else(|| {
-                let v = row_vals(i);
-                slot.set(Some(v));
-                v
-            })
-        };
-        let stitchable = s > 1;
-        // Height cull (beyond the paper): in the unit's local frame, a cell whose part of the ray lies wholly
-        // above (or below) its four corners' up coordinates cannot meet its triangles, the convex hulls of those
-        // corners. The tolerance covers the rounding of both sides' up coordinates, like the node boxes'.
-        let frame = LocalFrame::of_ranges(self.storage, e, u.rows, u.cols);
-        let (z0, zd) = (frame.up(o), frame.up_dir(d));
-        let z_tol = T::from_f64(32.0)
-            * T::EPSILON
-            * ((o.x.abs() + o.y.abs() + o.z.abs())
-                + t_in.abs().max(t_out.abs()) * (d.x.abs() + d.y.abs() + d.z.abs())
-                + e.a());
-        let (k_first, k_end) = self.unit_columns(u, ray, t_in, t_out);
-        // The cell row last located by `crossed_rows` in this unit, and the sign of the azimuth's rate along the
-        // ray, (o × d)_z.
+        let trace = self.unit_trace(u, w.ray, t_in, t_out);
+        let (k_first, k_end) = self.unit_columns(u, w.ray, t_in, t_out);
+        // The cell row last located by `crossed_rows` in this unit.
         let mut row_hint = None;
-        let az_rate = o.x * d.y - o.y * d.x;
         for k in k_first..k_end {
-            let j = c0.saturating_add(k.saturating_mul(s));
-            let j1 = step(j, c1);
-            let (sw, cw) = self.storage.col_sin_cos(j);
-            let (se, ce) = self.storage.col_sin_cos(j1);
-            let (s_half, c_half) = if j1.saturating_sub(j) == s {
-                self.half_cell(s)
-            } else {
-                sin_cos_deg(g.dlon * T::HALF * self.scale(j1.saturating_sub(j)))
-            };
-            // The cell's middle meridian λ_j + w/2 by the addition theorem (a few ulps; the row plane only
-            // needs its direction, and the vertices' rounding is covered by `tau`).
-            let (sm, cm) = (sw * c_half + cw * s_half, cw * c_half - sw * s_half);
-            let mut lo = t_in;
-            let mut hi = t_out.min(w.best_t());
-            // West wall: n_w·P ≥ 0, n_w = (−sin λ_w, cos λ_w, 0); east wall: n_e·P ≤ 0.
-            let mag = (o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * (lo.abs().max(hi.abs()));
-            let tol = tau * mag;
-            clip_half_space(
-                &mut lo,
-                &mut hi,
-                cw * o.y - sw * o.x,
-                cw * d.y - sw * d.x,
-                tol,
-            );
-            clip_half_space(
-                &mut lo,
-                &mut hi,
-                -(ce * o.y - se * o.x),
-                -(ce * d.y - se * d.x),
-                tol,
-            );
-            if !(lo <= hi) {
-                continue;
-            }
-            // Row plane i at this column: m = (−sin ψ cos λm, −sin ψ sin λm, cos ψ cos(w/2)), through (0,0,k_i);
-            // m·(P − k ẑ) > 0 is north of it. With `tangent`, cos(w/2) is replaced by 1: the plane tangent to
-            // the latitude cone along the middle meridian, which bounds the cone's arc over the cell from the
-            // other side (stitched sides). The parts that do not depend on the row are formed once per column.
-            let (radial_o, radial_d) = (cm * o.x + sm * o.y, cm * d.x + sm * d.y);
-            let mag = o.x.abs()
-                + o.y.abs()
-                + (d.x.abs() + d.y.abs() + d.z.abs()) * (lo.abs().max(hi.abs()));
-            let row_plane = |i: u32, tangent: bool| -> (T, T, T) {
-                let (sp, cp, kz, _) = row_at(i);
-                let ch = if tangent { T::ONE } else { c_half };
-                let qz = o.z - kz;
-                (
-                    cp * ch * qz - sp * radial_o,
-                    cp * ch * d.z - sp * radial_d,
-                    tau * (mag + qz.abs()),
-                )
-            };
-            // A border cell of a coarse unit may be stitched: vertices of a finer neighbour on its rows lie on
-            // the latitude cones between its meridians, and near a pole a cell far wider than tall has cone arcs
-            // that sag across even the opposite row's chord plane. So both row walls of such a cell bound the
-            // whole latitude band in the wedge: the chord plane where the band lies on its concave side (a
-            // northern wall with ψ > 0, a southern one with ψ < 0), the tangent plane along the middle meridian
-            // where it lies on the convex side (a southern wall with ψ > 0, a northern one with ψ < 0).
-            let border_plane = |i: u32, low: bool| -> (T, T, T) {
-                let south = low == north_up;
-                let sp = row_at(i).0;
-                row_plane(i, (south && sp > T::ZERO) || (!south && sp < T::ZERO))
-            };
-            // At full resolution only the rows between those of the column segment's two ends are crossed
-            // (`crossed_rows`); coarse units, whose border cells have band walls, trace every row.
-            let (first_row, end_row) = if stitchable {
-                (r0, r1)
-            } else {
-                self.crossed_rows(
-                    u,
-                    [lo, hi],
-                    (radial_o, radial_d),
-                    az_rate,
-                    // `row_plane(i, false)` at `t`, without its tolerance (formed inline: the unused
-                    // tolerance is not optimised away and costs 3 % of a camera pick).
-                    &|i, t| {
-                        let (sp, cp, kz, _) = row_at(i);
-                        cp * c_half * (o.z - kz) - sp * radial_o
-                            + t * (cp * c_half * d.z - sp * radial_d)
-                    },
-                    &mut row_hint,
-                )
-            };
-            let mut plane_a = row_plane(first_row, false);
-            // The northern (higher-row) corners of the last cell traced in this column, reused as the next
-            // cell's southern ones.
-            let mut shared: Option<RowCorners<T>> = None;
-            let mut i = first_row;
-            while i < end_row {
-                let i1 = step(i, r1);
-                let plane_b = row_plane(i1, false);
-                let mut low = plane_a;
-                let mut high = plane_b;
-                plane_a = plane_b;
-                let (row_i, row_i1) = (i, i1);
-                i = i1;
-                let border = row_i == r0 || row_i1 == r1 || j == c0 || j1 == c1;
-                if stitchable && border {
-                    low = border_plane(row_i, true);
-                    high = border_plane(row_i1, false);
-                }
-                let (mut clo, mut chi) = (lo, hi.min(w.best_t()));
-                // The cell lies north of its southern row plane and south of its northern one.
-                let (south, north) = if north_up { (low, high) } else { (high, low) };
-                clip_half_space(&mut clo, &mut chi, south.0, south.1, south.2);
-                clip_half_space(&mut clo, &mut chi, -north.0, -north.1, north.2);
-                if !(clo <= chi) {
-                    continue;
-                }
-                w.stats.triangle_pairs_visited = w.stats.triangle_pairs_visited.saturating_add(1);
-                // Vertex (ii, jj) of this column's west (jj = j) or east (jj = j1) meridian.
-                let vtx = |ii: u32, jj: u32, (s_lon, c_lon): (T, T)| -> Option<V3<T>> {
-                    let h = self.storage.height(ii, jj)?;
-                    if !h.is_finite() {
-                        return None;
-                    }
-                    let (sl, cl, _, n) = row_at(ii);
-                    Some(e.ecef_from_parts(sl, cl, n, s_lon, c_lon, h))
-                };
-                let cell = CellAt {
-                    rows: [row_i, row_i1],
-                    cols: [j, j1],
-                };
-                let reuse = shared.filter(|(r, _, _)| *r == row_i);
-                let v00 = reuse.map_or_else(|| vtx(row_i, j, (sw, cw)), |(_, a, _)| a);
-                let v11 = vtx(row_i1, j1, (se, ce));
-                if stitchable && border {
-                    match self.stitch(u, &cell, v00, v11, w, clo)? {
-                        Stitch::Done => continue,
-                        Stitch::Plain => {}
-                    }
-                }
-                let v01 = reuse.map_or_else(|| vtx(row_i, j1, (se, ce)), |(_, _, b)| b);
-                let v10 = vtx(row_i1, j, (sw, cw));
-                shared = Some((row_i1, v10, v11));
-                let (mut z_min, mut z_max) = (T::INFINITY, T::NEG_INFINITY);
-                for v in [v00, v01, v10, v11].iter().flatten() {
-                    let z = frame.up(*v);
-                    z_min = z_min.min(z);
-                    z_max = z_max.max(z);
-                }
-                let (za, zb) = (z0 + clo * zd, z0 + chi * zd);
-                if za.min(zb) > z_max + z_tol || za.max(zb) < z_min - z_tol {
-                    continue;
-                }
-                let refs = |first: bool| {
-                    if s == 1 {
-                        TriRef::Cell(if first { Tri::First } else { Tri::Second })
-                    } else if first {
-                        TriRef::Vertices([
-                            Vtx::Grid(row_i, j),
-                            Vtx::Grid(row_i, j1),
-                            Vtx::Grid(row_i1, j1),
-                        ])
-                    } else {
-                        TriRef::Vertices([
-                            Vtx::Grid(row_i, j),
-                            Vtx::Grid(row_i1, j1),
-                            Vtx::Grid(row_i1, j),
-                        ])
-                    }
-                };
-                // The edges with no triangle across (triangle.rs, "Edges on the border of the surface"), asked
-                // only when the ray passes within rounding outside one. Captured by value (a reference would
-                // keep these locals in memory through the column loop).
-                if let (Some(a), Some(b), Some(c)) = (v00, v01, v11) {
-                    let no_second = v10.is_none();
-                    let border = move || self.border_edges(cell, s, true, no_second);
-                    self.test_triangle(w, [a, b, c], [row_i, j], refs(true), u, border);
-                }
-                if let (Some(a), Some(b), Some(c)) = (v00, v11, v10) {
-                    let no_first = v01.is_none();
-                    let border = move || self.border_edges(cell, s, false, no_first);
-                    self.test_triangle(w, [a, b, c], [row_i, j], refs(false), u, border);
-                }
+            if let Some(column) = self.clip_column(&trace, k, t_in, t_out.min(w.best_t())) {
+                self.trace_column(&trace, &column, w, &mut row_hint)?;
             }
         }
         Ok(())
     }
 
-    /// The cell rows `[first, end)` of a full-resolution unit that the ray can cross within one column on
-    /// `[lo, hi]` (beyond the paper: the row loop skips the rest). The column's row planes all contain the
-    /// direction perpendicular to its middle meridian, so each is a line `z = k + r tan ψ / cos(w/2)` in the
-    /// `(r, z)` half-plane, `r` the distance from the axis along the middle meridian. Two such lines meet at
-    /// `r* = Δk / Δ(tan ψ / cos(w/2))`; since `dk/dψ = −e² cos ψ (N + N' tan ψ)`, `r*` is at most
-    /// `e² N cos³ψ (1 + e² N² sin²ψ / a²) ≤ e² (a²/b)(1 + e² a²/b²)` (43 km on WGS84). Beyond twice that the
-    /// planes are ordered, so along a segment that stays there (`r` is linear in `t`: both ends are checked)
-    /// the ray crosses each plane at most once and in order: the crossed cells are those between the cells of
-    /// its two ends. Each end's cell comes from a binary search over the planes' sides; a side decided wrongly by
-    /// rounding puts the end within a rounding distance of that plane, so one row of margin on each side
-    /// covers it. Elsewhere (near the axis) every row is returned.
-    #[inline(never)]
-    pub(super) fn crossed_rows(
-        &self,
-        u: &Unit,
-        [lo, hi]: [T; 2],
-        (radial_o, radial_d): (T, T),
-        az_rate: T,
-        plane: &impl Fn(u32, T) -> T,
-        hint: &mut Option<i64>,
-    ) -> (u32, u32) {
-        let [r0, r1] = u.rows;
-        let r_order = self.rows_ordered_beyond;
-        let ordered = radial_o + lo * radial_d > r_order && radial_o + hi * radial_d > r_order;
-        if !(ordered && lo.is_finite() && hi.is_finite()) {
-            return (r0, r1);
-        }
-        // The cell containing the point at `t`: the last plane i in [r0, r1] that the point lies on the
-        // increasing-row side of (rows increase northwards when dlat > 0), or r0 − 1 (before the unit).
-        let north_up = self.grid.dlat > T::ZERO;
-        let (first_plane, last_plane) = (i64::from(r0), i64::from(r1));
-        let cell_of = |t: T, hint: Option<i64>| -> i64 {
-            // Whether the point lies past plane i (true before the unit's first plane, false after its last).
-            let after = |i: i64| {
-                if i < first_plane {
-                    return true;
-                }
-                let Some(i) = u32::try_from(i).ok().filter(|&i| i <= r1) else {
-                    return false;
-                };
-                let north = plane(i, t) >= T::ZERO;
-                north == north_up
-            };
-            // From the hint (the cell found last in this unit: the ray crosses few rows per column), a few
-            // steps; else a binary search. The answer a: after(a), !after(a + 1), a in [r0 − 1, r1].
-            if let Some(h) = hint {
-                let mut a = h.max(first_plane.saturating_sub(1)).min(last_plane);
-                for _ in 0..4 {
-                    if !after(a) {
-                        a = a.saturating_sub(1);
-                    } else if after(a.saturating_add(1)) {
-                        a = a.saturating_add(1);
-                    } else {
-                        return a;
-                    }
-                }
-            }
-            let (mut a, mut b) = (first_plane.saturating_sub(1), last_plane);
-            while a < b {
-                let m = a.saturating_add(b.saturating_sub(a).saturating_add(1).wrapping_shr(1));
-                if after(m) {
-                    a = m;
-                } else {
-                    b = m.saturating_sub(1);
-                }
-            }
-            a
-        };
-        // The end on the column's western meridian first: it is shared with the previous column, whose eastern
-        // end is the hint (longitude grows along the ray when (o × d)_z > 0).
-        let east_at_hi = az_rate > T::ZERO;
-        let (t_west, t_east) = if east_at_hi { (lo, hi) } else { (hi, lo) };
-        let ca = cell_of(t_west, *hint);
-        let cb = cell_of(t_east, Some(ca));
-        *hint = Some(cb);
-        let first = ca.min(cb).saturating_sub(1).max(i64::from(r0));
-        let end = ca.max(cb).saturating_add(2).min(i64::from(r1));
-        match (u32::try_from(first), u32::try_from(end)) {
-            (Ok(f), Ok(e)) if f <= e => (f, e),
-            _ => (r0, r0),
+    /// The constants of a unit's trace: the ray, the walls' tolerance, the row cache and the height cull's frame.
+    #[inline]
+    fn unit_trace(&self, u: &Unit, ray: &Ray<T>, t_in: T, t_out: T) -> UnitTrace<T> {
+        let (o, d) = (ray.origin(), ray.dir());
+        let frame = LocalFrame::of_ranges(self.storage, &self.ellipsoid, u.rows, u.cols);
+        let up_tol = T::from_f64(32.0)
+            * T::EPSILON
+            * ((o.x.abs() + o.y.abs() + o.z.abs())
+                + t_in.abs().max(t_out.abs()) * (d.x.abs() + d.y.abs() + d.z.abs())
+                + self.ellipsoid.a());
+        UnitTrace {
+            unit: *u,
+            origin: o,
+            dir: d,
+            tau: T::from_f64(64.0) * T::EPSILON,
+            north_up: self.grid.dlat > T::ZERO,
+            stitchable: u.stride > 1,
+            rows: RowCache::new(u),
+            cull: HeightCull {
+                frame,
+                up_origin: frame.up(o),
+                up_rate: frame.up_dir(d),
+                tol: up_tol,
+            },
+            az_rate: o.x * d.y - o.y * d.x,
         }
     }
 
-    /// The unit's cell columns `[first, end)` (in cells of its stride from its first column) that the ray can
-    /// cross within `[t_in, t_out]`. Both end points must lie in the half-space in front of the unit's middle
-    /// meridian (`r_m > 0`), which is convex, so the whole segment does; there the azimuth is monotone along the
-    /// line and every meridian of a unit narrower than 180° (minus a column) is within 90° of the middle one, so
-    /// the side of a meridian plane, `cos λ_j·y − sin λ_j·x ≥ 0` (east of it), is monotone over the unit's
-    /// meridians. Each end's column is found by a binary search over those sides, from the storage's
-    /// trigonometry (the second end tries the first end's column before searching); the crossed columns lie
-    /// between the two, plus one column of margin beyond a meridian that an end lies within rounding distance of
-    /// (the cells beyond are convex hulls of vertices on or past that meridian, so an end clear of it keeps the
-    /// segment out of them). Falls back to all columns otherwise.
-    pub(super) fn unit_columns(&self, u: &Unit, ray: &Ray<T>, t_in: T, t_out: T) -> (u32, u32) {
-        let [c0, c1] = u.cols;
-        let n = div_ceil_pow2(c1.saturating_sub(c0), u.stride);
-        let all = (0, n);
-        let span = T::from_f64(f64::from(c1.saturating_sub(c0).saturating_add(u.stride)));
-        if !(span * self.grid.dlon < T::from_f64(180.0)) {
-            return all;
+    /// Column `k` of the unit (in cells of its stride from its first column) and the part of `[lo, hi]` that
+    /// lies between its two meridian planes (§3.3 walls of the triangle pairs' volumes, §4), or `None` when the
+    /// ray passes outside it there. The west wall is `n_w·P ≥ 0` with `n_w = (−sin λ_w, cos λ_w, 0)`, the east
+    /// one `n_e·P ≤ 0`, each widened by the rounding of the coordinates.
+    #[inline]
+    fn clip_column(&self, tr: &UnitTrace<T>, k: u32, lo: T, hi: T) -> Option<Column<T>> {
+        let (o, d) = (tr.origin, tr.dir);
+        let stride = tr.unit.stride;
+        let j = tr.unit.cols[0].saturating_add(k.saturating_mul(stride));
+        let j1 = j.saturating_add(stride).min(tr.unit.cols[1]);
+        let (sin_w, cos_w) = self.storage.col_sin_cos(j);
+        let (sin_e, cos_e) = self.storage.col_sin_cos(j1);
+        let (sin_half, cos_half) = if j1.saturating_sub(j) == stride {
+            self.half_cell(stride)
+        } else {
+            sin_cos_deg(self.grid.dlon * T::HALF * self.scale(j1.saturating_sub(j)))
+        };
+        // The cell's middle meridian λ_j + w/2 by the addition theorem (a few ulps; the row plane only needs its
+        // direction, and the vertices' rounding is covered by `tau`).
+        let (sin_m, cos_m) = (
+            sin_w * cos_half + cos_w * sin_half,
+            cos_w * cos_half - sin_w * sin_half,
+        );
+        let (mut lo, mut hi) = (lo, hi);
+        let mag = (o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * (lo.abs().max(hi.abs()));
+        let tol = tr.tau * mag;
+        clip_half_space(
+            &mut lo,
+            &mut hi,
+            cos_w * o.y - sin_w * o.x,
+            cos_w * d.y - sin_w * d.x,
+            tol,
+        );
+        clip_half_space(
+            &mut lo,
+            &mut hi,
+            -(cos_e * o.y - sin_e * o.x),
+            -(cos_e * d.y - sin_e * d.x),
+            tol,
+        );
+        if !(lo <= hi) {
+            return None;
         }
-        let meridian = |k: u32| {
-            self.storage
-                .col_sin_cos(c0.saturating_add(k.saturating_mul(u.stride)).min(c1))
-        };
-        let (sm, cm) = meridian(n.wrapping_shr(1));
-        let (o, d) = (ray.origin(), ray.dir());
-        // The column loop's tolerance on the meridian planes (`trace_unit`): a side beyond it is decided alike
-        // there.
-        let tol = T::from_f64(64.0)
-            * T::EPSILON
-            * ((o.x.abs() + o.y.abs()) + (d.x.abs() + d.y.abs()) * t_in.abs().max(t_out.abs()));
-        // The columns `[first, end)` around point `p`'s: its cell column (the last meridian `k ∈ [0, n]` it is
-        // east of; `n`: east of the unit), widened by one on a side whose meridian it is within `tol` of. With
-        // `hint` (the other end's column: a steep ray stays in it), that column is tried first.
-        let columns = |p: V3<T>, hint: Option<u32>| -> Option<(u32, u32, u32)> {
-            if !(cm * p.x + sm * p.y > T::ZERO) {
-                return None;
+        Some(Column {
+            cols: [j, j1],
+            west: (sin_w, cos_w),
+            east: (sin_e, cos_e),
+            cos_half,
+            lo,
+            hi,
+            radial: (cos_m * o.x + sin_m * o.y, cos_m * d.x + sin_m * d.y),
+            row_mag: o.x.abs()
+                + o.y.abs()
+                + (d.x.abs() + d.y.abs() + d.z.abs()) * (lo.abs().max(hi.abs())),
+        })
+    }
+
+    /// The triangle pairs of one column (§4, Fig. 9): each cell the ray can cross is clipped against its two
+    /// row planes, a coarse unit's border cell is stitched to finer neighbours (§6; `stitch.rs`), a cell whose
+    /// part of the ray passes wholly above or below its corners is skipped, and the rest have their two
+    /// triangles tested.
+    #[inline]
+    fn trace_column(
+        &self,
+        tr: &UnitTrace<T>,
+        col: &Column<T>,
+        w: &mut Walk<'_, '_, T>,
+        row_hint: &mut Option<i64>,
+    ) -> Result<(), TerrainError> {
+        let u = &tr.unit;
+        let [r0, r1] = u.rows;
+        let [c0, c1] = u.cols;
+        let [j, j1] = col.cols;
+        let (first_row, end_row) = self.column_rows(tr, col, row_hint);
+        let mut wall_a = self.row_wall(tr, col, first_row, false);
+        // The northern (higher-row) corners of the last cell traced in this column, reused as the next cell's
+        // southern ones.
+        let mut shared: Option<RowCorners<T>> = None;
+        let mut i = first_row;
+        while i < end_row {
+            let i1 = i.saturating_add(u.stride).min(r1);
+            let wall_b = self.row_wall(tr, col, i1, false);
+            let (mut low, mut high) = (wall_a, wall_b);
+            wall_a = wall_b;
+            let (row_i, row_i1) = (i, i1);
+            i = i1;
+            let border = row_i == r0 || row_i1 == r1 || j == c0 || j1 == c1;
+            if tr.stitchable && border {
+                low = self.border_wall(tr, col, row_i, true);
+                high = self.border_wall(tr, col, row_i1, false);
             }
-            let side = |k: u32| {
-                let (sk, ck) = meridian(k);
-                ck * p.y - sk * p.x
+            let Some((cell_lo, cell_hi)) =
+                clip_cell(tr.north_up, low, high, col.lo, col.hi.min(w.best_t()))
+            else {
+                continue;
             };
-            // `a < b = a + 1 ≤ n` with the point east of meridian `a` (or west of the unit when `a` is 0) and
-            // not east of meridian `b`, and the two sides: the columns, and `a`.
-            let cell = |a: u32, b: u32, sa: T, sb: T| {
-                let west = u32::from(!(sa > tol));
-                let east = u32::from(!(sb < -tol));
-                (a.saturating_sub(west), b.saturating_add(east), a)
+            w.stats.triangle_pairs_visited = w.stats.triangle_pairs_visited.saturating_add(1);
+            let cell = CellAt {
+                rows: [row_i, row_i1],
+                cols: [j, j1],
             };
-            if let Some(a) = hint.filter(|&a| a < n) {
-                let (sa, sb) = (side(a), side(a.saturating_add(1)));
-                if (a == 0 || sa >= T::ZERO) && sb < T::ZERO {
-                    return Some(cell(a, a.saturating_add(1), sa, sb));
+            let reuse = shared.filter(|(r, _, _)| *r == row_i);
+            let v00 = reuse.map_or_else(|| self.grid_vertex(tr, row_i, j, col.west), |(_, a, _)| a);
+            let v11 = self.grid_vertex(tr, row_i1, j1, col.east);
+            if tr.stitchable && border {
+                match self.stitch(u, &cell, v00, v11, w, cell_lo)? {
+                    Stitch::Done => continue,
+                    Stitch::Plain => {}
                 }
             }
-            let (mut a, mut b) = (0u32, n);
-            let mut sb = side(b);
-            if sb >= T::ZERO {
-                return Some((n.saturating_sub(1), n, n));
+            let v01 =
+                reuse.map_or_else(|| self.grid_vertex(tr, row_i, j1, col.east), |(_, _, b)| b);
+            let v10 = self.grid_vertex(tr, row_i1, j, col.west);
+            shared = Some((row_i1, v10, v11));
+            let corners = [v00, v01, v10, v11];
+            if tr.cull.passes_clear_of(&corners, cell_lo, cell_hi) {
+                continue;
             }
-            // Invariant: east of meridian `a` (or west of the unit when `a` is 0), not east of meridian `b`.
-            let mut sa = T::NAN;
-            while b.saturating_sub(a) > 1 {
-                let m = a.wrapping_add(b.wrapping_sub(a).wrapping_shr(1));
-                let s_m = side(m);
-                if s_m >= T::ZERO {
-                    (a, sa) = (m, s_m);
-                } else {
-                    (b, sb) = (m, s_m);
-                }
-            }
-            if a == 0 {
-                sa = side(0);
-            }
-            Some(cell(a, b, sa, sb))
+            self.test_triangle_pair(w, u, cell, corners);
+        }
+        Ok(())
+    }
+
+    /// The rows `[first, end)` of a column whose cells the ray can cross: at full resolution only the rows
+    /// between those of the column segment's two ends ([`Picker::crossed_rows`]); coarse units, whose border
+    /// cells have band walls, trace every row.
+    #[inline]
+    fn column_rows(
+        &self,
+        tr: &UnitTrace<T>,
+        col: &Column<T>,
+        row_hint: &mut Option<i64>,
+    ) -> (u32, u32) {
+        if tr.stitchable {
+            return (tr.unit.rows[0], tr.unit.rows[1]);
+        }
+        let (o, d) = (tr.origin, tr.dir);
+        let (radial_o, radial_d) = col.radial;
+        let cos_half = col.cos_half;
+        self.crossed_rows(
+            &tr.unit,
+            [col.lo, col.hi],
+            col.radial,
+            tr.az_rate,
+            // `row_wall(i, false)` at `t`, without its tolerance (formed inline: the unused tolerance is not
+            // optimised away and costs 3 % of a camera pick).
+            &|i, t| {
+                let (sin_lat, cos_lat, apex_z, _) = self.row_at(&tr.rows, i);
+                cos_lat * cos_half * (o.z - apex_z) - sin_lat * radial_o
+                    + t * (cos_lat * cos_half * d.z - sin_lat * radial_d)
+            },
+            row_hint,
+        )
+    }
+
+    /// Row plane `i` of a column (§4: the plane through the spheroid normals at the row's vertices on the
+    /// column's two meridians, which both pass through the latitude cone's apex `(0, 0, k_i)`):
+    /// `m = (−sin ψ cos λm, −sin ψ sin λm, cos ψ cos(w/2))` with `λm` the column's middle meridian and `w` its
+    /// width, and `m·(P − k ẑ) > 0` north of it. With `tangent`, `cos(w/2)` is replaced by 1: the plane tangent
+    /// to the latitude cone along the middle meridian, which bounds the cone's arc over the cell from the other
+    /// side (stitched sides, [`Picker::border_wall`]).
+    #[inline(always)]
+    fn row_wall(&self, tr: &UnitTrace<T>, col: &Column<T>, i: u32, tangent: bool) -> Wall<T> {
+        let (o, d) = (tr.origin, tr.dir);
+        let (radial_o, radial_d) = col.radial;
+        let (sin_lat, cos_lat, apex_z, _) = self.row_at(&tr.rows, i);
+        let cos_half = if tangent { T::ONE } else { col.cos_half };
+        let z_above_apex = o.z - apex_z;
+        Wall {
+            at_origin: cos_lat * cos_half * z_above_apex - sin_lat * radial_o,
+            rate: cos_lat * cos_half * d.z - sin_lat * radial_d,
+            tol: tr.tau * (col.row_mag + z_above_apex.abs()),
+        }
+    }
+
+    /// The row wall of a border cell of a coarse unit, which may be stitched (§6, the containment problem of §4
+    /// at a block's border): vertices of a finer neighbour on its rows lie on the latitude cones between its
+    /// meridians, and near a pole a cell far wider than tall has cone arcs that sag across even the opposite
+    /// row's chord plane. So both row walls of such a cell bound the whole latitude band in the wedge: the chord
+    /// plane where the band lies on its concave side (a northern wall with ψ > 0, a southern one with ψ < 0),
+    /// the tangent plane along the middle meridian where it lies on the convex side (a southern wall with
+    /// ψ > 0, a northern one with ψ < 0). `low`: the cell's lower-row wall.
+    #[inline(always)]
+    fn border_wall(&self, tr: &UnitTrace<T>, col: &Column<T>, i: u32, low: bool) -> Wall<T> {
+        let south = low == tr.north_up;
+        let sin_lat = self.row_at(&tr.rows, i).0;
+        self.row_wall(
+            tr,
+            col,
+            i,
+            (south && sin_lat > T::ZERO) || (!south && sin_lat < T::ZERO),
+        )
+    }
+
+    /// A lattice row's values, from the unit's cache when the row is one of its lattice rows.
+    #[inline(always)]
+    fn row_at(&self, rows: &RowCache<T>, i: u32) -> RowValues<T> {
+        let Some(slot) = rows.slot(i) else {
+            return self.row_values(i);
         };
-        let Some((fa, ea, a)) = columns(V3::from(ray.at(t_in)), None) else {
-            return all;
-        };
-        let Some((fb, eb, _)) = columns(V3::from(ray.at(t_out)), Some(a)) else {
-            return all;
-        };
-        (fa.min(fb), ea.max(eb).min(n))
+        slot.get().unwrap_or_else(|| {
+            let v = self.row_values(i);
+            slot.set(Some(v));
+            v
+        })
+    }
+
+    /// Row `i`'s `(sin ψ, cos ψ, cone apex k, prime vertical radius N)`.
+    #[inline]
+    fn row_values(&self, i: u32) -> RowValues<T> {
+        let (sin_lat, cos_lat) = self.storage.row_sin_cos(i);
+        let e = &self.ellipsoid;
+        (
+            sin_lat,
+            cos_lat,
+            e.latitude_cone_apex(sin_lat),
+            e.prime_vertical_radius(sin_lat),
+        )
+    }
+
+    /// Grid vertex `(i, j)` in ECEF, `j` a column meridian with `(sin λ, cos λ)` = `lon`; `None` where it has no
+    /// data.
+    #[inline(always)]
+    fn grid_vertex(
+        &self,
+        tr: &UnitTrace<T>,
+        i: u32,
+        j: u32,
+        (s_lon, c_lon): (T, T),
+    ) -> Option<V3<T>> {
+        let h = self.storage.height(i, j)?;
+        if !h.is_finite() {
+            return None;
+        }
+        let (sin_lat, cos_lat, _, prime_vertical) = self.row_at(&tr.rows, i);
+        Some(
+            self.ellipsoid
+                .ecef_from_parts(sin_lat, cos_lat, prime_vertical, s_lon, c_lon, h),
+        )
+    }
+
+    /// The two triangles of a traced cell (§4's triangle pair: `V00 V01 V11` and `V00 V11 V10`), each tested if
+    /// its three corners have data. The edges with no triangle across (triangle.rs, "Edges on the border of the
+    /// surface") are asked only when the ray passes within rounding outside one; they are captured by value (a
+    /// reference would keep these locals in memory through the column loop).
+    #[inline]
+    fn test_triangle_pair(
+        &self,
+        w: &mut Walk<'_, '_, T>,
+        u: &Unit,
+        cell: CellAt,
+        [v00, v01, v10, v11]: [Option<V3<T>>; 4],
+    ) {
+        let s = u.stride;
+        let origin_cell = [cell.rows[0], cell.cols[0]];
+        if let (Some(a), Some(b), Some(c)) = (v00, v01, v11) {
+            let no_second = v10.is_none();
+            let border = move || self.border_edges(cell, s, true, no_second);
+            self.test_triangle(
+                w,
+                [a, b, c],
+                origin_cell,
+                triangle_ref(cell, s, true),
+                u,
+                border,
+            );
+        }
+        if let (Some(a), Some(b), Some(c)) = (v00, v11, v10) {
+            let no_first = v01.is_none();
+            let border = move || self.border_edges(cell, s, false, no_first);
+            self.test_triangle(
+                w,
+                [a, b, c],
+                origin_cell,
+                triangle_ref(cell, s, false),
+                u,
+                border,
+            );
+        }
     }
 
     /// Which edges of a traced cell's first (`first`) or second triangle have no triangle across (triangle.rs,
@@ -469,9 +406,13 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     ) {
         w.stats.triangles_tested = w.stats.triangles_tested.saturating_add(1);
         let limit = w.best.as_ref().map_or(w.ray.t_max(), |h| h.t);
-        if let Some((t, _)) = w
+        // the watertight ray is sheared from the exactly rescaled direction (any direction length works, down
+        // to subnormal ones): its parameter is the ray's scaled one
+        let (lo, hi) = (w.ray.t_to_scaled(w.ray.t_min()), w.ray.t_to_scaled(limit));
+        if let Some(t) = w
             .wray
-            .intersect_with_border(a, b, c, w.ray.t_min(), limit, border)
+            .intersect_with_border(a, b, c, lo, hi, border)
+            .map(|(s, _)| w.ray.t_from_scaled(s))
         {
             if w.best.as_ref().is_none_or(|h| t < h.t) {
                 *w.best = Some(Candidate {
@@ -482,6 +423,158 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 });
             }
         }
+    }
+}
+
+/// The per-unit constants of a leaf trace (§4).
+struct UnitTrace<T> {
+    unit: Unit,
+    origin: V3<T>,
+    dir: V3<T>,
+    /// The walls' tolerance relative to the coordinates' magnitude (64 ε).
+    tau: T,
+    /// Rows run northwards (`dlat > 0`).
+    north_up: bool,
+    /// A coarse unit (stride above 1), whose border cells may be stitched.
+    stitchable: bool,
+    rows: RowCache<T>,
+    cull: HeightCull<T>,
+    /// The sign of the azimuth's rate along the ray, `(o × d)_z`.
+    az_rate: T,
+}
+
+/// One column of a unit's cells (a strip between two meridian planes) and the part `[lo, hi]` of the ray
+/// between them.
+struct Column<T> {
+    cols: [u32; 2],
+    /// `(sin λ, cos λ)` of the western and eastern meridians.
+    west: (T, T),
+    east: (T, T),
+    /// `cos(w/2)`, `w` the column's longitude width.
+    cos_half: T,
+    lo: T,
+    hi: T,
+    /// The ray's distance from the axis along the middle meridian at the origin and its rate along the ray,
+    /// `(cos λm, sin λm)·(o, d)`: the row planes' parts that do not depend on the row.
+    radial: (T, T),
+    /// The coordinates' magnitude over the segment, to which the row walls' tolerance is relative.
+    row_mag: T,
+}
+
+/// A plane wall of a cell's volume along the ray: `at_origin + t·rate` is positive on its northern side (scaled
+/// by the plane normal's length), `tol` the rounding that may be on it.
+#[derive(Clone, Copy)]
+struct Wall<T> {
+    at_origin: T,
+    rate: T,
+    tol: T,
+}
+
+/// The part of the column's `[lo, hi]` inside a cell: north of its southern row wall and south of its northern
+/// one (`low`, `high`: the walls of its lower and higher row), or `None` when the ray passes outside the cell.
+#[inline(always)]
+fn clip_cell<T: Real>(north_up: bool, low: Wall<T>, high: Wall<T>, lo: T, hi: T) -> Option<(T, T)> {
+    let (mut cell_lo, mut cell_hi) = (lo, hi);
+    let (south, north) = if north_up { (low, high) } else { (high, low) };
+    clip_half_space(
+        &mut cell_lo,
+        &mut cell_hi,
+        south.at_origin,
+        south.rate,
+        south.tol,
+    );
+    clip_half_space(
+        &mut cell_lo,
+        &mut cell_hi,
+        -north.at_origin,
+        -north.rate,
+        north.tol,
+    );
+    (cell_lo <= cell_hi).then_some((cell_lo, cell_hi))
+}
+
+/// The height cull (beyond the paper): in the unit's local frame, a cell whose part of the ray lies wholly above
+/// (or below) its four corners' up coordinates cannot meet its triangles, the convex hulls of those corners. The
+/// tolerance covers the rounding of both sides' up coordinates, like the node boxes'.
+struct HeightCull<T> {
+    frame: LocalFrame<T>,
+    /// The ray's up coordinate at its origin and its rate along the ray.
+    up_origin: T,
+    up_rate: T,
+    tol: T,
+}
+
+impl<T: Real> HeightCull<T> {
+    /// Whether the ray's part `[clo, chi]` in a cell passes wholly above or below the cell's corners (those
+    /// with data).
+    #[inline(always)]
+    fn passes_clear_of(&self, corners: &[Option<V3<T>>; 4], cell_lo: T, cell_hi: T) -> bool {
+        let (mut z_min, mut z_max) = (T::INFINITY, T::NEG_INFINITY);
+        for v in corners.iter().flatten() {
+            let z = self.frame.up(*v);
+            z_min = z_min.min(z);
+            z_max = z_max.max(z);
+        }
+        let (up_lo, up_hi) = (
+            self.up_origin + cell_lo * self.up_rate,
+            self.up_origin + cell_hi * self.up_rate,
+        );
+        up_lo.min(up_hi) > z_max + self.tol || up_lo.max(up_hi) < z_min - self.tol
+    }
+}
+
+/// Which triangle of a traced cell `first` names (`V00 V01 V11`, else `V00 V11 V10`): by its half of the cell
+/// at full resolution, by its grid vertices in a coarser block.
+#[inline(always)]
+fn triangle_ref(cell: CellAt, stride: u32, first: bool) -> TriRef {
+    let ([i, i1], [j, j1]) = (cell.rows, cell.cols);
+    if stride == 1 {
+        TriRef::Cell(if first { Tri::First } else { Tri::Second })
+    } else if first {
+        TriRef::Vertices([Vtx::Grid(i, j), Vtx::Grid(i, j1), Vtx::Grid(i1, j1)])
+    } else {
+        TriRef::Vertices([Vtx::Grid(i, j), Vtx::Grid(i1, j1), Vtx::Grid(i1, j)])
+    }
+}
+
+/// A unit's cache of its lattice rows' values ([`RowValues`]) for units up to `ROW_CACHE − 1` cells tall,
+/// filled as rows are first asked for (a ray from above needs few).
+struct RowCache<T> {
+    slots: [Cell<Option<RowValues<T>>>; ROW_CACHE],
+    /// The unit's first and last rows.
+    rows: [u32; 2],
+    /// The entry of the last row (the unit's height in cells of its stride, rounded up).
+    last_entry: u32,
+    /// The stride's `log2` and `stride − 1` (strides are powers of two).
+    shift: u32,
+    mask: u32,
+}
+
+impl<T: Real> RowCache<T> {
+    fn new(u: &Unit) -> Self {
+        let [r0, r1] = u.rows;
+        RowCache {
+            slots: core::array::from_fn(|_| Cell::new(None)),
+            rows: u.rows,
+            last_entry: div_ceil_pow2(r1.saturating_sub(r0), u.stride),
+            shift: u.stride.trailing_zeros(),
+            mask: u.stride.wrapping_sub(1),
+        }
+    }
+
+    /// Row `i`'s slot: lattice row `k·stride` is entry `k`, the unit's last row entry `last_entry`; `None` for
+    /// other rows and beyond the cache.
+    #[inline(always)]
+    fn slot(&self, i: u32) -> Option<&Cell<Option<RowValues<T>>>> {
+        let k = i.wrapping_sub(self.rows[0]);
+        let entry = if k & self.mask == 0 {
+            k.wrapping_shr(self.shift)
+        } else if i == self.rows[1] {
+            self.last_entry
+        } else {
+            u32::MAX
+        };
+        usize::try_from(entry).ok().and_then(|k| self.slots.get(k))
     }
 }
 

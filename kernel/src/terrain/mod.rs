@@ -1,146 +1,41 @@
 //! Global terrain picking on a spheroid (seeds 000 and 003, Wartell, Ribarsky, Hodges): the nearest
 //! intersection of a ray with a regular geodetic DEM's triangles, through a spheroidal height-augmented quadtree.
 //!
-//! # The algorithm
+//! The caller owns the terrain: a [`TerrainStorage`] gives the grid ([`Grid`]), the heights and the quadtree's
+//! nodes, and [`build`] builds that tree from a heights slice into caller-provided buffers ([`build::SliceStorage`]
+//! serves it). A [`Picker`] borrows the storage and answers [`Picker::pick`] (the nearest [`Hit`], refined),
+//! [`Picker::pick_t`] (the traversal's `t` and cell, unrefined) and [`Picker::line_of_sight`].
 //!
-//! 1. **Global clip** (§3.5): the ray is clipped to the upper spheroid `B^h` of the global maximum height; its exit
-//!    is `t_global_exit`.
-//! 2. **Zones** come from the storage ([`TerrainStorage::zone`]), aligned to the DEM's grid (for a global DEM the
-//!    storage typically uses 8 × 4 = 32 zones bounded by meridians and parallels; a regional DEM its own extent).
-//!    Each zone's volume is tested against the ray and the zones are visited in order of entry.
-//! 3. **Quads** (§3.1–3.5): each node's volume is a [`HeightQuadBounds`] — meridian wedge, latitude cones,
-//!    upper spheroid `B^{h_max}`, lower sphere — and the ray's parameter hull inside it comes from the crossings
-//!    of those walls (the §3.5 "side interval against `B^h` interval" test, generalised so that a volume entered
-//!    twice yields one hull over both visits). The traversal itself tests zones and children against a relaxed,
-//!    convex superset of that volume ([`crate::geodesy::relaxed_interval`]: each latitude cone replaced by a
-//!    plane bounding its side, so the hull needs no point tests), and a child only against its walls on the
-//!    parent's internal partition ([`crate::geodesy::SideWalls`]). Children are visited nearest entry first,
-//!    with an explicit stack of fixed capacity (the const generic `STACK`; no recursion).
-//!    This replaces the paper's sequential stepping between children (the child entered from `side_in` and the
-//!    internal partition half-spaces, the next child from `side_out`, the 3-or-4-side exit rule): those rules
-//!    assume that the quads' walls partition space, which the *conservative* volumes needed for triangles (item 5
-//!    below) no longer do — inflated neighbours overlap. Ordering by the entry parameter gives the same visiting
-//!    order where the volumes do not overlap (the zone or quad containing the origin has entry `t_min` and is
-//!    visited first; the next one is the one whose wall the ray crosses next), handles a quad the ray enters
-//!    twice (one hull over both visits), and is what the no-miss proof below needs. Traversal ends when no
-//!    pending quad can be entered before the best hit, or at `t_global_exit`. When the storage gives node
-//!    boxes ([`TerrainStorage::node_box`]; beyond the paper), zones and children are tested against those
-//!    instead: a box around all of the node's vertices in a local frame ([`boxes`]: its parent's, or the one
-//!    its parent's box is in, down from nodes narrow enough to share one), so that the ray is moved into each
-//!    frame once and each child costs three slabs — a small fraction of the relaxed test — and, for a node a
-//!    few kilometres across, the tighter bound. (A global grid's zones, whose boxes lie in one frame for the
-//!    whole grid, are clipped by their volumes too.)
-//! 4. **Leaf blocks** (§4): in a leaf, each cell (triangle pair) has its own volume bounded by four *planes*: the
-//!    meridian planes of its two columns and, for each of its two rows, the plane through the spheroid normals at
-//!    the row's two grid vertices (both normals of one latitude pass through the latitude cone's apex, so they
-//!    are coplanar). All four corner vertices lie in that convex volume, so both triangles do — exactly, with no
-//!    containment problem at this level — and neighbouring cells share their walls. Only the triangle pairs
-//!    whose volume the ray crosses are tested, with the watertight ray–triangle test ([`triangle`]). Beyond the
-//!    paper, two shortcuts: at full resolution, away from the axis, a column's row planes are ordered, so only
-//!    the rows between those of the column segment's two ends are visited (`crossed_rows` states the bound);
-//!    and a cell's two triangles are tested only when the ray's part inside the cell is not wholly above (or
-//!    below) its four corners in the unit's local frame — the triangles are their convex hull.
-//! 5. **Refinement of the nearest hit** (beyond the paper; once per ray, after the traversal): the traversal's
-//!    vertices carry a few ulps of rounding, which a grazing ray amplifies by `1 / sin(elevation)` along itself
-//!    (1.4 µm at 0.15° and 150 km in `f64`). The hit triangle's vertices are recomputed in double-double
-//!    ([`crate::dd`]) and `t` is taken from its plane, with a containment walk at edge and vertex ties and a
-//!    guard that keeps the traversal's `t` if the refinement is not sound (`refine.rs` documents all three).
-//!    [`Hit::cell`] and [`Hit::level`] are the traversal's; [`Hit::t`], [`Hit::ecef`] and the geodetic
-//!    coordinates are the refined ones. In `f64` the hit point is then within about 1e-9 m of the exact
-//!    surface's (the host oracle's worst over 187 000 rays: 3.5e-9 m). The geodetic coordinates come from
-//!    [`Ellipsoid::ecef_to_geodetic_near`] seeded at the hit cell's corner vertex (no arctangent or cube root;
-//!    the closed form where the seed does not apply). [`Picker::pick_t`] stops before this step.
+//! # A pick, phase by phase
 //!
-//! # No misses: what is proven
+//! Each phase has its own file, whose docs explain it (the files in the order a ray meets them):
 //!
-//! The paper's walls are not walls for triangles: a planar triangle dips below its vertices (so §3.2's sphere
-//! through the lowest vertex is not a lower bound) and, along a latitude border, bulges across the cone wall into
-//! the neighbouring quad (§4's containment problem, Fig. 10); the paper then stops at the first quad with a hit.
-//! Here instead:
-//!
-//! * every quad's volume provably contains all of its triangles ([`crate::geodesy::HeightQuadBounds`] derives
-//!   the sagitta bound for the lower wall and the bulge bound for the latitude walls from the curvature of the
-//!   height and cone functions; meridian walls and the upper bound are exact for triangles by convexity), and
-//!   the relaxed volume the traversal tests contains those triangles too (each of its planes bounds a cone's
-//!   side, on the quad's wedge; [`crate::geodesy::relaxed_interval`]);
-//!   A node box ([`boxes`]) contains all of the node's vertices, hence the convex hull of any triangle traced
-//!   under it, with no curvature bound needed;
-//! * every cell's planar volume contains its two triangles exactly; the rows a column's segment skips lie
-//!   beyond the planes it does not cross, and a cell skipped by the height cull has its corners' convex hull
-//!   wholly on one side of the ray's part in the cell (both tests inflated by the rounding);
-//! * the traversal keeps the best hit `t*` found so far and discards a quad only when its entry parameter exceeds
-//!   `t*`, and stops only when no pending quad or zone can start before `t*`.
-//!
-//! Hence a triangle hit at `t < t*` lies in some quad whose interval contains `t`, which is never discarded, down
-//! to its leaf and its cell, which is tested: the returned hit is the **nearest** one (up to the floating-point
-//! tolerance of the point tests, which inflate every wall by a few ulps of the coordinates, and the rounding of
-//! the triangle test itself). Overlapping inflated volumes only cost extra tests, never a miss. CesiumJS's picking
-//! returns the first tile with a hit (its issue #3423); this traversal cannot.
+//! 1. **Global clip** (§3.5; `traverse.rs`): the ray is clipped to the upper spheroid `B^h` of the global maximum
+//!    height.
+//! 2. **Zones and quads** (§3.1–3.5; `traverse.rs`): the zones, then each zone's quadtree, nearest child first,
+//!    against conservative volumes ([`crate::geodesy::HeightQuadBounds`], the relaxed test
+//!    [`crate::geodesy::relaxed_interval`]) or node boxes in local frames ([`boxes`]). `traverse.rs` also states
+//!    what is proven: the returned hit is the nearest one.
+//! 3. **Leaf blocks** (§4; `leaf.rs`): the triangle pairs of a leaf, each in a volume bounded by two meridian
+//!    planes and two row planes, walked column by column; the watertight triangle test ([`triangle`]).
+//! 4. **Stitching** (§6; `stitch.rs`): a coarse cell next to finer data is re-triangulated so that no ray
+//!    passes through the crack.
+//! 5. **Refinement and the hit** (beyond the paper; `hit.rs`, `refine.rs`): the hit triangle's vertices
+//!    recomputed in double-double ([`crate::dd`]) and `t` taken from its plane; the geodetic coordinates.
 //!
 //! # Multi-resolution (§5–§6)
 //!
 //! A storage may give every node a *block*: the DEM's vertices at a spacing of
 //! [`TerrainStorage::block_stride`] grid steps within the node (coarser nodes subsample the finest data; a
 //! vertex has one height), resident or not ([`TerrainStorage::is_resident`]). Branches may end at different
-//! depths. The defaults (stride 1, always resident) give the single-resolution surface above.
-//!
-//! **Which blocks are traced.** The traversal descends from the zones. A node shallower than the picker's
-//! `min_level` ([`Picker::with_min_level`]) is only passed through, unless it is a leaf: then its own block is
-//! traced, or [`TerrainError::NeedsBlock`] is reported if it is missing. From `min_level` on, a resident node
-//! becomes the *source*: the nearest resident ancestor of everything below it (§5). A resident leaf traces its
-//! own block. Below a missing block the traversal goes on down as long as the source's cells fit inside the
-//! children (their ranges fall on the source's sample lattice), so that a deeper resident block still answers
-//! for its own region; a missing leaf, or a missing node whose children are smaller than the source's cells, is
-//! traced whole with the source's block — the part of the source's block over the node, cells `(r − r_A)/s_A`
-//! of the source `A` (the §5 block subset: for a leaf `k` levels below `A`, [`subset::BlockSubset`]'s
-//! rectangle after `k` steps, `B >> k` cells wide). So a source cell is never split: where it is larger than
-//! the leaves below it (the paper's "at least one cell"), it answers for all of them, and resident blocks
-//! inside it are not used. That keeps the traced regions disjoint — a coarse cell never overlaps finer data —
-//! so the surface is one sheet. A missing node without a source (at `min_level`), or off its source's lattice,
-//! needs its own block.
-//!
-//! **`NeedsBlock`.** A missing block is reported only if the ray reaches its node before the nearest hit found
-//! elsewhere: the answer depends on it. The caller pages the block in and asks again.
-//!
-//! **Continuity (§6).** Where a region traced with coarse cells borders a finer one, the finer side's vertices
-//! on the shared border are T-junctions of the coarse edge, and a ray could pass through the crack between the
-//! coarse chord and the finer polyline. The coarse border cell is therefore re-triangulated (the "artificial
-//! polygons between blocks" option of §6, as a fan): from the middle `M` of its diagonal `V00–V11` to its
-//! corners and to every vertex that a finer neighbouring region has on its sides, side by side. Both sides then
-//! share every edge exactly (same vertices, same rounding), so the watertight triangle test lets no ray
-//! through. A cell without such vertices keeps its two triangles. The surface intersected is thus: every traced
-//! cell's two triangles, except stitched cells, which are their fans. The host's multi-resolution oracle builds
-//! exactly this surface with logic of its own. The neighbours' regions come from the same rules, followed down
-//! the one path to a neighbouring cell (O(depth) per side of a coarse border cell that the ray crosses).
-//! Limitation: a global grid's closing meridian (its last column repeating the first) is treated as an edge of
-//! the DEM, with no stitching across it.
-//!
-//! **Bounds.** A node's volume bounds the coarsest cells traced under it: its own block's (a resident node's
-//! descendants are finer), or its source's when it falls back. A stitched cell's vertices on its rows lie on
-//! the latitude cones between its meridians, and a cone's arc bulges across the cell's chord plane on one side
-//! (the southern side for ψ > 0, the northern for ψ < 0) — near a pole, where a coarse cell can be hundreds of
-//! times wider than tall, even across the opposite row's chord plane. So both row walls of a coarse region's
-//! border cells bound the whole latitude band in the cell's wedge: the cone's tangent plane along the middle
-//! meridian on the convex side, the chord plane on the other.
-//!
-//! **Refinement.** Coarse and stitched hits are refined like full-resolution ones, without the containment walk
-//! (a refined point beyond an edge keeps the traversal's hit), and the walk of a full-resolution hit steps only
-//! into cells traced at full resolution. [`Hit::level`] and [`Hit::stride`] say which block answered.
-//!
-//! # Cost
-//!
-//! Per child of a visited quad, only along the part of the ray inside the parent: with node boxes, three slabs
-//! (the ray is rotated into each frame once: on a regional DEM once per zone or per ray); without them, the
-//! child's walls on the parent's internal partition: the internal meridian plane (a division), then the rest of
-//! the relaxed volume (the internal latitude plane, the upper spheroid, the lower sphere), each step only if the
-//! interval is still non-empty.
-//! Per leaf: a clip against two meridian planes per column (columns the ray misses are skipped), the rows the
-//! column's segment can cross (a few plane signs from the previous column's row), two row planes per such
-//! cell, the height cull, and the triangle test for what is left. No trigonometry is needed per ray when the
-//! storage caches the sines and cosines of its rows and columns ([`TerrainStorage::row_sin_cos`]) and, for the
-//! refinement, their double-double parallels and meridians ([`TerrainStorage::row_parallel`]); the prime
-//! vertical radius is computed once per row of a leaf. [`PickStats`] counts quads, triangle pairs (cells whose
-//! planar volume the ray crosses) and triangles tested per ray.
+//! depths. The defaults (stride 1, always resident) give the single-resolution surface. Nodes shallower than
+//! the picker's `min_level` ([`Picker::with_min_level`]) never stand in for missing finer blocks; from
+//! `min_level` on, the nearest resident ancestor of a missing block answers for it with its own cells (§5, the
+//! block subset of [`subset`]), and coarse cells next to finer ones are stitched (§6). A missing block that no
+//! resident one can stand in for is reported as [`TerrainError::NeedsBlock`] if the ray reaches its node
+//! before the nearest hit found elsewhere: the caller pages the block in and asks again. `traverse.rs` gives
+//! the rules ("Which blocks are traced"), `stitch.rs` the continuity and its bounds; [`Hit::level`] and
+//! [`Hit::stride`] say which block answered.
 //!
 //! ```
 //! use curvicast::geodesy::Ellipsoid;
@@ -231,6 +126,11 @@ pub enum TerrainError {
     /// below the picker's `min_level` can stand in for it (§5): page it in and ask again. Reported only when
     /// the node could hold a hit nearer than any found.
     NeedsBlock(NodeId),
+    /// The ray meets the terrain's bounding volume, but where its parameter `t` is beyond the largest finite
+    /// value of the scalar type (a direction so short, like `[1e-308, 0, 0]` from a thousand kilometres away,
+    /// that `t = distance / |d|` overflows), and no hit was found at a representable `t`. Answered as an error
+    /// rather than as a miss.
+    Unrepresentable,
 }
 
 impl core::fmt::Display for TerrainError {
@@ -249,6 +149,9 @@ impl core::fmt::Display for TerrainError {
             }
             TerrainError::TraversalBound => f.write_str("traversal exceeded its node bound"),
             TerrainError::NeedsBlock(id) => write!(f, "needs the block of node {}", id.0),
+            TerrainError::Unrepresentable => f.write_str(
+                "the ray meets the terrain where its t exceeds the largest finite value (direction too short)",
+            ),
         }
     }
 }
@@ -272,7 +175,7 @@ pub struct Hit<T> {
     /// Ray parameter (in the units of the ray's direction).
     pub t: T,
     /// The hit point, ECEF: `origin + t·dir` formed in double-double from the refined parameter and rounded once
-    /// per coordinate (so it may differ from `ray.at(t)` by the rounding of `t·dir`; module docs, step 5).
+    /// per coordinate (so it may differ from `ray.at(t)` by the rounding of `t·dir`; module docs, step 5; `hit.rs`).
     pub ecef: [T; 3],
     /// Geodetic latitude of the hit point, degrees.
     pub lat: T,
@@ -336,7 +239,7 @@ struct Source {
     level: u8,
 }
 
-/// What the traversal does at a node (module docs, "Multi-resolution").
+/// What the traversal does at a node (`traverse.rs`, "Which blocks are traced").
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Step {
     /// Visit the children; the source they fall back to.
@@ -547,7 +450,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
 
     /// The picker with another `min_level` (seed 000 §5): blocks of nodes shallower than `min_level` never stand
     /// in for missing finer ones. 0 (the default) uses whatever is resident; the tree's depth asks for the
-    /// finest blocks only. The module docs ("Multi-resolution") give the rules.
+    /// finest blocks only. The module docs ("Multi-resolution") summarise the rules, `traverse.rs` gives them
+    /// in full.
     #[must_use]
     pub fn with_min_level(mut self, min_level: u8) -> Self {
         self.min_level = min_level;
@@ -581,7 +485,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     }
 
     /// The nearest hit of `ray` with the terrain for `t_min ≤ t ≤ t_max`, or `None` (seed 000 §3.5, §4; the
-    /// module docs state what is proven).
+    /// docs of `traverse.rs` state what is proven).
     ///
     /// ```
     /// # use curvicast::geodesy::Ellipsoid;
@@ -666,113 +570,6 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         Ok(self.nearest(ray, &mut stats)?.map(|c| (c.t, c.cell)))
     }
 
-    /// The traversal (steps 1–4 of the module docs): the nearest triangle, before the refinement.
-    fn nearest(
-        &self,
-        ray: &Ray<T>,
-        stats: &mut PickStats,
-    ) -> Result<Option<Candidate<T>>, TerrainError> {
-        // 1. Global clip to B^{h_max}: [t_enter, t_global_exit].
-        let Some(upper) = &self.upper else {
-            return Ok(None); // no zone with data
-        };
-        let cr = upper.crossings(ray);
-        let inside0 = upper.side_of(V3::from(ray.at(ray.t_min()))) != Some(Side::Positive);
-        let mut t_enter = if inside0 { Some(ray.t_min()) } else { None };
-        let mut t_exit = ray.t_max();
-        for c in &cr {
-            match c.into {
-                Side::Negative => {
-                    if t_enter.is_none() {
-                        t_enter = Some(c.t);
-                    }
-                }
-                Side::Positive => {
-                    if t_enter.is_some() {
-                        t_exit = c.t;
-                    }
-                }
-            }
-        }
-        let Some(t_enter) = t_enter else {
-            return Ok(None);
-        };
-        // Inflate the clip by a few ulps: the triangle test decides hits, the clip only culls.
-        let slack = T::from_f64(64.0) * T::EPSILON * (t_enter.abs() + t_exit.abs());
-        let t_lo = (t_enter - slack).max(ray.t_min());
-        let t_hi = (t_exit + slack).min(ray.t_max());
-        if !t_hi.is_finite() || !(t_lo <= t_hi) {
-            return Ok(None);
-        }
-        let clipped = ray.with_interval(t_lo, t_hi)?;
-        let wray = WatertightRay::new(ray.origin(), ray.dir())
-            .ok_or(TerrainError::Ray(RayError::ZeroDirection))?;
-
-        // 2. Zones in order of entry.
-        let mut order: heapless::Vec<(usize, T, T), ZONES> = heapless::Vec::new();
-        let grid_ray = self.grid_frame.ray(ray, [t_lo, t_hi]);
-        for (k, bbox) in self.zone_boxes.iter().enumerate().take(self.zone_count) {
-            let volume = |r: &Ray<T>| match self.zones.get(k) {
-                Some(Some((_, _, ZoneVolume::Cached(b)))) => b.ray_interval(r),
-                Some(Some((_, _, ZoneVolume::Relaxed(v)))) => v.interval(r),
-                _ => None,
-            };
-            // The box in the grid's frame is tight for a regional grid; across a global one its faces tilt by up
-            // to 180°, so the zone's own volume then clips what the box leaves.
-            let interval = match bbox {
-                Some(b) if self.regional => grid_ray.interval(b, [t_lo, t_hi]),
-                Some(b) => grid_ray
-                    .interval(b, [t_lo, t_hi])
-                    .and_then(|(a, c)| clipped.with_interval(a, c).ok())
-                    .and_then(|r| volume(&r)),
-                None => volume(&clipped),
-            };
-            if let Some((a, c)) = interval {
-                // At most `ZONES` zones (checked by `new`), so the push cannot fail.
-                let _ = order.push((k, a, c));
-            }
-        }
-        insertion_sort(&mut order, |x, y| x.1 < y.1);
-
-        let mut best: Option<Candidate<T>> = None;
-        let mut pending: Option<(T, NodeId)> = None;
-        let mut budget = node_budget(&self.grid, self.zone_count);
-        for &(k, a, c) in order.iter() {
-            if let Some(h) = &best {
-                if a > h.t {
-                    break;
-                }
-            }
-            let Some(Some((id, _, _))) = self.zones.get(k) else {
-                continue;
-            };
-            let root = Entry {
-                id: *id,
-                parent: None,
-                t_in: a,
-                t_out: c,
-                parent_stride: u32::MAX,
-                src: None,
-                frame: 0,
-                depth: 0,
-            };
-            let mut walk = Walk {
-                ray,
-                wray: &wray,
-                best: &mut best,
-                pending: &mut pending,
-                stats,
-            };
-            self.traverse(root, &grid_ray, &mut walk, &mut budget)?;
-        }
-        // A missing block matters only if it could hold a hit before the nearest one found.
-        match (pending, &best) {
-            (Some((t, id)), Some(h)) if t <= h.t => Err(TerrainError::NeedsBlock(id)),
-            (Some((_, id)), None) => Err(TerrainError::NeedsBlock(id)),
-            _ => Ok(best),
-        }
-    }
-
     /// Line of sight from `a` to `b` (ECEF): `true` when no terrain triangle meets the closed segment.
     pub fn line_of_sight(
         &self,
@@ -790,16 +587,6 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
 fn div_ceil_pow2(n: u32, s: u32) -> u32 {
     let q = n.checked_shr(s.trailing_zeros()).unwrap_or(0);
     q.saturating_add(u32::from(n & s.wrapping_sub(1) != 0))
-}
-
-/// The most nodes a well-formed forest over this grid can have (each node has ≥ 1 cell and children are
-/// strictly smaller; a quadtree has fewer than 4/3 nodes per leaf) with generous slack.
-fn node_budget<T: Real>(g: &Grid<T>, zones: usize) -> u64 {
-    let cells = u64::from(g.cell_rows()).saturating_mul(u64::from(g.cell_cols()));
-    cells
-        .saturating_mul(4)
-        .saturating_add(u64::try_from(zones).unwrap_or(u64::MAX))
-        .saturating_add(16)
 }
 
 fn check_in_grid<T: Real>(n: &Node<T>, g: &Grid<T>) -> Result<(), TerrainError> {
@@ -830,7 +617,7 @@ fn check_child<T: Real>(rows: [u32; 2], cols: [u32; 2], c: &Node<T>) -> Result<(
     }
 }
 
-/// The conservative bounding volume of a node (module docs; [`HeightQuadBounds`]), as the kernel builds it from
+/// The conservative bounding volume of a node (`traverse.rs`, "Zones and quads"; [`HeightQuadBounds`]), as the kernel builds it from
 /// the node's grid ranges and height range. `Ok(None)` for a node without data. Storages that cache volumes
 /// ([`TerrainStorage::cached_bounds`]) must store exactly this value.
 pub fn quad_bounds<T: Real>(

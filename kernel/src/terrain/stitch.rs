@@ -1,11 +1,32 @@
-//! Crack stitching between blocks of different resolution (seed 000 §6; module docs, "Multi-resolution").
+//! Crack stitching between blocks of different resolution (seed 000 §6).
+//!
+//! **Continuity.** Where a region traced with coarse cells borders a finer one (`traverse.rs`, "Which blocks
+//! are traced"), the finer side's vertices on the shared border are T-junctions of the coarse edge, and a ray
+//! could pass through the crack between the coarse chord and the finer polyline. The coarse border cell is
+//! therefore re-triangulated (the "artificial polygons between blocks" option of §6, as a fan): from the middle
+//! `M` of its diagonal `V00–V11` to its corners and to every vertex that a finer neighbouring region has on its
+//! sides, side by side. Both sides then share every edge exactly (same vertices, same rounding), so the
+//! watertight triangle test lets no ray through. A cell without such vertices keeps its two triangles. The
+//! surface intersected is thus: every traced cell's two triangles, except stitched cells, which are their fans.
+//! The host's multi-resolution oracle builds exactly this surface with logic of its own. The neighbours' regions
+//! come from the same rules, followed down the one path to a neighbouring cell (O(depth) per side of a coarse
+//! border cell that the ray crosses). Limitation: a global grid's closing meridian (its last column repeating
+//! the first) is treated as an edge of the DEM, with no stitching across it.
+//!
+//! **Bounds.** A node's volume bounds the coarsest cells traced under it: its own block's (a resident node's
+//! descendants are finer), or its source's when it falls back. A stitched cell's vertices on its rows lie on
+//! the latitude cones between its meridians, and a cone's arc bulges across the cell's chord plane on one side
+//! (the southern side for ψ > 0, the northern for ψ < 0) — near a pole, where a coarse cell can be hundreds of
+//! times wider than tall, even across the opposite row's chord plane. So both row walls of a coarse region's
+//! border cells bound the whole latitude band in the cell's wedge: the cone's tangent plane along the middle
+//! meridian on the convex side, the chord plane on the other (`leaf.rs`, `border_wall`).
 
 use super::*;
 
 impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     Picker<'_, T, S, STACK, ZONES>
 {
-    /// Stitching of a coarse cell on its unit's border (module docs, "Multi-resolution"): when a neighbouring
+    /// Stitching of a coarse cell on its unit's border (this file's docs, "Continuity"): when a neighbouring
     /// unit is finer along a side, that unit's vertices on the side are T-junctions of the coarse edge, and the
     /// cell is triangulated instead as a fan from the middle `M` of its diagonal `V00–V11` through its corners
     /// and every such vertex, so that the two sides share every edge exactly. `Plain` when no side has such a

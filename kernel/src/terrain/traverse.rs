@@ -1,11 +1,214 @@
-//! The quad traversal (seed 000 §3.5, §5): a zone's quadtree visited depth first, nearest child first, with an
-//! explicit stack; what to do at a node under multi-resolution paging; the traced unit that covers a cell.
+//! The traversal (seed 000 §3.5, §5): the global clip and the zones in order of entry (`nearest`); a zone's
+//! quadtree visited depth first, nearest child first, with an explicit stack; what to do at a node under
+//! multi-resolution paging; the traced unit that covers a cell.
+//!
+//! # Zones and quads
+//!
+//! **Zones** come from the storage ([`TerrainStorage::zone`]), aligned to the DEM's grid (for a global DEM the
+//! storage typically uses 8 × 4 = 32 zones bounded by meridians and parallels; a regional DEM its own extent).
+//! Each zone's volume is tested against the ray (after the global clip to `B^{h_max}`) and the zones are
+//! visited in order of entry.
+//!
+//! **Quads** (§3.1–3.5): each node's volume is a [`HeightQuadBounds`] — meridian wedge, latitude cones, upper
+//! spheroid `B^{h_max}`, lower sphere — and the ray's parameter hull inside it comes from the crossings of those
+//! walls (the §3.5 "side interval against `B^h` interval" test, generalised so that a volume entered twice
+//! yields one hull over both visits). The traversal itself tests zones and children against a relaxed, convex
+//! superset of that volume ([`crate::geodesy::relaxed_interval`]: each latitude cone replaced by a plane
+//! bounding its side, so the hull needs no point tests), and a child only against its walls on the parent's
+//! internal partition ([`crate::geodesy::SideWalls`]). Children are visited nearest entry first, with an
+//! explicit stack of fixed capacity (the const generic `STACK`; no recursion).
+//!
+//! This replaces the paper's sequential stepping between children (the child entered from `side_in` and the
+//! internal partition half-spaces, the next child from `side_out`, the 3-or-4-side exit rule): those rules
+//! assume that the quads' walls partition space, which the *conservative* volumes needed for triangles (the
+//! containment problem of §4, below) no longer do — inflated neighbours overlap. Ordering by the entry
+//! parameter gives the same visiting order where the volumes do not overlap (the zone or quad containing the
+//! origin has entry `t_min` and is visited first; the next one is the one whose wall the ray crosses next),
+//! handles a quad the ray enters twice (one hull over both visits), and is what the no-miss proof below needs.
+//! Traversal ends when no pending quad can be entered before the best hit, or at `t_global_exit`.
+//!
+//! When the storage gives node boxes ([`TerrainStorage::node_box`]; beyond the paper), zones and children are
+//! tested against those instead: a box around all of the node's vertices in a local frame ([`boxes`]: its
+//! parent's, or the one its parent's box is in, down from nodes narrow enough to share one), so that the ray is
+//! moved into each frame once and each child costs three slabs — a small fraction of the relaxed test — and,
+//! for a node a few kilometres across, the tighter bound. (A global grid's zones, whose boxes lie in one frame
+//! for the whole grid, are clipped by their volumes too.)
+//!
+//! # No misses: what is proven
+//!
+//! The paper's walls are not walls for triangles: a planar triangle dips below its vertices (so §3.2's sphere
+//! through the lowest vertex is not a lower bound) and, along a latitude border, bulges across the cone wall into
+//! the neighbouring quad (§4's containment problem, Fig. 10); the paper then stops at the first quad with a hit.
+//! Here instead:
+//!
+//! * every quad's volume provably contains all of its triangles ([`crate::geodesy::HeightQuadBounds`] derives
+//!   the sagitta bound for the lower wall and the bulge bound for the latitude walls from the curvature of the
+//!   height and cone functions; meridian walls and the upper bound are exact for triangles by convexity), and
+//!   the relaxed volume the traversal tests contains those triangles too (each of its planes bounds a cone's
+//!   side, on the quad's wedge; [`crate::geodesy::relaxed_interval`]); a node box ([`boxes`]) contains all of
+//!   the node's vertices, hence the convex hull of any triangle traced under it, with no curvature bound needed;
+//! * every cell's planar volume contains its two triangles exactly; the rows a column's segment skips lie
+//!   beyond the planes it does not cross, and a cell skipped by the height cull has its corners' convex hull
+//!   wholly on one side of the ray's part in the cell (both tests inflated by the rounding; `leaf.rs`);
+//! * the traversal keeps the best hit `t*` found so far and discards a quad only when its entry parameter exceeds
+//!   `t*`, and stops only when no pending quad or zone can start before `t*`.
+//!
+//! Hence a triangle hit at `t < t*` lies in some quad whose interval contains `t`, which is never discarded, down
+//! to its leaf and its cell, which is tested: the returned hit is the **nearest** one (up to the floating-point
+//! tolerance of the point tests, which inflate every wall by a few ulps of the coordinates, and the rounding of
+//! the triangle test itself). Overlapping inflated volumes only cost extra tests, never a miss. CesiumJS's picking
+//! returns the first tile with a hit (its issue #3423); this traversal cannot.
+//!
+//! # Which blocks are traced (multi-resolution, §5)
+//!
+//! The traversal descends from the zones. A node shallower than the picker's `min_level`
+//! ([`Picker::with_min_level`]) is only passed through, unless it is a leaf: then its own block is traced, or
+//! [`TerrainError::NeedsBlock`] is reported if it is missing. From `min_level` on, a resident node becomes the
+//! *source*: the nearest resident ancestor of everything below it (§5). A resident leaf traces its own block.
+//! Below a missing block the traversal goes on down as long as the source's cells fit inside the children
+//! (their ranges fall on the source's sample lattice), so that a deeper resident block still answers for its own
+//! region; a missing leaf, or a missing node whose children are smaller than the source's cells, is traced whole
+//! with the source's block — the part of the source's block over the node, cells `(r − r_A)/s_A` of the source
+//! `A` (the §5 block subset: for a leaf `k` levels below `A`, [`subset::BlockSubset`]'s rectangle after `k`
+//! steps, `B >> k` cells wide). So a source cell is never split: where it is larger than the leaves below it
+//! (the paper's "at least one cell"), it answers for all of them, and resident blocks inside it are not used.
+//! That keeps the traced regions disjoint — a coarse cell never overlaps finer data — so the surface is one
+//! sheet. A missing node without a source (at `min_level`), or off its source's lattice, needs its own block.
+//!
+//! **`NeedsBlock`.** A missing block is reported only if the ray reaches its node before the nearest hit found
+//! elsewhere: the answer depends on it. The caller pages the block in and asks again.
+//!
+//! # Cost
+//!
+//! Per child of a visited quad, only along the part of the ray inside the parent: with node boxes, three slabs
+//! (the ray is rotated into each frame once: on a regional DEM once per zone or per ray); without them, the
+//! child's walls on the parent's internal partition: the internal meridian plane (a division), then the rest of
+//! the relaxed volume (the internal latitude plane, the upper spheroid, the lower sphere), each step only if the
+//! interval is still non-empty. [`PickStats`] counts quads, triangle pairs (cells whose planar volume the ray
+//! crosses) and triangles tested per ray.
 
 use super::*;
 
 impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     Picker<'_, T, S, STACK, ZONES>
 {
+    /// The traversal (phases 1–4 of the module docs): the nearest triangle, before the refinement.
+    pub(super) fn nearest(
+        &self,
+        ray: &Ray<T>,
+        stats: &mut PickStats,
+    ) -> Result<Option<Candidate<T>>, TerrainError> {
+        // 1. Global clip to B^{h_max}: [t_enter, t_global_exit].
+        let Some(upper) = &self.upper else {
+            return Ok(None); // no zone with data
+        };
+        let cr = upper.crossings(ray);
+        let inside0 = upper.side_of(V3::from(ray.at(ray.t_min()))) != Some(Side::Positive);
+        let mut t_enter = if inside0 { Some(ray.t_min()) } else { None };
+        let mut t_exit = ray.t_max();
+        for c in &cr {
+            match c.into {
+                Side::Negative => {
+                    if t_enter.is_none() {
+                        t_enter = Some(c.t);
+                    }
+                }
+                Side::Positive => {
+                    if t_enter.is_some() {
+                        t_exit = c.t;
+                    }
+                }
+            }
+        }
+        let Some(t_enter) = t_enter else {
+            return Ok(None);
+        };
+        if t_enter == T::INFINITY {
+            // the line enters the volume where t overflows (a direction too short for its distance)
+            return Err(TerrainError::Unrepresentable);
+        }
+        // A line that leaves the volume where t overflows is searched up to the largest finite t; if no hit is
+        // found there, the answer is not representable (below).
+        let beyond = t_exit == T::INFINITY;
+        let t_exit = if beyond { T::MAX } else { t_exit };
+        // Inflate the clip by a few ulps: the triangle test decides hits, the clip only culls.
+        let slack = T::from_f64(64.0) * T::EPSILON * (t_enter.abs() + t_exit.abs());
+        let t_lo = (t_enter - slack).max(ray.t_min());
+        let t_hi = (t_exit + slack).min(ray.t_max()).min(T::MAX);
+        if !t_hi.is_finite() || !(t_lo <= t_hi) {
+            return Ok(None);
+        }
+        let clipped = ray.with_interval(t_lo, t_hi)?;
+        // sheared from the exactly rescaled direction, in the ray's scaled parameter (`leaf::test_triangle`)
+        let wray = WatertightRay::new(ray.origin(), ray.scaled_dir())
+            .ok_or(TerrainError::Ray(RayError::ZeroDirection))?;
+
+        // 2. Zones in order of entry.
+        let mut order: heapless::Vec<(usize, T, T), ZONES> = heapless::Vec::new();
+        let grid_ray = self.grid_frame.ray(ray, [t_lo, t_hi]);
+        for (k, bbox) in self.zone_boxes.iter().enumerate().take(self.zone_count) {
+            let volume = |r: &Ray<T>| match self.zones.get(k) {
+                Some(Some((_, _, ZoneVolume::Cached(b)))) => b.ray_interval(r),
+                Some(Some((_, _, ZoneVolume::Relaxed(v)))) => v.interval(r),
+                _ => None,
+            };
+            // The box in the grid's frame is tight for a regional grid; across a global one its faces tilt by up
+            // to 180°, so the zone's own volume then clips what the box leaves.
+            let interval = match bbox {
+                Some(b) if self.regional => grid_ray.interval(b, [t_lo, t_hi]),
+                Some(b) => grid_ray
+                    .interval(b, [t_lo, t_hi])
+                    .and_then(|(a, c)| clipped.with_interval(a, c).ok())
+                    .and_then(|r| volume(&r)),
+                None => volume(&clipped),
+            };
+            if let Some((a, c)) = interval {
+                // At most `ZONES` zones (checked by `new`), so the push cannot fail.
+                let _ = order.push((k, a, c));
+            }
+        }
+        insertion_sort(&mut order, |x, y| x.1 < y.1);
+
+        let mut best: Option<Candidate<T>> = None;
+        let mut pending: Option<(T, NodeId)> = None;
+        let mut budget = node_budget(&self.grid, self.zone_count);
+        for &(k, a, c) in order.iter() {
+            if let Some(h) = &best {
+                if a > h.t {
+                    break;
+                }
+            }
+            let Some(Some((id, _, _))) = self.zones.get(k) else {
+                continue;
+            };
+            let root = Entry {
+                id: *id,
+                parent: None,
+                t_in: a,
+                t_out: c,
+                parent_stride: u32::MAX,
+                src: None,
+                frame: 0,
+                depth: 0,
+            };
+            let mut walk = Walk {
+                ray,
+                wray: &wray,
+                best: &mut best,
+                pending: &mut pending,
+                stats,
+            };
+            self.traverse(root, &grid_ray, &mut walk, &mut budget)?;
+        }
+        // A missing block matters only if it could hold a hit before the nearest one found.
+        match (pending, &best) {
+            (Some((t, id)), Some(h)) if t <= h.t => Err(TerrainError::NeedsBlock(id)),
+            (Some((_, id)), None) => Err(TerrainError::NeedsBlock(id)),
+            (None, None) if beyond => Err(TerrainError::Unrepresentable),
+            _ => Ok(best),
+        }
+    }
+
     /// Depth-first, nearest-child-first traversal of one zone with an explicit stack. `grid_ray` is the ray in
     /// the grid's frame, where the zones' boxes are.
     ///
@@ -163,7 +366,7 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         )?)
     }
 
-    /// What to do at a node (module docs, "Multi-resolution"): `stride` is its block stride, `src` the source
+    /// What to do at a node (this file's docs, "Which blocks are traced"): `stride` is its block stride, `src` the source
     /// inherited from its parent.
     #[inline(always)]
     pub(super) fn step(
@@ -297,4 +500,14 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         }
         Err(TerrainError::TraversalBound)
     }
+}
+
+/// The most nodes a well-formed forest over this grid can have (each node has ≥ 1 cell and children are
+/// strictly smaller; a quadtree has fewer than 4/3 nodes per leaf) with generous slack.
+fn node_budget<T: Real>(g: &Grid<T>, zones: usize) -> u64 {
+    let cells = u64::from(g.cell_rows()).saturating_mul(u64::from(g.cell_cols()));
+    cells
+        .saturating_mul(4)
+        .saturating_add(u64::try_from(zones).unwrap_or(u64::MAX))
+        .saturating_add(16)
 }

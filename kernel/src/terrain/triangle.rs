@@ -9,7 +9,8 @@
 //! the same operations in the same order whichever triangle the edge belongs to, so two triangles that share an
 //! edge see the same value with opposite orientation: a ray can never slip between them (no crack), and a ray
 //! through a shared vertex or edge hits at least one of them. When an edge function is exactly 0, it is
-//! recomputed in `f64` (for `f32` scalars) so that its sign is decided reliably. Both orientations of the
+//! recomputed exactly (for `f32` scalars: each product as an exact pair, the difference in pair arithmetic,
+//! [`crate::dd`]; no `f64`, which a single-precision FPU lacks) so that its sign is decided reliably. Both orientations of the
 //! triangle are hit (no back-face culling): a ray from below the terrain hits it from underneath.
 //!
 //! The hit distance is `t = (U z_A + V z_B + W z_C) / (U + V + W)` with `z` the sheared heights, the barycentric
@@ -29,6 +30,7 @@
 //! Earth scale in `f64`). The ray then hits the triangle on its edge. Inner edges keep the exact rule: their
 //! neighbour answers.
 
+use crate::dd::two_prod;
 use crate::real::Real;
 use crate::vec3::V3;
 
@@ -126,17 +128,22 @@ impl<T: Real> WatertightRay<T> {
         let mut v = ax * cy - ay * cx;
         let mut w = bx * ay - by * ax;
         if (u == T::ZERO || v == T::ZERO || w == T::ZERO) && T::MANTISSA_DIGITS < 53 {
-            let f = |x: T| x.to_f64();
-            u = T::from_f64(f(cx) * f(by) - f(cy) * f(bx));
-            v = T::from_f64(f(ax) * f(cy) - f(ay) * f(cx));
-            w = T::from_f64(f(bx) * f(ay) - f(by) * f(ax));
+            // Each product exactly as a pair (Dekker), the difference in pair arithmetic (relative error
+            // ≤ 3ε², so the sign is exact and 0 only for an exact 0), without leaving the scalar.
+            let det2 = |p: T, q: T, r: T, s: T| two_prod(p, q).minus(two_prod(r, s)).value();
+            u = det2(cx, by, cy, bx);
+            v = det2(ax, cy, ay, cx);
+            w = det2(bx, ay, by, ax);
         }
         let neg = u < T::ZERO || v < T::ZERO || w < T::ZERO;
         let pos = u > T::ZERO || v > T::ZERO || w > T::ZERO;
         if neg && pos {
             let norm = |p: V3<T>| p.x.abs().max(p.y.abs()).max(p.z.abs());
             let scale = norm(self.origin) + norm(a).max(norm(b)).max(norm(c));
-            [u, v, w] = close_border_edges(scale, [ax, ay, bx, by, cx, cy], [u, v, w], border)?;
+            // Through `dyn`, so that one copy serves every caller's closure.
+            let mut border = Some(border);
+            let mut open = || border.take().map_or([false; 3], |b| b());
+            [u, v, w] = close_border_edges(scale, [ax, ay, bx, by, cx, cy], [u, v, w], &mut open)?;
         }
         let det = u + v + w;
         if det == T::ZERO || det.is_nan() {
@@ -171,13 +178,14 @@ impl<T: Real> WatertightRay<T> {
 /// The edge functions `f = [U, V, W]` of a ray that misses the triangle by their signs, with each one of the
 /// wrong sign set to 0 if its edge is on the border and the miss is within rounding (module docs); `None` if
 /// any edge function keeps the wrong sign. `scale` is `m` of the module docs, `p` the vertices' sheared
-/// coordinates `[ax, ay, bx, by, cx, cy]`. Out of line: it runs only for misses.
+/// coordinates `[ax, ay, bx, by, cx, cy]`, `border` says which edges are on the border (called at most once).
+/// Out of line: it runs only for misses.
 #[inline(never)]
 fn close_border_edges<T: Real>(
     scale: T,
     [ax, ay, bx, by, cx, cy]: [T; 6],
     mut f: [T; 3],
-    border: impl FnOnce() -> [bool; 3],
+    border: &mut dyn FnMut() -> [bool; 3],
 ) -> Option<[T; 3]> {
     let det = f.iter().fold(T::ZERO, |s, &x| s + x);
     // The orientation is the sign of the sum: only rounding-sized terms can have the other sign.
