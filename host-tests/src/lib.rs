@@ -5,7 +5,7 @@
 //! * [`scenes`]: the input formats of the command-line contract, analytic fields, real datasets, hard cases.
 //! * [`batch`]: many rays marched at once across cores (rayon).
 //! * [`baselines`]: what a user would otherwise do (Cartesian resampling, a general mesh ray caster, brute force).
-//! * [`render`]: images of fields on spherical grids, native and Cartesian (`curvicast render`).
+//! * [`render`]: images of fields on spherical, cylindrical and polar grids, native and Cartesian (`curvicast render`).
 //! * [`report`]: the speed-against-error report.
 //! * [`cli`]: the subcommands of `curvicast`.
 
