@@ -291,3 +291,51 @@ fn polar_cartesian_and_bad_cylinders_exit_2_with_one_line_and_write_nothing() {
         assert!(!d.path().join("out").exists(), "{name}");
     }
 }
+
+/// A cylinder whose axis passes through (0.3, −0.2, 1) (its z breakpoints relative to that center's z), seen
+/// from the side: native in f64 is the chord to rounding, and the Cartesian baseline's cube follows the axis and
+/// the height range (64³ voxels stay close to the chord; a cube left at the origin would miss most of it).
+#[test]
+fn cylindrical_grid_off_the_origin_native_and_cartesian_follow_its_center() {
+    let c = [0.3, -0.2, 1.0];
+    let (w, h) = (32, 24);
+    let camera = serde_json::json!({"kind": "orthographic", "eye": [c[0] - 3.0, c[1], c[2] + 0.1],
+        "look_at": [c[0], c[1], c[2] + 0.1], "up": [0.0, 0.0, 1.0], "width": WIDTH});
+    let grid = serde_json::json!({"kind": "cylindrical", "center": c, "rho": uniform(3, 0.0, 1.0),
+        "phi": uniform(5, 0.0, TAU), "z": Z});
+    let truth = |i: usize, j: usize| {
+        let (a, b) = offsets(i, j, w, h);
+        if (Z[0]..Z[3]).contains(&(0.1 + b)) {
+            annulus_chord(a, 0.0, 1.0)
+        } else {
+            0.0
+        }
+    };
+    for (method, tolerance) in [
+        (serde_json::json!("native"), 1e-12),
+        (serde_json::json!({"cartesian": 64}), 0.1),
+    ] {
+        let d = tempfile::tempdir().unwrap();
+        let scene = serde_json::json!({"grid": grid, "field": {"analytic": "ball"}, "camera": camera,
+            "pixels": [w, h], "method": method});
+        let (code, err) = render(d.path(), &scene);
+        assert_eq!(code, 0, "{err}");
+        let v = read_f64(&d.path().join("out/values.f64"));
+        let mut s = 0.0;
+        for i in 0..h {
+            for j in 0..w {
+                let want = truth(i, j);
+                let got = v[i * w + j];
+                s += (got - want).powi(2);
+                if tolerance < 1e-6 {
+                    assert!(
+                        (got - want).abs() <= tolerance * want.max(1e-3),
+                        "({i}, {j}): {got} against {want}"
+                    );
+                }
+            }
+        }
+        let rms = (s / (w * h) as f64).sqrt();
+        assert!(rms < tolerance, "{method}: rms {rms}");
+    }
+}
