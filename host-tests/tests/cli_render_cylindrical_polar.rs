@@ -339,3 +339,38 @@ fn cylindrical_grid_off_the_origin_native_and_cartesian_follow_its_center() {
         assert!(rms < tolerance, "{method}: rms {rms}");
     }
 }
+
+/// A polar grid seen straight down its axis: each ray's trace in the xy plane is a point, so a ray that starts
+/// in a cell stays in it for ever. A cell holding the step's 1 gives an infinite projection, a cell holding 0
+/// gives 0 (not 0 · ∞), and rays outside the annulus give 0.
+#[test]
+fn polar_grid_seen_along_its_axis_is_infinite_in_filled_cells_and_zero_elsewhere() {
+    let d = tempfile::tempdir().unwrap();
+    let (w, h) = (20, 20);
+    let scene = serde_json::json!({
+        "grid": {"kind": "polar", "r": [0.5, 1.0, 1.5], "phi": [0.0, TAU]},
+        "field": {"analytic": "step", "radius": 1.0},
+        "camera": {"kind": "orthographic", "eye": [0.0, 0.0, 3.0], "look_at": [0.0, 0.0, 0.0],
+            "up": [0.0, 1.0, 0.0], "width": 3.2},
+        "pixels": [w, h]});
+    let (code, err) = render(d.path(), &scene);
+    assert_eq!(code, 0, "{err}");
+    let v = read_f64(&d.path().join("out/values.f64"));
+    let mut filled = 0;
+    for i in 0..h {
+        for j in 0..w {
+            // the camera's right is +x and its up' is +y
+            let a = ((j as f64 + 0.5) / w as f64 - 0.5) * 3.2;
+            let b = (0.5 - (i as f64 + 0.5) / h as f64) * 3.2;
+            let rho = a.hypot(b);
+            let got = v[i * w + j];
+            if (0.5..1.0).contains(&rho) {
+                filled += 1;
+                assert_eq!(got, f64::INFINITY, "({i}, {j}) at ρ = {rho}");
+            } else {
+                assert_eq!(got, 0.0, "({i}, {j}) at ρ = {rho}");
+            }
+        }
+    }
+    assert!(filled > 50, "{filled}");
+}
