@@ -4,8 +4,8 @@
 
 use super::{Options, Section};
 use crate::baselines::dda::{VoxelCrossing, VoxelGrid};
-use crate::oracle::march::{KernelCrossing, MarchOracle, compare, same_sequence};
 use crate::march_run::{self as run, Engine, Precision};
+use crate::oracle::march::{KernelCrossing, MarchOracle, compare, same_sequence};
 use crate::scenes::march_cases as mc;
 use crate::scenes::marching::{Breakpoints, CELLS, GridKind, parallel_rays, perspective_rays};
 use crate::scenes::spec::{GridSpec, RaySpec};
