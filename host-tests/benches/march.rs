@@ -1,14 +1,19 @@
-//! Criterion benchmarks of spherical marching (seed 001), on the report's scene: a 64³ full-sphere grid and
-//! 256² parallel rays along (1, 0.15, 0.1), 3 units back, covering the ball.
+//! Criterion benchmarks of spherical marching (seed 001), on the report's marching scene
+//! (`curvicast_host::scenes::marching`): a 64³ grid and 256² parallel rays along (1, 0.15, 0.1), 3 units back,
+//! covering the ball.
 //!
-//! * `march/<grid>`: the serial and separable engines in f64, f32 and f32-fast, on the uniform grid, a grid of
-//!   random (seeded) breakpoints and a partial grid (shell r ∈ [0.3, 1], θ ∈ [0.4, 2.6], φ ∈ [−1, 4]);
-//! * `march/perspective`: the uniform grid seen by a 256² perspective camera from 3R;
-//! * `march_batch`: the same image through `curvicast_host::batch::march_batch` on 1 and 2 threads (a
+//! * `march/<grid>`: the serial engine (`serial/<precision>`) and the separable engine filled in place into one
+//!   reused march (`separable_into/<precision>`, `march_separable_into`, what a caller marching many rays does),
+//!   in f64, f32 and f32-fast, on the uniform grid, a grid of random (seeded) breakpoints and a partial grid
+//!   (shell r ∈ [0.3, 1], θ ∈ [0.4, 2.6], φ ∈ [−1, 4]); on the uniform grid also `separable_by_value/f64`,
+//!   `march_separable` returning a new march per ray (its three 512-event buffers, 37 KB, are moved per ray);
+//! * `march/perspective`: the uniform grid seen by a 256² perspective camera from 3R, both engines;
+//! * `march_batch`: the parallel image through `curvicast_host::batch::march_batch` on 1 and 2 threads (a
 //!   projection image, Σ length per ray), the scaling of the batch entry across cores.
 //!
-//! Throughput is in rays; the crossings per ray of each scene are printed once, so ns per crossing = ns per ray
-//! / crossings per ray. Instruction counts of the same scene: `examples/march_count.rs`.
+//! Every benchmark marches the rays inside the timed loop and folds each crossing into a sum that is passed to
+//! `black_box`. Throughput is in rays; the crossings per ray of each scene are printed once, so ns per crossing =
+//! ns per ray / crossings per ray. Instruction counts of the same scene: `examples/march_count.rs`.
 //!
 //! Quick run: `cargo bench -p curvicast-host --bench march -- --warm-up-time 1 --measurement-time 2`.
 
@@ -16,123 +21,74 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use curvicast::F32Fast;
 use curvicast::ray::Ray;
 use curvicast::real::Real;
-use curvicast::spherical::SphericalGrid;
+use curvicast::spherical::{SeparableMarch, SerialMarch, SphericalGrid};
 use curvicast_host::batch::march_batch;
-use rand::{Rng, SeedableRng};
-use std::f64::consts::{PI, TAU};
+use curvicast_host::scenes::marching::{
+    Breakpoints, GridKind, parallel_rays, perspective_rays, rays_in,
+};
 use std::hint::black_box;
 
+/// Rays per side.
 const SIDE: usize = 256;
-const CELLS: usize = 64;
+/// The separable engine's capacity per coordinate.
+const N: usize = 512;
 
-fn uniform(n: usize, lo: f64, hi: f64) -> Vec<f64> {
-    (0..=n)
-        .map(|i| lo + (hi - lo) * i as f64 / n as f64)
-        .collect()
-}
-
-/// `n` cells from `lo` to `hi` with random widths between 0.25 and 1.75 times the mean.
-fn random(n: usize, lo: f64, hi: f64, rng: &mut rand_chacha::ChaCha8Rng) -> Vec<f64> {
-    let w: Vec<f64> = (0..n).map(|_| rng.random_range(0.25..1.75)).collect();
-    let total: f64 = w.iter().sum();
-    let mut out = vec![lo];
-    let mut acc = 0.0;
-    for x in &w[..n - 1] {
-        acc += x;
-        out.push(lo + (hi - lo) * acc / total);
-    }
-    out.push(hi);
-    out
-}
-
-/// The breakpoints of the named grid (full turn in φ except for the partial grid).
-fn grid_breakpoints(kind: &str) -> [Vec<f64>; 3] {
-    match kind {
-        "uniform" => [
-            uniform(CELLS, 0.0, 1.0),
-            uniform(CELLS, 0.0, PI),
-            uniform(CELLS, 0.0, TAU),
-        ],
-        "nonuniform" => {
-            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(16);
-            [
-                random(CELLS, 0.0, 1.0, &mut rng),
-                random(CELLS, 0.0, PI, &mut rng),
-                random(CELLS, 0.0, TAU, &mut rng),
-            ]
-        }
-        _ => [
-            uniform(CELLS, 0.3, 1.0),
-            uniform(CELLS, 0.4, 2.6),
-            uniform(CELLS, -1.0, 4.0),
-        ],
-    }
-}
-
-fn norm(v: [f64; 3]) -> [f64; 3] {
-    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    v.map(|a| a / n)
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-/// (origin, direction) pairs in f64: the report's parallel rays, or a perspective view from 3R.
-fn scene(perspective: bool) -> Vec<([f64; 3], [f64; 3])> {
-    let d = norm([1.0, 0.15, 0.1]);
-    let u = norm([-d[1], d[0], 0.0]);
-    let v = cross(d, u);
-    let mut out = Vec::with_capacity(SIDE * SIDE);
-    for i in 0..SIDE {
-        for j in 0..SIDE {
-            let a = (i as f64 + 0.5) / SIDE as f64 * 2.0 - 1.0;
-            let b = (j as f64 + 0.5) / SIDE as f64 * 2.0 - 1.0;
-            if perspective {
-                let eye = d.map(|x| -3.0 * x);
-                let half = (1.0f64 / 3.0).asin().tan() * 1.05;
-                let dir = [0, 1, 2].map(|k| d[k] + half * (a * u[k] + b * v[k]));
-                out.push((eye, dir));
-            } else {
-                let o = [0, 1, 2].map(|k| 1.05 * (a * u[k] + b * v[k]) - 3.0 * d[k]);
-                out.push((o, d));
-            }
+/// Σ (t_exit − t_enter) over every crossing of every ray, serial engine.
+fn serial_sum<T: Real>(grid: &SphericalGrid<'_, T>, rays: &[Ray<T>]) -> T {
+    let mut acc = T::ZERO;
+    for ray in rays {
+        for x in grid.march(black_box(ray)) {
+            acc += x.t_exit - x.t_enter;
         }
     }
-    out
+    acc
 }
 
-fn rays<T: Real>(s: &[([f64; 3], [f64; 3])]) -> Vec<Ray<T>> {
-    s.iter()
-        .map(|(o, d)| Ray::new(o.map(T::from_f64), d.map(T::from_f64)).unwrap())
-        .collect()
-}
-
-/// The grid's breakpoints in `T` (the full turn's end is `T`'s own 2π).
-fn breakpoints_in<T: Real>(kind: &str) -> [Vec<T>; 3] {
-    let [r, th, ph] = grid_breakpoints(kind);
-    let conv = |v: Vec<f64>| v.into_iter().map(T::from_f64).collect::<Vec<T>>();
-    let (r, th, mut ph) = (conv(r), conv(th), conv(ph));
-    if kind != "partial" {
-        *ph.last_mut().unwrap() = T::PI + T::PI;
+/// The same sum, separable engine listing into one reused march.
+fn separable_into_sum<T: Real>(
+    grid: &SphericalGrid<'_, T>,
+    rays: &[Ray<T>],
+    march: &mut SeparableMarch<T, N>,
+) -> T {
+    let mut acc = T::ZERO;
+    for ray in rays {
+        grid.march_separable_into(black_box(ray), march)
+            .expect("the scene fits the buffers");
+        for x in march.by_ref() {
+            acc += x.t_exit - x.t_enter;
+        }
     }
-    [r, th, ph]
+    acc
 }
 
-fn bench_mode<T: Real>(c: &mut Criterion, kind: &str, perspective: bool) {
-    let [r, th, ph] = breakpoints_in::<T>(kind);
-    let mut ws = vec![T::ZERO; SphericalGrid::<T>::workspace_len(r.len(), th.len(), ph.len())];
-    let grid = SphericalGrid::new(&r, &th, &ph, &mut ws).unwrap();
-    let rays = rays::<T>(&scene(perspective));
+/// The same sum, separable engine returning a new march by value per ray.
+fn separable_by_value_sum<T: Real>(grid: &SphericalGrid<'_, T>, rays: &[Ray<T>]) -> T {
+    let mut acc = T::ZERO;
+    for ray in rays {
+        let march = grid
+            .march_separable::<N>(black_box(ray))
+            .expect("the scene fits the buffers");
+        for x in march {
+            acc += x.t_exit - x.t_enter;
+        }
+    }
+    acc
+}
+
+fn bench_mode<T: Real>(c: &mut Criterion, kind: GridKind, perspective: bool) {
+    let mut breakpoints = Breakpoints::<T>::new(kind);
+    let grid = breakpoints.grid().expect("valid grid");
+    let scene = if perspective {
+        perspective_rays(SIDE)
+    } else {
+        parallel_rays(SIDE)
+    };
+    let rays = rays_in::<T>(&scene).expect("valid rays");
     let crossings: usize = rays.iter().map(|ray| grid.march(ray).count()).sum();
     let name = if perspective {
         "march/perspective".to_string()
     } else {
-        format!("march/{kind}")
+        format!("march/{}", kind.name())
     };
     println!(
         "{name} {}: {} rays, {} crossings ({:.1} per ray)",
@@ -145,36 +101,25 @@ fn bench_mode<T: Real>(c: &mut Criterion, kind: &str, perspective: bool) {
     g.sample_size(10);
     g.throughput(Throughput::Elements(rays.len() as u64));
     g.bench_function(BenchmarkId::new("serial", T::NAME), |b| {
-        b.iter(|| {
-            let mut acc = T::ZERO;
-            for ray in &rays {
-                for x in grid.march(black_box(ray)) {
-                    acc += x.t_exit - x.t_enter;
-                }
-            }
-            black_box(acc)
-        })
+        b.iter(|| black_box(serial_sum(&grid, &rays)))
     });
-    g.bench_function(BenchmarkId::new("separable", T::NAME), |b| {
-        b.iter(|| {
-            let mut acc = T::ZERO;
-            for ray in &rays {
-                for x in grid.march_separable::<512>(black_box(ray)).unwrap() {
-                    acc += x.t_exit - x.t_enter;
-                }
-            }
-            black_box(acc)
-        })
+    let mut march = SeparableMarch::<T, N>::default();
+    g.bench_function(BenchmarkId::new("separable_into", T::NAME), |b| {
+        b.iter(|| black_box(separable_into_sum(&grid, &rays, &mut march)))
     });
+    if kind == GridKind::Uniform && !perspective && T::NAME == "f64" {
+        g.bench_function(BenchmarkId::new("separable_by_value", T::NAME), |b| {
+            b.iter(|| black_box(separable_by_value_sum(&grid, &rays)))
+        });
+    }
     g.finish();
 }
 
-/// The batch entry on 1 and 2 threads: a projection image of the report's scene in f64.
+/// The batch entry on 1 and 2 threads: a projection image of the parallel view in f64.
 fn bench_batch(c: &mut Criterion) {
-    let [r, th, ph] = breakpoints_in::<f64>("uniform");
-    let mut ws = vec![0.0; SphericalGrid::<f64>::workspace_len(r.len(), th.len(), ph.len())];
-    let grid = SphericalGrid::new(&r, &th, &ph, &mut ws).unwrap();
-    let rays = rays::<f64>(&scene(false));
+    let mut breakpoints = Breakpoints::<f64>::new(GridKind::Uniform);
+    let grid = breakpoints.grid().expect("valid grid");
+    let rays = rays_in::<f64>(&parallel_rays(SIDE)).expect("valid rays");
     let mut g = c.benchmark_group("march_batch");
     g.sample_size(10);
     g.throughput(Throughput::Elements(rays.len() as u64));
@@ -182,7 +127,7 @@ fn bench_batch(c: &mut Criterion) {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
-            .unwrap();
+            .expect("a thread pool");
         g.bench_function(BenchmarkId::new("projection_f64", threads), |b| {
             b.iter(|| {
                 let image = pool.install(|| {
@@ -200,16 +145,16 @@ fn bench_batch(c: &mut Criterion) {
 fn benches(c: &mut Criterion) {
     println!(
         "size_of SerialMarch: f64 {} bytes, f32 {} bytes",
-        std::mem::size_of::<curvicast::spherical::SerialMarch<'static, f64>>(),
-        std::mem::size_of::<curvicast::spherical::SerialMarch<'static, f32>>()
+        std::mem::size_of::<SerialMarch<'static, f64>>(),
+        std::mem::size_of::<SerialMarch<'static, f32>>()
     );
-    for kind in ["uniform", "nonuniform", "partial"] {
+    for kind in GridKind::ALL {
         bench_mode::<f64>(c, kind, false);
         bench_mode::<f32>(c, kind, false);
         bench_mode::<F32Fast>(c, kind, false);
     }
-    bench_mode::<f64>(c, "uniform", true);
-    bench_mode::<f32>(c, "uniform", true);
+    bench_mode::<f64>(c, GridKind::Uniform, true);
+    bench_mode::<f32>(c, GridKind::Uniform, true);
     bench_batch(c);
 }
 

@@ -2,10 +2,10 @@
 //! iterator per ray).
 //!
 //! The kernel's part is a marcher that is cheap to construct and owns nothing but a few scalars; this module
-//! only spreads the rays over rayon's thread pool in contiguous chunks (an image row or so each, so a thread
-//! walks neighbouring rays through the same breakpoint tables) and hands every ray's iterator to the caller's
-//! sampler. The answers do not depend on the number of threads: each ray is marched exactly as
-//! `grid.march(&ray)` would march it alone.
+//! only spreads the rays over rayon's thread pool in contiguous runs of at least 64 rays (so a thread walks
+//! neighbouring rays through the same breakpoint tables), hands every ray's iterator to the caller's sampler and
+//! writes each answer straight into its place in the result. The answers do not depend on the number of
+//! threads: each ray is marched exactly as `grid.march(&ray)` would march it alone.
 //!
 //! ```
 //! use curvicast::{ray::Ray, spherical::SphericalGrid};
@@ -28,9 +28,9 @@ use curvicast::real::Real;
 use curvicast::spherical::{CylindricalGrid, PolarGrid, SerialMarch, SphericalGrid};
 use rayon::prelude::*;
 
-/// Rays per rayon task: large enough that the scheduling cost is far below the marching cost (a ray through a
-/// 64³ grid crosses tens to hundreds of cells), small enough that two cores share an image evenly.
-const CHUNK: usize = 64;
+/// The fewest rays per rayon task: far more marching work than scheduling cost (a ray through a 64³ grid crosses
+/// tens to hundreds of cells), and still enough tasks that two cores share an image evenly.
+const MIN_RAYS_PER_TASK: usize = 64;
 
 /// A grid whose serial marcher can be started for any ray: the spherical, cylindrical and polar grids.
 pub trait MarchGrid<T: Real>: Sync {
@@ -66,15 +66,14 @@ where
     S: Send,
     F: Fn(usize, &mut SerialMarch<'_, T>) -> S + Sync,
 {
-    rays.par_chunks(CHUNK)
+    // an indexed iterator: each task writes its answers straight into their places in the result (no per-task
+    // lists to concatenate), and a task marches neighbouring rays through the same breakpoint tables
+    rays.par_iter()
+        .with_min_len(MIN_RAYS_PER_TASK)
         .enumerate()
-        .flat_map_iter(|(chunk, rs)| {
-            let base = chunk * CHUNK;
-            let sampler = &sampler;
-            rs.iter().enumerate().map(move |(i, ray)| {
-                let mut m = grid.march_ray(ray);
-                sampler(base + i, &mut m)
-            })
+        .map(|(i, ray)| {
+            let mut m = grid.march_ray(ray);
+            sampler(i, &mut m)
         })
         .collect()
 }

@@ -6,7 +6,7 @@
 //! * [`march_run`]: the kernel's marchers run on the scenes' grids and rays and compared with the oracle.
 //! * [`batch`]: many rays marched at once across cores (rayon).
 //! * [`baselines`]: what a user would otherwise do (Cartesian resampling, a general mesh ray caster, brute force).
-//! * [`render`]: images of fields on spherical grids, native and Cartesian (`curvicast render`).
+//! * [`render`]: images of fields on spherical, cylindrical and polar grids, native and Cartesian (`curvicast render`).
 //! * [`report`]: the speed-against-error report.
 //! * [`cli`]: the subcommands of `curvicast`.
 

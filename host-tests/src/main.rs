@@ -108,7 +108,7 @@ enum Command {
         #[arg(long, value_enum, default_value = "f64")]
         precision: curvicast_host::cli::march::Precision,
     },
-    /// Render one view of a field on a spherical grid: DIR/image.png, values.f32 and render.json.
+    /// Render a field on a spherical, cylindrical or polar grid: DIR/image.png, values.f32 and render.json.
     Render {
         /// The SCENE.json file.
         #[arg(long)]

@@ -10,10 +10,12 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("curvicast-pick-dem-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh temporary directory, removed when dropped.
+fn dir(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("curvicast-pick-dem-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 fn run(args: &[&str], stdin: &str) -> (i32, String, String) {
@@ -112,16 +114,18 @@ fn trinidad_crop(i0: usize, j0: usize, rows: usize, cols: usize) -> Dem {
 
 #[test]
 fn shipped_geotiff_crop_of_trinidad_agrees_with_terrain_json_of_the_same_heights() {
-    let d = dir("crop");
+    let tmp = dir("crop");
+    let d = tmp.path();
     let tif = data_dir().join("trinidad_dem/blanca_crop.tif");
     let same = trinidad_crop(444, 553, 128, 128);
     assert_eq!(read_dem(&tif).unwrap(), same);
-    assert_dem_agrees_with_terrain(&tif, &same, &d, 200);
+    assert_dem_agrees_with_terrain(&tif, &same, d, 200);
 }
 
 #[test]
 fn geotiff_pixel_is_area_puts_the_first_sample_half_a_pixel_in_from_the_tie_point() {
-    let d = dir("area");
+    let tmp = dir("area");
+    let d = tmp.path();
     let same = trinidad_crop(100, 200, 40, 50);
     let t = trinidad().unwrap();
     for raster in [RasterType::PixelIsArea, RasterType::PixelIsPoint] {
@@ -190,8 +194,9 @@ fn synthetic_hgt(d: &Path) -> (PathBuf, Dem) {
 
 #[test]
 fn srtm_hgt_tile_reads_its_corner_from_the_name_and_agrees_with_terrain_json() {
-    let d = dir("hgt");
-    let (path, same) = synthetic_hgt(&d);
+    let tmp = dir("hgt");
+    let d = tmp.path();
+    let (path, same) = synthetic_hgt(d);
     let back = read_dem(&path).unwrap();
     assert_eq!(
         (back.lat0, back.lon0, back.rows, back.cols),
@@ -206,7 +211,7 @@ fn srtm_hgt_tile_reads_its_corner_from_the_name_and_agrees_with_terrain_json() {
             .zip(&same.heights)
             .all(|(a, b)| a == b || (a.is_nan() && b.is_nan()))
     );
-    assert_dem_agrees_with_terrain(&path, &same, &d, 100);
+    assert_dem_agrees_with_terrain(&path, &same, d, 100);
     // Lower-case names and southern/eastern tiles.
     let south = d.join("s01e010.hgt");
     std::fs::copy(&path, &south).unwrap();
@@ -216,7 +221,8 @@ fn srtm_hgt_tile_reads_its_corner_from_the_name_and_agrees_with_terrain_json() {
 
 #[test]
 fn srtm_one_arc_second_tile_has_3601_nodes_per_side() {
-    let d = dir("hgt1");
+    let tmp = dir("hgt1");
+    let d = tmp.path();
     let path = d.join("N00E000.hgt");
     let mut bytes = vec![0u8; 3601 * 3601 * 2];
     bytes[0..2].copy_from_slice(&1234i16.to_be_bytes());
@@ -234,7 +240,8 @@ fn srtm_one_arc_second_tile_has_3601_nodes_per_side() {
 
 #[test]
 fn shipped_dem_cc_files_read_with_their_own_header_as_the_shipped_loaders() {
-    let d = dir("shipped-cc");
+    let tmp = dir("shipped-cc");
+    let d = tmp.path();
     let file = data_dir().join("trinidad_dem/trinidad.dem.cc");
     let t = trinidad().unwrap();
     assert_eq!(read_dem(&file).unwrap(), t);
@@ -242,7 +249,7 @@ fn shipped_dem_cc_files_read_with_their_own_header_as_the_shipped_loaders() {
         (t.lat0, t.lon0, t.dlat, t.dlon),
         (38.0, -106.0, -1.0 / 1200.0, 1.0 / 1200.0)
     );
-    assert_dem_agrees_with_terrain(&file, &t, &d, 100);
+    assert_dem_agrees_with_terrain(&file, &t, d, 100);
     let file = data_dir().join("etopo20/etopo20.dem.cc");
     let e = etopo20().unwrap();
     assert_eq!(read_dem(&file).unwrap(), e);
@@ -250,12 +257,13 @@ fn shipped_dem_cc_files_read_with_their_own_header_as_the_shipped_loaders() {
         (e.lat0, e.lon0, e.dlat, e.dlon),
         (90.0 - 1.0 / 6.0, 20.0 + 1.0 / 6.0, -1.0 / 3.0, 1.0 / 3.0)
     );
-    assert_dem_agrees_with_terrain(&file, &e, &d, 100);
+    assert_dem_agrees_with_terrain(&file, &e, d, 100);
 }
 
 #[test]
 fn dem_cc_with_missing_vertices_agrees_with_terrain_json_with_the_same_holes() {
-    let d = dir("holes-cc");
+    let tmp = dir("holes-cc");
+    let d = tmp.path();
     let mut dem = trinidad_crop(444, 553, 64, 64);
     for i in 10..30 {
         for j in 20..26 {
@@ -269,7 +277,7 @@ fn dem_cc_with_missing_vertices_agrees_with_terrain_json_with_the_same_holes() {
     let bits = |h: &[f32]| h.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits(&back.heights), bits(&dem.heights));
     assert_eq!((back.height(0, 0), back.height(15, 22)), (None, None));
-    assert_dem_agrees_with_terrain(&file, &dem, &d, 200);
+    assert_dem_agrees_with_terrain(&file, &dem, d, 200);
 }
 
 /// Runs `pick --dem FILE` and checks the contract's usage error: exit 2, nothing on stdout, one stderr line that
@@ -286,7 +294,8 @@ fn assert_bad_dem(file: &Path, names: &Path, what: &str) {
 
 #[test]
 fn malformed_hgt_tiles_exit_2_naming_the_file() {
-    let d = dir("bad-hgt");
+    let tmp = dir("bad-hgt");
+    let d = tmp.path();
     let good = vec![0u8; 1201 * 1201 * 2];
     let truncated = d.join("N36W118.hgt");
     std::fs::write(&truncated, &good[..good.len() - 1]).unwrap();
@@ -337,7 +346,8 @@ const GEOGRAPHIC: &[u16] = &[1, 1, 0, 2, 1024, 0, 1, 2, 2048, 0, 1, 4326];
 
 #[test]
 fn small_geotiffs_read_their_georeference_nodata_and_ellipsoid() {
-    let d = dir("small-tif");
+    let tmp = dir("small-tif");
+    let d = tmp.path();
     let p = d.join("ok.tif");
     geotiff(&p, Some(GEOGRAPHIC), Some(TIE), Some(SCALE));
     let dem = read_dem(&p).unwrap();
@@ -378,7 +388,8 @@ fn small_geotiffs_read_their_georeference_nodata_and_ellipsoid() {
 
 #[test]
 fn malformed_geotiffs_exit_2_naming_the_file() {
-    let d = dir("bad-tif");
+    let tmp = dir("bad-tif");
+    let d = tmp.path();
     /// File name, GeoKeys, tie point, pixel scale, and what the message says.
     type Case<'a> = (
         &'a str,
@@ -456,7 +467,8 @@ fn malformed_geotiffs_exit_2_naming_the_file() {
 
 #[test]
 fn malformed_dem_cc_files_exit_2_naming_the_file() {
-    let d = dir("bad-cc");
+    let tmp = dir("bad-cc");
+    let d = tmp.path();
     let heights: Vec<f32> = (0..12).map(|k| 100.0 + k as f32).collect();
     let dem = Dem::wgs84((37.0, -118.0, -0.001, 0.001), (3, 4), heights).unwrap();
     let bytes = encode(&dem, 1).unwrap();

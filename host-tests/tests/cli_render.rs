@@ -4,16 +4,15 @@
 //! the file and nothing written.
 
 use std::f64::consts::{PI, TAU};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir()
-        .join(format!("curvicast-cli-render-{}", std::process::id()))
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh temporary directory, removed when dropped.
+fn dir(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("curvicast-cli-render-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 fn uniform(n: usize, hi: f64) -> Vec<f64> {
@@ -114,11 +113,12 @@ fn chord(rho: f64) -> f64 {
 
 #[test]
 fn constant_ball_native_projection_is_the_chord_in_f64_orthographic() {
-    let d = dir("ball-ortho");
+    let tmp = dir("ball-ortho");
+    let d = tmp.path();
     let (w, h) = (48, 40);
     let scene = serde_json::json!({"grid": grid(5, 7, 9), "field": {"analytic": "ball"}, "camera": ortho(),
         "pixels": [w, h], "mode": "projection", "method": "native", "precision": "f64"});
-    let (code, err) = render(&d, &scene);
+    let (code, err) = render(d, &scene);
     assert_eq!(code, 0, "{err}");
     let v = read_f64(&d.join("out/values.f64"));
     let (_, worst_rel) = rms_error(&v, w, h, chord);
@@ -146,13 +146,14 @@ fn constant_ball_native_projection_is_the_chord_in_f64_orthographic() {
 
 #[test]
 fn constant_ball_native_projection_is_the_chord_in_f64_perspective() {
-    let d = dir("ball-persp");
+    let tmp = dir("ball-persp");
+    let d = tmp.path();
     let (w, h) = (32, 32);
     let eye = [0.5, -2.5, 1.2];
     let scene = serde_json::json!({"grid": grid(3, 5, 6), "field": {"analytic": "ball"},
         "camera": {"kind": "perspective", "eye": eye, "look_at": [0.1, 0, -0.1], "up": [0, 0, 1], "fov_deg": 50},
         "pixels": [w, h]});
-    let (code, err) = render(&d, &scene);
+    let (code, err) = render(d, &scene);
     assert_eq!(code, 0, "{err}");
     let v = read_f64(&d.join("out/values.f64"));
     // the chord of a ray from the eye depends on the ray's closest distance; check the center pixel's neighbourhood
@@ -201,11 +202,12 @@ fn constant_ball_native_projection_is_the_chord_in_f64_perspective() {
 fn coarse_cartesian_ball_shows_its_error_and_finer_voxels_reduce_it() {
     let mut errs = Vec::new();
     for n in [8, 32] {
-        let d = dir(&format!("ball-cart-{n}"));
+        let tmp = dir(&format!("ball-cart-{n}"));
+        let d = tmp.path();
         let (w, h) = (40, 40);
         let scene = serde_json::json!({"grid": grid(4, 4, 4), "field": {"analytic": "ball"}, "camera": ortho(),
             "pixels": [w, h], "method": {"cartesian": n}});
-        let (code, err) = render(&d, &scene);
+        let (code, err) = render(d, &scene);
         assert_eq!(code, 0, "{err}");
         let v = read_f64(&d.join("out/values.f64"));
         errs.push(rms_error(&v, w, h, chord).0);
@@ -224,11 +226,12 @@ fn r2_native_error_falls_as_the_grid_is_refined() {
     let truth = |rho: f64| 2.0 / 3.0 * (1.0 - rho * rho).max(0.0).sqrt() * (1.0 + 2.0 * rho * rho);
     let mut errs = Vec::new();
     for n in [4, 8, 16, 32] {
-        let d = dir(&format!("r2-{n}"));
+        let tmp = dir(&format!("r2-{n}"));
+        let d = tmp.path();
         let (w, h) = (40, 40);
         let scene = serde_json::json!({"grid": grid(n, 4, 4), "field": {"analytic": "r2"}, "camera": ortho(),
             "pixels": [w, h]});
-        let (code, err) = render(&d, &scene);
+        let (code, err) = render(d, &scene);
         assert_eq!(code, 0, "{err}");
         errs.push(rms_error(&read_f64(&d.join("out/values.f64")), w, h, truth).0);
     }
@@ -239,7 +242,8 @@ fn r2_native_error_falls_as_the_grid_is_refined() {
 
 #[test]
 fn cells_file_with_empty_cells_and_travel_time_and_emission_absorption() {
-    let d = dir("cells");
+    let tmp = dir("cells");
+    let d = tmp.path();
     // 2 shells × 1 × 1: inner shell speed 2, outer shell empty (NaN)
     let vals: Vec<u8> = [2.0f32, f32::NAN]
         .iter()
@@ -250,7 +254,7 @@ fn cells_file_with_empty_cells_and_travel_time_and_emission_absorption() {
     let (w, h) = (24, 24);
     let scene = serde_json::json!({"grid": g, "field": {"cells": "cells.f32"}, "camera": ortho(),
         "pixels": [w, h], "mode": "travel_time"});
-    let (code, err) = render(&d, &scene);
+    let (code, err) = render(d, &scene);
     assert_eq!(code, 0, "{err}");
     let v = read_f64(&d.join("out/values.f64"));
     for i in 0..h {
@@ -262,7 +266,7 @@ fn cells_file_with_empty_cells_and_travel_time_and_emission_absorption() {
     }
     let scene = serde_json::json!({"grid": g, "field": {"cells": "cells.f32"}, "camera": ortho(),
         "pixels": [w, h], "mode": {"emission_absorption": {"range": [0.0, 2.0], "opacity": 100.0}}});
-    let (code, err) = render(&d, &scene);
+    let (code, err) = render(d, &scene);
     assert_eq!(code, 0, "{err}");
     let v = read_f64(&d.join("out/values.f64"));
     // opaque core: intensity 1 · (accumulated opacity ≥ the 0.99 cutoff)
@@ -273,7 +277,8 @@ fn cells_file_with_empty_cells_and_travel_time_and_emission_absorption() {
 
 #[test]
 fn bad_scene_files_exit_2_with_one_line_naming_the_file_and_write_nothing() {
-    let d = dir("bad");
+    let tmp = dir("bad");
+    let d = tmp.path();
     let good = serde_json::json!({"grid": grid(2, 2, 2), "field": {"analytic": "ball"}, "camera": ortho(),
         "pixels": [4, 4]});
     let mut cases: Vec<(&str, String)> = vec![("not-json.json", "{".into())];
@@ -282,12 +287,10 @@ fn bad_scene_files_exit_2_with_one_line_naming_the_file_and_write_nothing() {
         f(&mut s);
         cases.push((name, s.to_string()));
     };
-    edit(
-        "cylindrical.json",
-        &|s| {
-            s["grid"] = serde_json::json!({"kind": "cylindrical", "rho": [0, 1], "phi": [0, 1], "z": [0, 1]})
-        },
-    );
+    edit("polar-cartesian.json", &|s| {
+        s["grid"] = serde_json::json!({"kind": "polar", "r": [0, 1], "phi": [0, 1]});
+        s["method"] = serde_json::json!({"cartesian": 8})
+    });
     edit("unsorted.json", &|s| {
         s["grid"]["r"] = serde_json::json!([0.0, 1.0, 0.5])
     });
@@ -342,10 +345,11 @@ fn single_precision_native_projection_is_close_to_f64() {
     let (w, h) = (24, 24);
     let mut base = Vec::new();
     for precision in ["f64", "f32", "f32-fast"] {
-        let d = dir(&format!("prec-{precision}"));
+        let tmp = dir(&format!("prec-{precision}"));
+        let d = tmp.path();
         let scene = serde_json::json!({"grid": grid(8, 6, 6), "field": {"analytic": "r2"}, "camera": ortho(),
             "pixels": [w, h], "precision": precision});
-        let (code, err) = render(&d, &scene);
+        let (code, err) = render(d, &scene);
         assert_eq!(code, 0, "{err}");
         let v = read_f64(&d.join("out/values.f64"));
         let meta: serde_json::Value =

@@ -102,18 +102,40 @@ pub fn spherical_cell_of(
     } else {
         0.0
     };
+    let k = azimuth_of(phi, x, y);
+    match (locate(r, rr), locate(theta, th), k) {
+        (Some(i), Some(j), Some(k)) => Some([i, j, k]),
+        _ => None,
+    }
+}
+
+/// The cylindrical cell `[i, k, m]` (ρ, φ, z; half-open as in the contract, φ modulo 2π, z relative to
+/// `center[2]`) containing the point `p`, or `None` outside the domain of the grid `rho`, `phi`, `z`.
+pub fn cylindrical_cell_of(
+    center: [f64; 3],
+    rho: &[f64],
+    phi: &[f64],
+    z: &[f64],
+    p: [f64; 3],
+) -> Option<[u32; 3]> {
+    let (x, y, h) = (p[0] - center[0], p[1] - center[1], p[2] - center[2]);
+    match (locate(rho, x.hypot(y)), azimuth_of(phi, x, y), locate(z, h)) {
+        (Some(i), Some(k), Some(m)) => Some([i, k, m]),
+        _ => None,
+    }
+}
+
+/// The azimuth sector of the direction `(x, y)` among the breakpoints `phi` (φ taken modulo 2π; a full turn has
+/// no gap).
+fn azimuth_of(phi: &[f64], x: f64, y: f64) -> Option<u32> {
     let mut ph = y.atan2(x);
     // into [phi0, phi0 + 2π)
     ph -= std::f64::consts::TAU * ((ph - phi[0]) / std::f64::consts::TAU).floor();
     let full = phi[phi.len() - 1] - phi[0] >= std::f64::consts::TAU;
-    let k = if full {
+    if full {
         locate(phi, ph).or(Some((phi.len() - 2) as u32))
     } else {
         locate(phi, ph)
-    };
-    match (locate(r, rr), locate(theta, th), k) {
-        (Some(i), Some(j), Some(k)) => Some([i, j, k]),
-        _ => None,
     }
 }
 

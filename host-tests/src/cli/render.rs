@@ -1,10 +1,11 @@
 //! `curvicast render --scene SCENE.json --out DIR`
 //!
-//! Renders one view of a field on a spherical grid (see [`crate::render`] and the command-line contract) and writes
-//! `DIR/image.png`, `DIR/values.f32` (each pixel's value before colour mapping, little-endian f32, row-major, row 0
-//! at the top; `DIR/values.f64` holds the same unrounded) and `DIR/render.json` (size, method, seconds, rays, crossings, and the resampling time of the
-//! Cartesian baseline). A bad scene or data file is a one-line message naming the file, exit code 2, and nothing
-//! written.
+//! Renders one view of a field on a spherical, cylindrical or polar grid (see [`crate::render`] and the
+//! command-line contract) and writes `DIR/image.png`, `DIR/values.f32` (each pixel's value before colour mapping,
+//! little-endian f32, row-major, row 0 at the top; `DIR/values.f64` holds the same unrounded) and
+//! `DIR/render.json` (size, method, seconds, rays, crossings, the grid's kind and cell counts, and the resampling
+//! time of the Cartesian baseline). A bad scene or data file is a one-line message naming the file, exit code 2,
+//! and nothing written.
 
 use crate::render::image::{ColorMap, colorize, finite_range, write_png};
 use crate::render::sampler::Mode;
@@ -75,7 +76,8 @@ pub fn write_outputs(dir: &Path, scene: &Scene, out: &Rendered) -> anyhow::Resul
         "mode": scene.mode.name(),
         "failed_rays": out.failed,
         "value_range": range,
-        "cells": scene.grid.shape(),
+        "grid": scene.grid.kind(),
+        "cells": scene.grid.dims(),
         "values_f64": "values.f64",
     });
     match scene.method {

@@ -1,7 +1,12 @@
-//! Fields on spherical grids for `curvicast render`: the grid's breakpoints and one value per cell, the analytic
-//! fields of seed 001 §6.1 as exact cell averages (closed forms in the cell's radii), the closed-form truths of
-//! their projections (§6.1 and the remark of §6.3), and the coarser grids of §6.3 that discard every other
-//! breakpoint.
+//! Fields on curved grids for `curvicast render`: the grid's breakpoints (spherical, cylindrical or polar) and one
+//! value per cell, the analytic fields of seed 001 §6.1 as exact cell averages (closed forms in the cell's radii),
+//! the closed-form truths of their projections (§6.1 and the remark of §6.3), and the coarser spherical grids of
+//! §6.3 that discard every other breakpoint.
+//!
+//! On a cylindrical or polar grid (§3.3, §3.4) the analytic fields depend on the distance from the grid's axis
+//! (ρ, or the polar r; a polar grid is a prism unbounded in z), so a cell's exact average weighs its radii by the
+//! area element `ρ dρ`, and the projection along a line perpendicular to the axis is the same closed form of the
+//! line's distance from the axis as the spherical one of its distance from the center.
 
 /// A spherical grid (physics convention, as in the command-line contract): breakpoints in r, θ (zenith) and φ
 /// (azimuth), around `center`. Cell `[i, j, k]` has the flat index `(i · nθ + j) · nφ + k`.
@@ -100,9 +105,119 @@ impl SphericalCells {
     }
 }
 
+/// A cylindrical grid (seed 001 §3.3): breakpoints in ρ (distance from the axis), φ (azimuth) and z (height
+/// relative to `center[2]`). Cell `[i, k, m]` has the flat index `(i · nφ + k) · nz + m`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CylindricalCells {
+    /// A point of the axis (the axis is parallel to z).
+    pub center: [f64; 3],
+    /// Radius breakpoints.
+    pub rho: Vec<f64>,
+    /// Azimuth breakpoints.
+    pub phi: Vec<f64>,
+    /// Height breakpoints.
+    pub z: Vec<f64>,
+}
+
+/// A 2-D polar grid (seed 001 §3.4): breakpoints in r and φ around `center` in the xy plane; the rays' z
+/// components are ignored, so its cells are prisms unbounded in z. Cell `[i, k]` (the kernel's `[i, k, 0]`) has
+/// the flat index `i · nφ + k`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PolarCells {
+    /// The center `(x, y)`.
+    pub center: [f64; 2],
+    /// Radius breakpoints.
+    pub r: Vec<f64>,
+    /// Azimuth breakpoints.
+    pub phi: Vec<f64>,
+}
+
+/// The grid of a render: one of the three kinds of the command-line contract's GRID.json.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Cells {
+    /// Spherical (r, θ, φ).
+    Spherical(SphericalCells),
+    /// Cylindrical (ρ, φ, z).
+    Cylindrical(CylindricalCells),
+    /// Polar (r, φ).
+    Polar(PolarCells),
+}
+
+impl From<SphericalCells> for Cells {
+    fn from(g: SphericalCells) -> Cells {
+        Cells::Spherical(g)
+    }
+}
+
+impl Cells {
+    /// Cells along each axis in the kernel's index order (a polar grid has one cell along the third).
+    pub fn shape(&self) -> [usize; 3] {
+        let n = |v: &Vec<f64>| v.len().saturating_sub(1);
+        match self {
+            Cells::Spherical(g) => g.shape(),
+            Cells::Cylindrical(g) => [n(&g.rho), n(&g.phi), n(&g.z)],
+            Cells::Polar(g) => [n(&g.r), n(&g.phi), 1],
+        }
+    }
+
+    /// The shape as the grid file's kind has it (two counts for a polar grid), for `render.json`.
+    pub fn dims(&self) -> Vec<usize> {
+        let s = self.shape();
+        match self {
+            Cells::Polar(_) => s[..2].to_vec(),
+            _ => s.to_vec(),
+        }
+    }
+
+    /// `"spherical"`, `"cylindrical"` or `"polar"`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Cells::Spherical(_) => "spherical",
+            Cells::Cylindrical(_) => "cylindrical",
+            Cells::Polar(_) => "polar",
+        }
+    }
+
+    /// The number of cells.
+    pub fn cell_count(&self) -> usize {
+        self.shape().iter().product()
+    }
+
+    /// The flat index (row-major, last index fastest) of the kernel's cell index, or `None` outside the shape.
+    pub fn flat(&self, cell: [u32; 3]) -> Option<usize> {
+        let [a, b, c] = self.shape();
+        let [i, j, k] = cell.map(|x| x as usize);
+        (i < a && j < b && k < c).then_some((i * b + j) * c + k)
+    }
+
+    /// The radial breakpoints: r (spherical, polar) or ρ (cylindrical).
+    pub fn radial(&self) -> &[f64] {
+        match self {
+            Cells::Spherical(g) => &g.r,
+            Cells::Cylindrical(g) => &g.rho,
+            Cells::Polar(g) => &g.r,
+        }
+    }
+
+    /// The outer radius.
+    pub fn outer_radius(&self) -> f64 {
+        self.radial().last().copied().unwrap_or(0.0)
+    }
+
+    /// The radial thickness of the domain, `r_max − r_min`.
+    pub fn thickness(&self) -> f64 {
+        self.outer_radius() - self.radial().first().copied().unwrap_or(0.0)
+    }
+}
+
 /// `b³ − a³` without cancellation: `(b − a)(b² + ab + a²)`.
 fn cube_difference(a: f64, b: f64) -> f64 {
     (b - a) * (b * b + a * b + a * a)
+}
+
+/// `b² − a²` without cancellation: `(b − a)(b + a)`.
+fn square_difference(a: f64, b: f64) -> f64 {
+    (b - a) * (b + a)
 }
 
 /// `b⁵ − a⁵` without cancellation.
@@ -111,8 +226,9 @@ fn fifth_difference(a: f64, b: f64) -> f64 {
     (b - a) * (b2 * b2 + b2 * b * a + b2 * a2 + b * a2 * a + a2 * a2)
 }
 
-/// The analytic fields of seed 001 §6.1; each depends on the distance r from the grid's center only, and is 0
-/// beyond its radius `R` and outside the grid's domain.
+/// The analytic fields of seed 001 §6.1; each depends on the distance r from the grid's center only (on a
+/// cylindrical or polar grid: the distance ρ from its axis), and is 0 beyond its radius `R` and outside the grid's
+/// domain.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Analytic {
@@ -149,6 +265,29 @@ impl Analytic {
                 Analytic::R2 => 0.6 * fifth_difference(r0, m) / cube_difference(r0, r1),
             };
             out.extend(std::iter::repeat_n(avg, nt * np));
+        }
+        out
+    }
+
+    /// The exact average of the field over each cell of `grid` (flat order). Spherical: as
+    /// [`Analytic::cell_averages`]. Cylindrical and polar: the field is a function of the distance ρ from the
+    /// axis, and the angular and height factors cancel, so the average is `∫ f(ρ) ρ dρ / ∫ ρ dρ` over the cell's
+    /// radii, clipped at `radius`.
+    pub fn averages(self, grid: &Cells, radius: f64) -> Vec<f64> {
+        if let Cells::Spherical(g) = grid {
+            return self.cell_averages(g, radius);
+        }
+        let [_, b, c] = grid.shape();
+        let mut out = Vec::with_capacity(grid.cell_count());
+        for w in grid.radial().windows(2) {
+            let (r0, r1) = (w[0], w[1]);
+            let m = radius.clamp(r0, r1);
+            let area = square_difference(r0, r1);
+            let avg = match self {
+                Analytic::Ball | Analytic::Step => square_difference(r0, m) / area,
+                Analytic::R2 => 0.5 * square_difference(r0, m) * (m * m + r0 * r0) / area,
+            };
+            out.extend(std::iter::repeat_n(avg, b * c));
         }
         out
     }
@@ -221,6 +360,45 @@ mod tests {
         assert!((avg[2 * 16] - want).abs() < 1e-15);
         assert_eq!(avg[3 * 16], 0.0);
         assert_eq!(avg[0], 1.0);
+    }
+
+    #[test]
+    fn cylindrical_and_polar_averages_weigh_by_area_and_match_midpoint_quadrature() {
+        let cyl = Cells::Cylindrical(CylindricalCells {
+            center: [0.0; 3],
+            rho: vec![0.0, 0.5, 0.75, 1.0],
+            phi: vec![0.0, 1.0, TAU],
+            z: vec![-1.0, 0.0, 2.0, 3.0],
+        });
+        assert_eq!(cyl.shape(), [3, 2, 3]);
+        let r2 = Analytic::R2.averages(&cyl, 0.9);
+        let step = Analytic::Step.averages(&cyl, 0.6);
+        assert_eq!(r2.len(), 18);
+        // cell i = 1: ρ in [0.5, 0.75]; r² average by midpoint quadrature of ∫ ρ³ dρ / ∫ ρ dρ
+        let (a, b, m) = (0.5_f64, 0.75_f64, 100_000);
+        let (mut num, mut den) = (0.0, 0.0);
+        for s in 0..m {
+            let r = a + (b - a) * (s as f64 + 0.5) / m as f64;
+            num += r.powi(3);
+            den += r;
+        }
+        assert!((r2[6] - num / den).abs() < 1e-9, "{}", r2[6]);
+        assert!(r2[6..12].iter().all(|&v| v == r2[6]));
+        // clipped at R = 0.9 in the outer cell: ∫ from 0.75 to 0.9 of ρ³ over the cell's ∫ ρ dρ
+        let want = (0.9f64.powi(4) - 0.75f64.powi(4)) / 4.0 / ((1.0 - 0.5625) / 2.0);
+        assert!((r2[12] - want).abs() < 1e-15);
+        // the step straddling ρ = 0.6 holds its area fraction
+        assert!((step[6] - (0.36 - 0.25) / (0.5625 - 0.25)).abs() < 1e-15);
+        assert_eq!((step[0], step[12]), (1.0, 0.0));
+        let polar = Cells::Polar(PolarCells {
+            center: [0.0; 2],
+            r: vec![0.5, 0.75],
+            phi: vec![0.0, 1.0, 2.0],
+        });
+        assert_eq!(polar.dims(), vec![1, 2]);
+        assert_eq!(polar.flat([0, 1, 0]), Some(1));
+        assert_eq!(polar.flat([0, 1, 1]), None);
+        assert_eq!(Analytic::R2.averages(&polar, 1.0), vec![r2[6]; 2]);
     }
 
     #[test]

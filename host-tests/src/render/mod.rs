@@ -1,11 +1,11 @@
-//! Images of fields on spherical grids (`curvicast render`, seed 001 ch. 6): a camera casts one ray per pixel,
-//! the ray is marched through the grid natively (the kernel's serial engine, in f64, f32 or f32-fast) or through
-//! the Cartesian-resampling baseline, and a sampler folds the `(value, length)` of each cell crossed into the
-//! pixel's value. Rows are rendered across the cores; memory is the image plus the field (and, for the baseline,
-//! its voxels).
+//! Images of fields on spherical, cylindrical and polar grids (`curvicast render`, seed 001 ch. 6): a camera
+//! casts one ray per pixel, the ray is marched through the grid natively (the kernel's serial engine, in f64, f32
+//! or f32-fast) or through the Cartesian-resampling baseline, and a sampler folds the `(value, length)` of each
+//! cell crossed into the pixel's value. Rows are rendered across the cores; memory is the image plus the field
+//! (and, for the baseline, its voxels).
 //!
 //! * [`camera`]: pixel rays, orthographic and perspective;
-//! * [`field`]: the grid, the analytic fields as exact cell averages, their closed-form projections, coarsening;
+//! * [`field`]: the grids, the analytic fields as exact cell averages, their closed-form projections, coarsening;
 //! * [`sampler`]: projection, travel time, emission–absorption;
 //! * [`cartesian`]: the resampled voxels and their Amanatides–Woo march;
 //! * [`data`]: the shipped ocean temperature and PREM as spherical fields, and PREM's quadrature truth;
@@ -20,14 +20,15 @@ pub mod image;
 pub mod sampler;
 pub mod scene;
 
+use crate::batch::MarchGrid;
 use crate::cli::march::Precision;
 use camera::Camera;
 use cartesian::VoxelValues;
 use curvicast::F32Fast;
 use curvicast::ray::Ray;
 use curvicast::real::Real;
-use curvicast::spherical::SphericalGrid;
-use field::SphericalCells;
+use curvicast::spherical::{CylindricalGrid, GridError, PolarGrid, SphericalGrid};
+use field::Cells;
 use rayon::prelude::*;
 use sampler::{Accumulator, Mode};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -46,7 +47,7 @@ pub enum Method {
 #[derive(Debug, Clone)]
 pub struct Scene {
     /// The grid.
-    pub grid: SphericalCells,
+    pub grid: Cells,
     /// One value per cell (flat order; NaN = empty).
     pub values: Vec<f64>,
     /// The camera.
@@ -88,7 +89,10 @@ pub fn render(scene: &Scene, progress: &(dyn Fn() + Sync)) -> Rendered {
         },
         Method::Cartesian(n) => {
             let start = Instant::now();
-            let voxels = VoxelValues::resample(&scene.grid, &scene.values, n);
+            let Ok(voxels) = VoxelValues::resample(&scene.grid, &scene.values, n) else {
+                // refused when the scene was made (a polar grid); never a panic
+                return failed_render(scene);
+            };
             let resample = start.elapsed().as_secs_f64();
             let mut out = render_cartesian(scene, &voxels, progress);
             out.resample_seconds = Some(resample);
@@ -111,26 +115,56 @@ pub fn render_cartesian(
     })
 }
 
+/// Every pixel failed: what a scene that cannot be rendered gives (scenes are validated when they are made, so
+/// this is not reached in practice, but it is never a panic).
+fn failed_render(scene: &Scene) -> Rendered {
+    let n = scene.pixels[0] * scene.pixels[1];
+    Rendered {
+        values: vec![f64::NAN; n],
+        seconds: 0.0,
+        resample_seconds: None,
+        rays: 0,
+        crossings: 0,
+        failed: n as u64,
+    }
+}
+
 fn render_native<T: Real>(scene: &Scene, progress: &(dyn Fn() + Sync)) -> Rendered {
-    let g = &scene.grid;
     let conv = |v: &[f64]| v.iter().map(|&x| T::from_f64(x)).collect::<Vec<T>>();
-    let (r, th, ph) = (conv(&g.r), conv(&g.theta), conv(&g.phi));
-    let mut ws = vec![T::ZERO; SphericalGrid::<T>::workspace_len(r.len(), th.len(), ph.len())];
-    let center = g.center.map(T::from_f64);
-    let grid = match SphericalGrid::new(&r, &th, &ph, &mut ws).and_then(|s| s.with_center(center)) {
-        Ok(grid) => grid,
-        // validated when the scene was made; unreachable in practice, but never a panic
-        Err(_) => {
-            return Rendered {
-                values: vec![f64::NAN; scene.pixels[0] * scene.pixels[1]],
-                seconds: 0.0,
-                resample_seconds: None,
-                rays: 0,
-                crossings: 0,
-                failed: (scene.pixels[0] * scene.pixels[1]) as u64,
-            };
+    let built: Result<Rendered, GridError> = match &scene.grid {
+        Cells::Spherical(g) => {
+            let (r, th, ph) = (conv(&g.r), conv(&g.theta), conv(&g.phi));
+            let mut ws =
+                vec![T::ZERO; SphericalGrid::<T>::workspace_len(r.len(), th.len(), ph.len())];
+            SphericalGrid::new(&r, &th, &ph, &mut ws)
+                .and_then(|k| k.with_center(g.center.map(T::from_f64)))
+                .map(|k| cast_native(scene, &k, progress))
+        }
+        Cells::Cylindrical(g) => {
+            let (rho, ph, z) = (conv(&g.rho), conv(&g.phi), conv(&g.z));
+            let mut ws = vec![T::ZERO; CylindricalGrid::<T>::workspace_len(rho.len(), ph.len())];
+            CylindricalGrid::new(&rho, &ph, &z, &mut ws)
+                .and_then(|k| k.with_center(g.center.map(T::from_f64)))
+                .map(|k| cast_native(scene, &k, progress))
+        }
+        Cells::Polar(g) => {
+            let (r, ph) = (conv(&g.r), conv(&g.phi));
+            let mut ws = vec![T::ZERO; PolarGrid::<T>::workspace_len(r.len(), ph.len())];
+            PolarGrid::new(&r, &ph, &mut ws)
+                .and_then(|k| k.with_center(g.center.map(T::from_f64)))
+                .map(|k| cast_native(scene, &k, progress))
         }
     };
+    // validated when the scene was made
+    built.unwrap_or_else(|_| failed_render(scene))
+}
+
+/// Casts the pixel rays of `scene` through the kernel's grid with the serial engine.
+fn cast_native<T: Real, G: MarchGrid<T>>(
+    scene: &Scene,
+    grid: &G,
+    progress: &(dyn Fn() + Sync),
+) -> Rendered {
     rows(scene, progress, |i, j| {
         let (o, d) = scene.camera.ray(i, j);
         let Ok(ray) = Ray::new(o.map(T::from_f64), d.map(T::from_f64)) else {
@@ -138,10 +172,13 @@ fn render_native<T: Real>(scene: &Scene, progress: &(dyn Fn() + Sync)) -> Render
         };
         let mut acc = Accumulator::new(scene.mode);
         let mut n = 0u64;
-        let mut march = grid.march(&ray);
+        let mut march = grid.march_ray(&ray);
         for c in march.by_ref() {
             n += 1;
-            let v = g.flat(c.cell).map_or(f64::NAN, |f| scene.values[f]);
+            let v = scene
+                .grid
+                .flat(c.cell)
+                .map_or(f64::NAN, |f| scene.values[f]);
             if !acc.add(v, (c.t_exit - c.t_enter).to_f64()) {
                 break;
             }

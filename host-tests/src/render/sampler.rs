@@ -71,7 +71,8 @@ impl Accumulator {
     pub fn add(&mut self, value: f64, length: f64) -> bool {
         match self.mode {
             Mode::Projection => {
-                if value.is_finite() {
+                // a zero cell adds nothing, even along an infinite crossing (a polar prism seen along z)
+                if value.is_finite() && value != 0.0 {
                     self.sum += value * length;
                 }
                 true
@@ -87,6 +88,10 @@ impl Accumulator {
                     return true;
                 }
                 let s = ((value - tf.lo) / (tf.hi - tf.lo)).clamp(0.0, 1.0);
+                if s == 0.0 {
+                    // neither emits nor absorbs, whatever the length
+                    return true;
+                }
                 let alpha = -(-tf.opacity * s * length).exp_m1();
                 self.sum += self.transmittance * alpha * s;
                 self.transmittance *= 1.0 - alpha;
@@ -140,6 +145,26 @@ mod tests {
         a.add(0.0, 1.0);
         a.add(-1.0, 1.0);
         assert_eq!(a.value(), 2.0);
+    }
+
+    #[test]
+    fn zero_cells_add_nothing_along_an_infinite_crossing() {
+        let mut a = Accumulator::new(Mode::Projection);
+        a.add(0.0, f64::INFINITY);
+        a.add(2.0, 0.5);
+        assert_eq!(a.value(), 1.0);
+        let tf = Transfer {
+            lo: 1.0,
+            hi: 2.0,
+            opacity: 1.0,
+            cutoff: 0.99,
+        };
+        let mut a = Accumulator::new(Mode::EmissionAbsorption(tf));
+        assert!(a.add(0.5, f64::INFINITY));
+        assert_eq!(a.value(), 0.0);
+        // a visible cell crossed for ever is opaque
+        assert!(!a.add(2.0, f64::INFINITY));
+        assert_eq!(a.value(), 1.0);
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! [`Scene`]. Every problem is a [`UsageError`] naming the file at fault.
 
 use super::camera::{Camera, CameraSpec};
-use super::field::{Analytic, SphericalCells};
+use super::field::{Analytic, Cells, CylindricalCells, PolarCells, SphericalCells};
 use super::sampler::{Mode, Transfer};
 use super::{Method, Scene};
 use crate::cli::io::UsageError;
@@ -22,7 +22,7 @@ pub const MAX_CELLS: usize = 1 << 28;
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneSpec {
-    /// A GRID.json object (spherical).
+    /// A GRID.json object (spherical, cylindrical or polar).
     pub grid: GridSpec,
     /// The field.
     pub field: FieldSpec,
@@ -72,7 +72,8 @@ pub enum ModeSpec {
 pub struct TransferSpec {
     /// Values mapped to 0 and 1 (default: the smallest and largest finite cell value).
     pub range: Option<[f64; 2]>,
-    /// Extinction per unit length at full scale (default: 4 / the shell's thickness `r_max − r_min`).
+    /// Extinction per unit length at full scale (default: 4 / the domain's radial thickness `r_max − r_min`,
+    /// or `ρ_max − ρ_min`).
     pub opacity: Option<f64>,
     /// Early termination at this accumulated opacity (default 0.99).
     pub cutoff: Option<f64>,
@@ -130,33 +131,7 @@ pub enum SceneError {
 /// Builds a scene from its parsed form; `base` is the folder per-cell data paths are relative to.
 pub fn build_scene(spec: &SceneSpec, base: &Path) -> Result<Scene, SceneError> {
     let bad = |m: String| SceneError::Scene(m);
-    let GridSpec::Spherical {
-        center,
-        r,
-        theta,
-        phi,
-    } = &spec.grid
-    else {
-        return Err(bad("render supports spherical grids only".into()));
-    };
-    let grid = SphericalCells {
-        center: center.unwrap_or([0.0; 3]),
-        r: r.clone(),
-        theta: theta.clone(),
-        phi: phi.clone(),
-    };
-    // the kernel's own validation of the breakpoints
-    let mut ws = vec![
-        0.0;
-        curvicast::spherical::SphericalGrid::<f64>::workspace_len(
-            r.len(),
-            theta.len(),
-            phi.len()
-        )
-    ];
-    curvicast::spherical::SphericalGrid::new(r, theta, phi, &mut ws)
-        .and_then(|g| g.with_center(grid.center))
-        .map_err(|e| bad(format!("grid: {e}")))?;
+    let grid = grid_cells(&spec.grid).map_err(|e| bad(format!("grid: {e}")))?;
     if grid.cell_count() > MAX_CELLS {
         return Err(bad(format!("grid: more than {MAX_CELLS} cells")));
     }
@@ -181,8 +156,7 @@ pub fn build_scene(spec: &SceneSpec, base: &Path) -> Result<Scene, SceneError> {
                     "emission_absorption: range must be finite with lo < hi, got [{lo}, {hi}]"
                 )));
             }
-            let thickness = grid.outer_radius() - grid.r.first().copied().unwrap_or(0.0);
-            let opacity = t.opacity.unwrap_or(4.0 / thickness);
+            let opacity = t.opacity.unwrap_or(4.0 / grid.thickness());
             if !(opacity.is_finite() && opacity >= 0.0) {
                 return Err(bad(format!(
                     "emission_absorption: opacity must be finite and ≥ 0, got {opacity}"
@@ -204,6 +178,11 @@ pub fn build_scene(spec: &SceneSpec, base: &Path) -> Result<Scene, SceneError> {
     };
     let method = match spec.method {
         MethodSpec::Native => Method::Native,
+        MethodSpec::Cartesian(_) if matches!(grid, Cells::Polar(_)) => {
+            return Err(bad(
+                "cartesian: a polar grid is unbounded in z and has no bounding cube to resample onto".into(),
+            ));
+        }
         MethodSpec::Cartesian(n) if (1..=MAX_VOXELS_PER_SIDE).contains(&n) => Method::Cartesian(n),
         MethodSpec::Cartesian(n) => {
             return Err(bad(format!(
@@ -227,7 +206,57 @@ pub fn build_scene(spec: &SceneSpec, base: &Path) -> Result<Scene, SceneError> {
     })
 }
 
-fn field_values(f: &FieldSpec, grid: &SphericalCells, base: &Path) -> Result<Vec<f64>, SceneError> {
+/// The grid of a GRID.json object, checked by the kernel's own validation of the breakpoints and center.
+pub fn grid_cells(spec: &GridSpec) -> Result<Cells, curvicast::spherical::GridError> {
+    use curvicast::spherical::{CylindricalGrid, PolarGrid, SphericalGrid};
+    Ok(match spec {
+        GridSpec::Spherical {
+            center,
+            r,
+            theta,
+            phi,
+        } => {
+            let center = center.unwrap_or([0.0; 3]);
+            let mut ws =
+                vec![0.0; SphericalGrid::<f64>::workspace_len(r.len(), theta.len(), phi.len())];
+            SphericalGrid::new(r, theta, phi, &mut ws)?.with_center(center)?;
+            Cells::Spherical(SphericalCells {
+                center,
+                r: r.clone(),
+                theta: theta.clone(),
+                phi: phi.clone(),
+            })
+        }
+        GridSpec::Cylindrical {
+            center,
+            rho,
+            phi,
+            z,
+        } => {
+            let center = center.unwrap_or([0.0; 3]);
+            let mut ws = vec![0.0; CylindricalGrid::<f64>::workspace_len(rho.len(), phi.len())];
+            CylindricalGrid::new(rho, phi, z, &mut ws)?.with_center(center)?;
+            Cells::Cylindrical(CylindricalCells {
+                center,
+                rho: rho.clone(),
+                phi: phi.clone(),
+                z: z.clone(),
+            })
+        }
+        GridSpec::Polar { center, r, phi } => {
+            let center = center.unwrap_or([0.0; 2]);
+            let mut ws = vec![0.0; PolarGrid::<f64>::workspace_len(r.len(), phi.len())];
+            PolarGrid::new(r, phi, &mut ws)?.with_center(center)?;
+            Cells::Polar(PolarCells {
+                center,
+                r: r.clone(),
+                phi: phi.clone(),
+            })
+        }
+    })
+}
+
+fn field_values(f: &FieldSpec, grid: &Cells, base: &Path) -> Result<Vec<f64>, SceneError> {
     let bad = |m: String| SceneError::Scene(m);
     match (f.analytic, &f.cells) {
         (Some(kind), None) => {
@@ -237,7 +266,7 @@ fn field_values(f: &FieldSpec, grid: &SphericalCells, base: &Path) -> Result<Vec
             if !(radius.is_finite() && radius > 0.0) {
                 return Err(bad(format!("field: radius must be positive, got {radius}")));
             }
-            Ok(kind.cell_averages(grid, radius))
+            Ok(kind.averages(grid, radius))
         }
         (None, Some(file)) => {
             if f.radius.is_some() {

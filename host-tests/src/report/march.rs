@@ -7,90 +7,16 @@ use crate::baselines::dda::{VoxelCrossing, VoxelGrid};
 use crate::march_run::{self as run, Engine, Precision};
 use crate::oracle::march::{KernelCrossing, MarchOracle, compare, same_sequence};
 use crate::scenes::march_cases as mc;
+use crate::scenes::marching::{Breakpoints, CELLS, GridKind, parallel_rays, perspective_rays};
 use crate::scenes::spec::{GridSpec, RaySpec};
 use curvicast::ray::Ray;
 use curvicast::real::{F32Fast, Real};
-use curvicast::spherical::SphericalGrid;
+use curvicast::spherical::SeparableMarch;
 use rayon::prelude::*;
-use std::f64::consts::{PI, TAU};
 use std::fmt::Write as _;
 use std::time::Instant;
 
-const CELLS: usize = 64;
 const SEPARABLE_N: usize = 512;
-
-fn uniform(n: usize, lo: f64, hi: f64) -> Vec<f64> {
-    (0..=n)
-        .map(|i| lo + (hi - lo) * i as f64 / n as f64)
-        .collect()
-}
-
-/// The benchmark grid: 64³ cells, uniform in r ∈ [0, 1], θ ∈ [0, π], φ ∈ [0, 2π].
-fn bench_grid() -> GridSpec {
-    GridSpec::Spherical {
-        center: None,
-        r: uniform(CELLS, 0.0, 1.0),
-        theta: uniform(CELLS, 0.0, PI),
-        phi: uniform(CELLS, 0.0, TAU),
-    }
-}
-
-/// `m²` parallel rays along a slightly oblique direction covering the ball.
-fn parallel_rays(m: usize) -> Vec<RaySpec> {
-    let d = [1.0, 0.15, 0.1];
-    let n = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    let d = d.map(|a| a / n.sqrt());
-    // an orthonormal frame (u, v) perpendicular to d
-    let u = {
-        let w = [-d[1], d[0], 0.0];
-        let l = (w[0] * w[0] + w[1] * w[1]).sqrt();
-        w.map(|a| a / l)
-    };
-    let v = [
-        d[1] * u[2] - d[2] * u[1],
-        d[2] * u[0] - d[0] * u[2],
-        d[0] * u[1] - d[1] * u[0],
-    ];
-    let mut out = Vec::with_capacity(m * m);
-    for i in 0..m {
-        for j in 0..m {
-            let a = -1.05 + 2.1 * (i as f64 + 0.5) / m as f64;
-            let b = -1.05 + 2.1 * (j as f64 + 0.5) / m as f64;
-            let o = [0, 1, 2].map(|k| a * u[k] + b * v[k] - 3.0 * d[k]);
-            out.push(RaySpec::new(o, d));
-        }
-    }
-    out
-}
-
-/// `m²` rays of a perspective camera at distance 3R looking at the center (field of view just covering the ball).
-fn perspective_rays(m: usize) -> Vec<RaySpec> {
-    let eye = [0.3, -3.0 * 0.98, 0.45];
-    let n = (eye[0] * eye[0] + eye[1] * eye[1] + eye[2] * eye[2]).sqrt();
-    let eye = eye.map(|a| a / n * 3.0);
-    let fwd = eye.map(|a| -a / 3.0);
-    let right = {
-        let w = [fwd[1], -fwd[0], 0.0];
-        let l = (w[0] * w[0] + w[1] * w[1]).sqrt();
-        w.map(|a| a / l)
-    };
-    let up = [
-        right[1] * fwd[2] - right[2] * fwd[1],
-        right[2] * fwd[0] - right[0] * fwd[2],
-        right[0] * fwd[1] - right[1] * fwd[0],
-    ];
-    let half = (1.0f64 / 3.0).asin().tan() * 1.05;
-    let mut out = Vec::with_capacity(m * m);
-    for i in 0..m {
-        for j in 0..m {
-            let a = half * (-1.0 + 2.0 * (i as f64 + 0.5) / m as f64);
-            let b = half * (-1.0 + 2.0 * (j as f64 + 0.5) / m as f64);
-            let d = [0, 1, 2].map(|k| fwd[k] + a * right[k] + b * up[k]);
-            out.push(RaySpec::new(eye, d));
-        }
-    }
-    out
-}
 
 struct Timing {
     ns_per_ray: f64,
@@ -98,23 +24,22 @@ struct Timing {
     crossings_per_ray: f64,
 }
 
-/// Times one engine and precision on `rays`, under the report's one timing policy: every method starts from the
-/// same `f64` ray records, builds its own ray inside the timed region, and keeps the best of `reps` passes. A ray
-/// the kernel rejects or an engine error is an error of the section (nothing is skipped silently).
+/// Times one engine and precision on `rays` through the scene's grid `kind`, under the report's one timing
+/// policy: every method starts from the same `f64` ray records, builds its own ray inside the timed region, and
+/// keeps the best of `reps` passes. The separable engine lists into one march reused across the rays
+/// (`march_separable_into`), as a caller marching many rays does. A ray the kernel rejects or an engine error is
+/// an error of the section (nothing is skipped silently).
 fn time_engine<T: Real>(
-    g: &GridSpec,
+    kind: GridKind,
     rays: &[RaySpec],
     engine: Engine,
     reps: usize,
 ) -> anyhow::Result<Timing> {
-    let GridSpec::Spherical { r, theta, phi, .. } = g else {
-        anyhow::bail!("the benchmark grid is spherical");
-    };
-    let conv = |v: &Vec<f64>| v.iter().map(|&a| T::from_f64(a)).collect::<Vec<T>>();
-    let (r, th, ph) = (conv(r), conv(theta), conv(phi));
-    let mut ws = vec![T::ZERO; SphericalGrid::<T>::workspace_len(r.len(), th.len(), ph.len())];
-    let grid = SphericalGrid::new(&r, &th, &ph, &mut ws)
-        .map_err(|e| anyhow::anyhow!("benchmark grid in {}: {e}", T::NAME))?;
+    let mut breakpoints = Breakpoints::<T>::new(kind);
+    let grid = breakpoints
+        .grid()
+        .map_err(|e| anyhow::anyhow!("{} benchmark grid in {}: {e}", kind.name(), T::NAME))?;
+    let mut separable = SeparableMarch::<T, SEPARABLE_N>::default();
     let mut best = f64::INFINITY;
     let mut crossings = 0usize;
     let mut sink = 0.0f64;
@@ -141,9 +66,9 @@ fn time_engine<T: Real>(
                         failed.get_or_insert((k, e.to_string()));
                     }
                 }
-                Engine::Separable => match grid.march_separable::<SEPARABLE_N>(&ray) {
-                    Ok(it) => {
-                        for c in it {
+                Engine::Separable => match grid.march_separable_into(&ray, &mut separable) {
+                    Ok(()) => {
+                        for c in separable.by_ref() {
                             crossings += 1;
                             sink += (c.t_exit - c.t_enter).to_f64();
                         }
@@ -157,8 +82,9 @@ fn time_engine<T: Real>(
         best = best.min(start.elapsed().as_secs_f64());
         if let Some((k, e)) = failed {
             anyhow::bail!(
-                "{engine:?} {}: ray {k} of the benchmark failed: {e}",
-                T::NAME
+                "{engine:?} {} on the {} grid: ray {k} of the benchmark failed: {e}",
+                T::NAME,
+                kind.name()
             );
         }
     }
@@ -172,16 +98,16 @@ fn time_engine<T: Real>(
 }
 
 fn time_mode(
-    g: &GridSpec,
+    kind: GridKind,
     rays: &[RaySpec],
     e: Engine,
     p: Precision,
     reps: usize,
 ) -> anyhow::Result<Timing> {
     match p {
-        Precision::F64 => time_engine::<f64>(g, rays, e, reps),
-        Precision::F32 => time_engine::<f32>(g, rays, e, reps),
-        Precision::F32Fast => time_engine::<F32Fast>(g, rays, e, reps),
+        Precision::F64 => time_engine::<f64>(kind, rays, e, reps),
+        Precision::F32 => time_engine::<f32>(kind, rays, e, reps),
+        Precision::F32Fast => time_engine::<F32Fast>(kind, rays, e, reps),
     }
 }
 
@@ -237,56 +163,65 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
     let quick = opts.quick;
     let m = if quick { 64 } else { 256 };
     let reps = if quick { 1 } else { 3 };
-    let grid = bench_grid();
+    let grid = GridKind::Uniform.spec();
+    let parallel = parallel_rays(m);
     let views = [
-        ("parallel", parallel_rays(m)),
-        ("perspective from 3R", perspective_rays(m)),
+        ("parallel", GridKind::Uniform, parallel.clone()),
+        ("parallel", GridKind::NonUniform, parallel.clone()),
+        ("parallel", GridKind::Partial, parallel),
+        (
+            "perspective from 3R",
+            GridKind::Uniform,
+            perspective_rays(m),
+        ),
     ];
     let n_acc = if quick { 120 } else { 1000 };
     let mut md = String::new();
     writeln!(
         md,
-        "Grid: {c}³ cells, uniform in r ∈ [0, 1], θ ∈ [0, π], φ ∈ [0, 2π]. Views: {m}² parallel rays (direction \
-         (1, 0.15, 0.1)) and a {m}² perspective view from 3R. Times are the best of {reps} run(s) on one core, \
-         every method (each engine and precision, and the DDA baseline) starting from the same f64 ray records \
-         and building its own rays inside the timed region; a ray an engine rejects fails the report. The \
-         oracle columns are measured on {n_acc} rays of the parallel view (\"same cells\": identical cell sequence \
-         after dropping crossings shorter than 1e-7·L; \"max bwd\": largest distance of a crossing point from its \
-         surface, in eps·L of that precision).\n",
+        "Grids: {c}³ cells, uniform in r ∈ [0, 1], θ ∈ [0, π], φ ∈ [0, 2π]; the same ranges with random (seeded) \
+         non-uniform breakpoints; and a partial domain (shell r ∈ [0.3, 1], zenith band θ ∈ [0.4, 2.6], wedge \
+         φ ∈ [−1, 4]), uniform. Views: {m}² parallel rays (direction (1, 0.15, 0.1)) on each grid and a {m}² \
+         perspective view from 3R on the uniform grid. Times are the best of {reps} run(s) on one core, every \
+         method (each engine and precision, and the DDA baseline) starting from the same f64 ray records and \
+         building its own rays inside the timed region; the separable engine (N = {SEPARABLE_N}) lists into one \
+         march reused across the rays (`march_separable_into`). A ray an engine rejects fails the report. The \
+         oracle columns are measured on {n_acc} rays of the parallel view of the uniform grid (\"same cells\": \
+         identical cell sequence after dropping crossings shorter than 1e-7·L; \"max bwd\": largest distance of \
+         a crossing point from its surface, in eps·L of that precision). Instruction counts of the same scenes: \
+         `host-tests/examples/march_count.rs`.\n",
         c = CELLS
     )?;
     let sample: Vec<RaySpec> = {
-        let all = &views[0].1;
+        let all = &views[0].2;
         let step = (all.len() / n_acc).max(1);
         all.iter().step_by(step).take(n_acc).copied().collect()
     };
-    md.push_str("| view | engine | precision | crossings/ray | ns/ray | ns/crossing | same cells (oracle) | max bwd (eps·L) |\n");
-    md.push_str("|---|---|---|---:|---:|---:|---:|---:|\n");
-    let mut serial_f64 = [f64::NAN; 2];
-    let mut acc_cache: Vec<((Engine, Precision), Accuracy)> = Vec::new();
-    for (vi, (vname, rays)) in views.iter().enumerate() {
+    md.push_str("| view | grid | engine | precision | crossings/ray | ns/ray | ns/crossing | same cells (oracle) | max bwd (eps·L) |\n");
+    md.push_str("|---|---|---|---|---:|---:|---:|---:|---:|\n");
+    let mut serial_f64 = [f64::NAN; 4];
+    for (vi, (vname, kind, rays)) in views.iter().enumerate() {
         for &(e, p) in &run::ALL_MODES {
-            let t = time_mode(&grid, rays, e, p, reps)?;
+            let t = time_mode(*kind, rays, e, p, reps)?;
             if e == Engine::Serial && p == Precision::F64 {
                 serial_f64[vi] = t.ns_per_ray;
             }
             let acc_txt = if vi == 0 {
                 let a = accuracy(&grid, &sample, e, p);
-                let s = format!(
+                format!(
                     "{}/{} ({:.1} %) | {:.2}",
                     a.same,
                     a.n,
                     100.0 * a.same as f64 / a.n.max(1) as f64,
                     a.max_bwd
-                );
-                acc_cache.push(((e, p), a));
-                s
+                )
             } else {
-                "(see parallel) | ".to_string()
+                "(see uniform parallel) | ".to_string()
             };
             writeln!(
                 md,
-                "| {vname} | {e:?} | {} | {:.1} | {:.0} | {:.1} | {acc_txt} |",
+                "| {vname} | {} | {e:?} | {} | {:.1} | {:.0} | {:.1} | {acc_txt} |",
+                kind.describe(),
                 p.name(),
                 t.crossings_per_ray,
                 t.ns_per_ray,
@@ -314,7 +249,10 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
                 same_sequence(reference, &voxel_list(&out))
             })
             .count();
-        for (vi, (vname, rays)) in views.iter().enumerate() {
+        for (vi, (vname, kind, rays)) in views.iter().enumerate() {
+            if *kind != GridKind::Uniform {
+                continue;
+            }
             let mut out = Vec::new();
             let mut best = f64::INFINITY;
             let mut sink = 0usize;

@@ -116,7 +116,7 @@ fn scene_of(
     method: Method,
 ) -> anyhow::Result<Scene> {
     Ok(Scene {
-        grid,
+        grid: grid.into(),
         values,
         camera: Camera::new(&st.camera, st.pixels).map_err(anyhow::Error::msg)?,
         pixels: st.pixels,
@@ -126,8 +126,7 @@ fn scene_of(
     })
 }
 
-fn cells_label(g: &SphericalCells) -> String {
-    let [a, b, c] = g.shape();
+fn cells_label([a, b, c]: [usize; 3]) -> String {
     format!("{a}×{b}×{c}")
 }
 
@@ -149,7 +148,7 @@ fn run_study(st: &Study, reps: usize) -> anyhow::Result<Vec<Run>> {
         rungs.remove(0);
     }
     for (g, v) in rungs.into_iter().rev() {
-        let label = cells_label(&g);
+        let label = cells_label(g.shape());
         let scene = scene_of(st, g, v, Method::Native)?;
         let out = min_time(reps, || render(&scene, &none));
         runs.push(Run {
@@ -165,7 +164,8 @@ fn run_study(st: &Study, reps: usize) -> anyhow::Result<Vec<Run>> {
     for &n in &st.cartesian {
         let scene = scene_of(st, st.fine.clone(), st.values.clone(), Method::Cartesian(n))?;
         let start = Instant::now();
-        let voxels = VoxelValues::resample(&scene.grid, &scene.values, n);
+        let voxels =
+            VoxelValues::resample(&scene.grid, &scene.values, n).map_err(anyhow::Error::msg)?;
         let resample = start.elapsed().as_secs_f64();
         let out = min_time(reps, || render_cartesian(&scene, &voxels, &none));
         drop(voxels);
@@ -468,7 +468,7 @@ fn ocean_study(quick: bool) -> anyhow::Result<Study> {
     let pixels = if quick { [96, 96] } else { [256, 256] };
     // the truth: the data itself, marched natively in f64
     let scene = Scene {
-        grid: fine.clone(),
+        grid: fine.clone().into(),
         values: values.clone(),
         camera: Camera::new(&camera, pixels).map_err(anyhow::Error::msg)?,
         pixels,
@@ -583,7 +583,7 @@ fn real_renders(opts: &Options) -> anyhow::Result<String> {
     ];
     for (file, camera, pixels, what) in views {
         let scene = Scene {
-            grid: grid.clone(),
+            grid: grid.clone().into(),
             values: values.clone(),
             camera: Camera::new(&camera, pixels).map_err(anyhow::Error::msg)?,
             pixels,
@@ -619,7 +619,7 @@ fn real_renders(opts: &Options) -> anyhow::Result<String> {
     let r = g.outer_radius();
     let pixels = [side, side];
     let scene = Scene {
-        grid: g,
+        grid: g.into(),
         values: v,
         camera: Camera::new(
             &CameraSpec::Perspective {
@@ -653,7 +653,7 @@ fn real_renders(opts: &Options) -> anyhow::Result<String> {
         "![PREM travel times](prem_travel_time.png)\n\nPREM: straight-ray P travel time through the whole Earth \
          (perspective view; {} cells, each linear piece of the model cut in 4; {lo:.0} s to {hi:.0} s, viridis), \
          {side}×{side} pixels in {} natively.\n",
-        cells_label(&scene.grid),
+        cells_label(scene.grid.shape()),
         ms(out.seconds)
     );
     Ok(md)

@@ -3,6 +3,7 @@
 
 pub mod dem_files;
 pub mod march_cases;
+pub mod marching;
 pub mod real_dem;
 pub mod spec;
 pub mod terrain;
