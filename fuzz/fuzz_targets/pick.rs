@@ -11,8 +11,8 @@
 //!
 //! The tree is the kernel's builder's (`terrain::build`): with `split`, one-cell leaves under zones (two levels
 //! once a side has more than four cells), else one leaf over the whole grid. Bit 3 of `rows` (unused by the grid
-//! size) makes the storage provide node boxes (`TerrainStorage::node_box`, built by `build_boxes_sharing` from
-//! every vertex of each node), so that half of the inputs run the traversal's box tests and half its spheroidal
+//! size) makes the storage provide node boxes (`TerrainStorage::node_box`, built into the node records by
+//! `build_boxes_sharing` from every vertex of each node; otherwise the records' box slots stay empty), so that half of the inputs run the traversal's box tests and half its spheroidal
 //! volumes (the shipped seeds keep the volumes); bits 4–7 choose which boxes are in their parent's box frame
 //! rather than their parent's own.
 #![no_main]
@@ -20,8 +20,9 @@
 use arbitrary::Arbitrary;
 use curvicast::Ray;
 use curvicast::geodesy::Ellipsoid;
+use curvicast::terrain::boxes::NodeBox;
 use curvicast::terrain::build::{
-    NodeRecord, Parts, SliceStorage, TreeStorage, build_boxes_sharing, build_tree, node_slots,
+    NodeRecord, SliceStorage, build_boxes_sharing, build_tree, node_slots,
 };
 use curvicast::terrain::{Grid, Node, NodeId, Picker};
 use libfuzzer_sys::fuzz_target;
@@ -147,29 +148,19 @@ fuzz_target!(|inp: Input| {
     // The kernel's builder: one-cell leaves under zones of up to 2 × 2 of them (two levels once a side has more
     // than four cells), or with `split` unset one block over the whole grid (a single zone that is a leaf).
     let block = if inp.split { 1 } else { 8 };
-    let mut nodes = vec![NodeRecord::EMPTY; node_slots(rows, cols, block)];
+    let mut nodes = vec![NodeRecord::<f64, Option<NodeBox>>::EMPTY; node_slots(rows, cols, block)];
     let Ok(tree) = build_tree(&h, &grid, block, &mut nodes) else {
         return;
     };
     let e = Ellipsoid::<f64>::wgs84();
-    let Ok(bare) = SliceStorage::new(e, grid, &h, &nodes, tree) else {
-        return;
-    };
-    let mut boxes = vec![None; tree.slots()];
     if inp.rows & 0x08 != 0 {
         let share = inp.rows >> 4;
         let shared = |id: NodeId, _: Option<&Node<f64>>| (share >> (id.0 % 4)) & 1 == 1;
-        if build_boxes_sharing(&bare, &mut boxes, shared).is_err() {
+        if build_boxes_sharing(&e, &grid, &h, tree, None, &mut nodes, shared).is_err() {
             return;
         }
-    } else {
-        boxes.clear();
     }
-    let parts = Parts {
-        boxes: &boxes,
-        ..Parts::new(&h[..], &nodes[..])
-    };
-    let Ok(t) = TreeStorage::with_buffers(e, grid, tree, parts) else {
+    let Ok(t) = SliceStorage::new(e, grid, &h, &nodes, tree) else {
         return;
     };
     let Ok(picker) = Picker::<'_, f64, _>::new(&t) else {

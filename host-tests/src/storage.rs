@@ -1,6 +1,6 @@
 //! The host's terrain storage for the kernel: [`DemStorage`], a thin owner of vectors around the kernel's
 //! storage ([`curvicast::terrain::build::TreeStorage`]) over a [`Dem`]: the node records of the kernel's
-//! builder, the per-node boxes, the per-row and per-column trigonometry tables and, for a multi-resolution tree,
+//! builder with their boxes, the per-row and per-column trigonometry tables and, for a multi-resolution tree,
 //! the residency flags (single- and multi-resolution, with paging for the multi-resolution experiments). It sits
 //! beside the scenes and the oracle, not in either: it uses both (the scenes' DEM model; the multi-resolution
 //! oracle's tree description for [`DemStorage::tree`]).
@@ -15,12 +15,14 @@ use curvicast::terrain::build::{
 use curvicast::terrain::{Grid, Node, NodeId, Parallel, TerrainStorage};
 use std::sync::atomic::{AtomicBool, Ordering};
 
+/// A node record of a [`DemStorage`]: height range in `f32` (the samples' type) and the node's box, 72 bytes.
+type Record = NodeRecord<f32, Option<NodeBox>>;
+
 /// The vectors behind a [`DemStorage`], lent to the kernel's storage as [`Parts`].
 #[derive(Debug)]
 struct DemBuffers<'a> {
     heights: &'a [f32],
-    nodes: Vec<NodeRecord<f64>>,
-    boxes: Vec<Option<NodeBox>>,
+    nodes: Vec<Record>,
     row_sin_cos: Vec<(f64, f64)>,
     col_sin_cos: Vec<(f64, f64)>,
     row_parallel: Vec<Parallel<f64>>,
@@ -39,13 +41,14 @@ impl DemBuffers<'_> {
     }
 }
 
-impl Buffers<f64, f32> for DemBuffers<'_> {
+impl Buffers<f64> for DemBuffers<'_> {
+    type Height = f32;
+    type Box = Option<NodeBox>;
     #[inline]
-    fn parts(&self) -> Parts<'_, f64, f32> {
+    fn parts(&self) -> Parts<'_, f64, f32, Option<NodeBox>> {
         Parts {
             heights: self.heights,
             nodes: &self.nodes,
-            boxes: &self.boxes,
             trig: Some(self.trig()),
             resident: &self.resident,
         }
@@ -53,8 +56,8 @@ impl Buffers<f64, f32> for DemBuffers<'_> {
 }
 
 /// The host's terrain storage for the kernel (seed 000 §3.5, §4, §5): a [`Dem`] and the vectors the kernel's
-/// builder fills ([`curvicast::terrain::build`]: the quadtree's node records, the node boxes with the
-/// shared-frame rule, the trigonometry tables, residency flags), behind the kernel's own
+/// builder fills ([`curvicast::terrain::build`]: the quadtree's node records with their boxes (shared-frame
+/// rule), the trigonometry tables, residency flags), behind the kernel's own
 /// [`curvicast::terrain::build::TreeStorage`]. The tree is the builder's: leaves of `block × block` cells,
 /// zones at the first level of at most 4 × 8 nodes, ids by 2 × 2 groups from the leaves up.
 #[derive(Debug)]
@@ -65,7 +68,7 @@ pub struct DemStorage<'a> {
     /// The kernel's storage; if the builder refused the DEM (an invalid grid), one over a 2 × 2 grid without
     /// data, so that the picker over this storage reports the DEM's grid's error ([`DemStorage::grid`] is the
     /// DEM's) and nothing else changes.
-    storage: TreeStorage<f64, f32, DemBuffers<'a>>,
+    storage: TreeStorage<f64, DemBuffers<'a>>,
     /// Why the builder refused the DEM, if it did.
     refused: Option<build::BuildError>,
 }
@@ -150,7 +153,7 @@ impl<'a> DemStorage<'a> {
         e: &Ellipsoid<f64>,
         block: u32,
         multires: Option<MultiRes>,
-    ) -> Result<TreeStorage<f64, f32, DemBuffers<'a>>, build::BuildError> {
+    ) -> Result<TreeStorage<f64, DemBuffers<'a>>, build::BuildError> {
         let slots = node_slots(grid.rows, grid.cols, block);
         let mut nodes = vec![NodeRecord::EMPTY; slots];
         let tree = match multires {
@@ -173,7 +176,6 @@ impl<'a> DemStorage<'a> {
         let mut b = DemBuffers {
             heights,
             nodes,
-            boxes: Vec::new(),
             row_sin_cos: vec![(0.0, 0.0); rows],
             col_sin_cos: vec![(0.0, 0.0); cols],
             row_parallel: vec![TrigTables::<f64>::UNSET_PARALLEL; rows],
@@ -188,12 +190,13 @@ impl<'a> DemStorage<'a> {
             &mut b.row_parallel,
             &mut b.col_sin_cos_dd,
         )?;
-        let mut boxes = vec![None; slots];
-        build::build_boxes(
-            &TreeStorage::with_buffers(*e, *grid, tree, b.parts())?,
-            &mut boxes,
-        )?;
-        b.boxes = boxes;
+        let trig = TrigTables {
+            row_sin_cos: &b.row_sin_cos,
+            col_sin_cos: &b.col_sin_cos,
+            row_parallel: &b.row_parallel,
+            col_sin_cos_dd: &b.col_sin_cos_dd,
+        };
+        build::build_boxes(e, grid, heights, tree, Some(trig), &mut b.nodes)?;
         if multires.is_some() {
             b.resident = (0..slots).map(|_| AtomicBool::new(true)).collect();
         }
@@ -206,7 +209,7 @@ impl<'a> DemStorage<'a> {
     }
 
     /// The kernel's storage, `None` if the builder refused the DEM.
-    fn kernel(&self) -> Option<&TreeStorage<f64, f32, DemBuffers<'a>>> {
+    fn kernel(&self) -> Option<&TreeStorage<f64, DemBuffers<'a>>> {
         self.refused.is_none().then_some(&self.storage)
     }
 
@@ -266,14 +269,13 @@ impl<'a> DemStorage<'a> {
         self.kernel().map_or(0, |s| s.tree().depth())
     }
 
-    /// The memory the tree adds to the heights, in bytes: one record and one box per node slot, the residency
+    /// The memory the tree adds to the heights, in bytes: one record (with its box) per node slot, the residency
     /// flags, and the per-row / per-column trigonometry tables.
     pub fn overhead_bytes(&self) -> usize {
         let Some(b) = self.kernel().map(TreeStorage::buffers) else {
             return 0;
         };
-        b.nodes.len() * std::mem::size_of::<NodeRecord<f64>>()
-            + b.boxes.len() * std::mem::size_of::<Option<NodeBox>>()
+        b.nodes.len() * std::mem::size_of::<Record>()
             + b.resident.len() * std::mem::size_of::<AtomicBool>()
             + (b.row_sin_cos.len() + b.col_sin_cos.len()) * std::mem::size_of::<(f64, f64)>()
             + b.row_parallel.len() * std::mem::size_of::<Parallel<f64>>()
@@ -335,9 +337,9 @@ impl TerrainStorage<f64> for DemStorage<'_> {
     }
 }
 
-/// The kernel's storage is `f64`; an `f32` picker (the box tests check `f32` rays) reads the same records,
-/// boxes and heights converted (exactly: the heights are `f32`) and computes its own trigonometry (the kernel
-/// requires exactly `sin_cos_deg` in `f32`), as the trait's defaults do.
+/// The kernel's storage is `f64`; an `f32` picker (the box tests check `f32` rays) reads the same records
+/// (their heights are `f32`), boxes and heights and computes its own trigonometry (the kernel requires exactly
+/// `sin_cos_deg` in `f32`), as the trait's defaults do.
 impl TerrainStorage<f32> for DemStorage<'_> {
     fn ellipsoid(&self) -> Ellipsoid<f32> {
         let e = self.ellipsoid;
@@ -361,14 +363,7 @@ impl TerrainStorage<f32> for DemStorage<'_> {
         self.storage.zone(k)
     }
     fn node(&self, id: NodeId) -> Option<Node<f32>> {
-        let n = self.storage.node(id)?;
-        Some(Node {
-            rows: n.rows,
-            cols: n.cols,
-            heights: n.heights.map(|h| h.map(|v| v as f32)),
-            children: n.children,
-            level: n.level,
-        })
+        self.storage.record(id).map(NodeRecord::node)
     }
     fn height(&self, i: u32, j: u32) -> Option<f32> {
         self.storage.height(i, j).map(|h| h as f32)

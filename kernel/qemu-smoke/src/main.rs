@@ -43,8 +43,9 @@ use curvicast::spherical::SphericalGrid;
 use curvicast::surface::{
     AxialCone, Crossings, HalfPlane, PlaneZ, Side, Spheroid, Surface, SurfaceError,
 };
+use curvicast::terrain::boxes::NodeBox;
 use curvicast::terrain::build::{
-    NodeRecord, Parts, SliceStorage, TreeStorage, build_boxes_sharing, build_tree, node_slots,
+    NodeRecord, SliceStorage, build_boxes_sharing, build_tree, node_slots,
 };
 use curvicast::terrain::{Grid, Node, NodeId, Picker};
 use curvicast::tessellate::bevel::{Face, bevel_sphere, face_count, vertex_count};
@@ -217,34 +218,28 @@ const PEAK_SLOPE_H: f64 = 399.966_730_307_997_1;
 fn pick_case<T: Real>(tol_m: f64, boxed: bool) -> bool {
     let e = Ellipsoid::<T>::wgs84();
     let h = |x: f64| T::from_f64(x);
-    // The tree built on the target by the kernel's builder, and with `boxed` its node boxes (odd-numbered
-    // nodes' boxes in their parent's box frame, the others in their parent's own frame).
+    // The tree built on the target by the kernel's builder, and with `boxed` its node boxes in its records
+    // (odd-numbered nodes' boxes in their parent's box frame, the others in their parent's own frame; without
+    // `boxed` the records' box slots stay empty).
     let heights = peak_heights::<T>();
-    let mut nodes = [NodeRecord::<T>::EMPTY; PEAK_SLOTS];
-    let Ok(tree) = build_tree(&heights, &peak_grid::<T>(), 1, &mut nodes) else {
+    let grid = peak_grid::<T>();
+    let mut nodes = [NodeRecord::<T, Option<NodeBox>>::EMPTY; PEAK_SLOTS];
+    let Ok(tree) = build_tree(&heights, &grid, 1, &mut nodes) else {
         return false;
     };
-    let Ok(bare) = SliceStorage::new(Ellipsoid::wgs84(), peak_grid(), &heights, &nodes, tree)
-    else {
-        return false;
-    };
-    let mut boxes = [None; PEAK_SLOTS];
     if boxed {
         let odd = |id: NodeId, _: Option<&Node<f64>>| id.0 % 2 == 1;
-        if build_boxes_sharing(&bare, &mut boxes, odd).is_err()
-            || !boxes.iter().any(|b| b.is_some_and(|b| b.shared_frame))
+        let e = Ellipsoid::wgs84();
+        if build_boxes_sharing(&e, &grid, &heights, tree, None, &mut nodes, odd).is_err()
+            || !nodes.iter().any(|r| r.bbox.is_some_and(|b| b.shared_frame))
         {
             return false;
         }
     }
-    let parts = Parts {
-        boxes: if boxed { &boxes } else { &[] },
-        ..Parts::new(&heights[..], &nodes[..])
-    };
-    let Ok(dem) = TreeStorage::with_buffers(Ellipsoid::wgs84(), peak_grid(), tree, parts) else {
+    let Ok(dem) = SliceStorage::new(Ellipsoid::wgs84(), grid, &heights, &nodes, tree) else {
         return false;
     };
-    let Ok(picker) = Picker::<'_, T, SliceStorage<'_, T>, 16, 8>::new(&dem) else {
+    let Ok(picker) = Picker::<'_, T, _, 16, 8>::new(&dem) else {
         return false;
     };
     let top = e.geodetic_deg_to_ecef(h(10.01), h(20.01), h(10_000.0));

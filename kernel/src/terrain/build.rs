@@ -18,15 +18,17 @@
 //! A node's id is its slot in the buffer: the levels from the leaves up, each stored by 2 × 2 groups, so that
 //! the four children of a node have adjacent records (the traversal reads them one after the other). Slots of
 //! a group that fall past a level's last row or column stay empty. [`node_slots`] gives the buffer's length,
-//! a `const fn`, so that the buffer can be a static array; [`NodeRecord`] is 56 bytes in `f64` and 44 in `f32`.
+//! a `const fn`, so that the buffer can be a static array. A record keeps its height range in the samples' type
+//! and, if its type says so ([`BoxSlot`]), the node's box in local frames with the shared-frame rule, which
+//! [`build_boxes`] fills (in `f64` as [`TerrainStorage::node_box`] requires): 44 bytes with `f32` samples and
+//! no box, 72 with a box (56 and 80 with `f64` samples). A tree without boxes costs neither their RAM nor the
+//! traversal's box code.
 //!
 //! # Beyond the records
 //!
 //! What makes a storage fast, each into a buffer the caller provides (lengths from `const fn`s): the per-row
 //! and per-column trigonometry the kernel asks for at every quad wall and vertex ([`trig_tables`]: exactly the
-//! values [`TerrainStorage`] requires), and per-node boxes in local frames with the
-//! shared-frame rule ([`build_boxes`], in `f64` as [`TerrainStorage::node_box`]
-//! requires). For the paged pyramid of §5, [`build_multires_tree`] builds the same tree with a block per node
+//! values [`TerrainStorage`] requires). For the paged pyramid of §5, [`build_multires_tree`] builds the same tree with a block per node
 //! at stride `2^k` and the branches of a [`MultiRes`] shape; residency flags (`&[AtomicBool]`, one per slot)
 //! let the caller page blocks in and out. [`TreeStorage`] serves all of it, from borrowed slices
 //! ([`SliceStorage`], [`Parts`]) or from buffers the caller owns ([`Buffers`]), and checks every length
@@ -64,6 +66,7 @@
 
 #[cfg(doc)]
 use super::TerrainStorage;
+use super::boxes::NodeBox;
 use super::{Grid, Node, NodeId};
 use crate::real::Real;
 
@@ -87,9 +90,10 @@ pub enum BuildError {
     InvalidBlock,
     /// The node buffer is shorter than [`node_slots`] of the grid and block.
     BufferTooSmall,
-    /// The node records given to [`SliceStorage::new`] are not the ones [`build_tree`] wrote for this grid.
+    /// The node records given to [`SliceStorage::new`] or [`build_boxes`] are not the ones [`build_tree`] wrote
+    /// for this grid.
     RecordsMismatch,
-    /// A box, table or residency buffer does not have the length its `const fn` gives ([`node_slots`],
+    /// A table or residency buffer does not have the length its `const fn` gives ([`node_slots`],
     /// [`row_table_len`], [`col_table_len`]).
     BufferLength,
     /// The multi-resolution shape is invalid (a fine region with a non-finite or reversed bound).
@@ -112,7 +116,7 @@ impl core::fmt::Display for BuildError {
             BuildError::BufferTooSmall => f.write_str("node buffer shorter than node_slots()"),
             BuildError::RecordsMismatch => f.write_str("node records not built for this grid"),
             BuildError::BufferLength => {
-                f.write_str("box, table or residency buffer of the wrong length")
+                f.write_str("table or residency buffer of the wrong length")
             }
             BuildError::InvalidShape => f.write_str("invalid multi-resolution shape"),
         }
@@ -121,43 +125,83 @@ impl core::fmt::Display for BuildError {
 
 impl core::error::Error for BuildError {}
 
-/// One node as [`build_tree`] stores it: cell ranges, the `[min, max]` of its vertex heights (`min > max`:
-/// no data, or an empty slot), child ids (`u32::MAX`: none) and depth below its zone.
+/// One node as [`build_tree`] stores it: cell ranges, the `[min, max]` of its vertex heights in the samples'
+/// own type `H` (exact; `min > max`: no data, or an empty slot), child ids (`u32::MAX`: none), depth below its
+/// zone, and what `X` keeps of its box ([`BoxSlot`]: nothing, or the box [`build_boxes`] fills), so that the
+/// traversal finds a node and its children's boxes in one record each.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct NodeRecord<T> {
+pub struct NodeRecord<H, X = ()> {
     /// Cell rows `[rows[0], rows[1])`.
     pub rows: [u32; 2],
     /// Cell columns `[cols[0], cols[1])`.
     pub cols: [u32; 2],
     /// `[min, max]` of the node's vertex heights; `min > max` when it has none.
-    pub heights: [T; 2],
+    pub heights: [H; 2],
     /// Child ids, `u32::MAX` for none.
     pub kids: [u32; 4],
     /// Depth below the node's zone (zones are 0).
     pub level: u8,
+    /// The node's box ([`TerrainStorage::node_box`]), if `X` keeps one.
+    pub bbox: X,
 }
 
-impl<T: Real> NodeRecord<T> {
+impl<H: Real, X: BoxSlot> NodeRecord<H, X> {
     /// An empty slot (the buffer's initial value).
     pub const EMPTY: Self = NodeRecord {
         rows: [0; 2],
         cols: [0; 2],
-        heights: [T::INFINITY, T::NEG_INFINITY],
+        heights: [H::INFINITY, H::NEG_INFINITY],
         kids: [u32::MAX; 4],
         level: 0,
+        bbox: X::NONE,
     };
 
-    /// The node the kernel's traversal reads ([`TerrainStorage::node`]).
-    pub fn node(&self) -> Node<T> {
+    /// The node the kernel's traversal reads ([`TerrainStorage::node`]), its height range in `T` (converted
+    /// from `H` by rounding, which keeps the range that of the storage's converted heights).
+    #[inline]
+    pub fn node<T: Real>(&self) -> Node<T> {
         let [lo, hi] = self.heights;
         Node {
             rows: self.rows,
             cols: self.cols,
-            heights: (lo <= hi).then_some([lo, hi]),
+            heights: (lo <= hi).then(|| [T::from_f64(lo.to_f64()), T::from_f64(hi.to_f64())]),
             children: self.kids.map(|k| (k != u32::MAX).then_some(NodeId(k))),
             level: self.level,
         }
     }
+}
+
+/// What a [`NodeRecord`] keeps of its node's box (beyond the paper; [`super::boxes`]): `()` for a tree without
+/// boxes, which then costs neither RAM nor the traversal's box code (a `None` known at compile time), or
+/// `Option<NodeBox>` (28 bytes) for one whose boxes [`build_boxes`] fills.
+pub trait BoxSlot: Copy + PartialEq + core::fmt::Debug + sealed::Sealed {
+    /// An empty slot's value.
+    const NONE: Self;
+    /// The box, if the slot holds one.
+    fn node_box(&self) -> Option<NodeBox>;
+}
+
+impl BoxSlot for () {
+    const NONE: Self = ();
+    #[inline(always)]
+    fn node_box(&self) -> Option<NodeBox> {
+        None
+    }
+}
+
+impl BoxSlot for Option<NodeBox> {
+    const NONE: Self = None;
+    #[inline(always)]
+    fn node_box(&self) -> Option<NodeBox> {
+        *self
+    }
+}
+
+mod sealed {
+    /// [`super::BoxSlot`] is implemented by the kernel only.
+    pub trait Sealed {}
+    impl Sealed for () {}
+    impl Sealed for Option<super::NodeBox> {}
 }
 
 /// What [`build_tree`] built: where the zones are in the buffer.
@@ -359,11 +403,11 @@ impl Levels {
 /// tree, say: they are converted exactly); leaves are blocks of `block × block` cells. `nodes`
 /// must be at least [`node_slots`]`(grid.rows, grid.cols, block)` long; slots past that are left untouched.
 /// Cost: one pass over each leaf's vertices (`(1 + 1/block)²` per height) and one over the records.
-pub fn build_tree<T: Real, H: Real>(
+pub fn build_tree<T: Real, H: Real, X: BoxSlot>(
     heights: &[H],
     grid: &Grid<T>,
     block: u32,
-    nodes: &mut [NodeRecord<T>],
+    nodes: &mut [NodeRecord<H, X>],
 ) -> Result<Tree, BuildError> {
     build(heights, grid, block, None, nodes)
 }
@@ -374,12 +418,12 @@ pub fn build_tree<T: Real, H: Real>(
 /// finest data), and whose branches end at level `shape.coarse_level` outside `shape.fine_region`. A storage
 /// over it ([`TreeStorage`]) reports those strides ([`super::TerrainStorage::block_stride`]) and, given
 /// residency flags, which blocks are in memory.
-pub fn build_multires_tree<T: Real, H: Real>(
+pub fn build_multires_tree<T: Real, H: Real, X: BoxSlot>(
     heights: &[H],
     grid: &Grid<T>,
     block: u32,
     shape: MultiRes<T>,
-    nodes: &mut [NodeRecord<T>],
+    nodes: &mut [NodeRecord<H, X>],
 ) -> Result<Tree, BuildError> {
     if let Some([s, n, w, e]) = shape.fine_region {
         let finite = [s, n, w, e].iter().all(|v| v.is_finite());
@@ -390,12 +434,12 @@ pub fn build_multires_tree<T: Real, H: Real>(
     build(heights, grid, block, Some(shape), nodes)
 }
 
-fn build<T: Real, H: Real>(
+fn build<T: Real, H: Real, X: BoxSlot>(
     heights: &[H],
     grid: &Grid<T>,
     block: u32,
     shape: Option<MultiRes<T>>,
-    nodes: &mut [NodeRecord<T>],
+    nodes: &mut [NodeRecord<H, X>],
 ) -> Result<Tree, BuildError> {
     check_heights(heights, grid)?;
     if block == 0 || !(grid.dlon * T::from_f64(f64::from(block)) < T::from_f64(180.0)) {
@@ -405,13 +449,12 @@ fn build<T: Real, H: Real>(
     let slots = node_slots(grid.rows, grid.cols, block);
     let nodes = nodes.get_mut(..slots).ok_or(BuildError::BufferTooSmall)?;
     let top = levels.count.saturating_sub(1);
-    let height = |i: u32, j: u32| -> Option<T> {
+    let height = |i: u32, j: u32| -> Option<H> {
         let k = u64::from(i)
             .checked_mul(u64::from(grid.cols))?
             .checked_add(u64::from(j))?;
         let k = usize::try_from(k).ok()?;
-        let h = *heights.get(k)?;
-        (!h.is_nan()).then(|| T::from_f64(h.to_f64()))
+        heights.get(k).copied().filter(|h| !h.is_nan())
     };
     let (last_row, last_col) = (grid.cell_rows(), grid.cell_cols());
     for level in 0..levels.count {
@@ -432,7 +475,7 @@ fn build<T: Real, H: Real>(
                     c.saturating_mul(block),
                     c.saturating_add(1).saturating_mul(block).min(last_col),
                 ];
-                let mut range = [T::INFINITY, T::NEG_INFINITY];
+                let mut range = [H::INFINITY, H::NEG_INFINITY];
                 for i in rows[0]..=rows[1] {
                     for j in cols[0]..=cols[1] {
                         if let Some(h) = height(i, j) {
@@ -446,6 +489,7 @@ fn build<T: Real, H: Real>(
                     heights: range,
                     kids: [u32::MAX; 4],
                     level: depth,
+                    bbox: X::NONE,
                 }
             } else {
                 parent_record(&levels, nodes, level, r, c, depth)
@@ -473,9 +517,9 @@ fn build<T: Real, H: Real>(
 /// below it that do not meet the region lose their children. Runs after the whole tree is built, so that a
 /// parent that took over the children of its only child (module docs) keeps them, as a coarse node's block
 /// does not depend on the level below.
-fn prune_coarse<T: Real>(
+fn prune_coarse<T: Real, H, X>(
     levels: &Levels,
-    nodes: &mut [NodeRecord<T>],
+    nodes: &mut [NodeRecord<H, X>],
     grid: &Grid<T>,
     shape: &MultiRes<T>,
 ) {
@@ -507,14 +551,14 @@ fn prune_coarse<T: Real>(
 /// The record of node `(r, c)` of `level ≥ 1`, from its 2 × 2 children's records below it: the union of their
 /// ranges and height ranges, and the children with data; a single child (which covers the same cells) is
 /// replaced by its own children.
-fn parent_record<T: Real>(
+fn parent_record<H: Real, X: BoxSlot>(
     levels: &Levels,
-    nodes: &[NodeRecord<T>],
+    nodes: &[NodeRecord<H, X>],
     level: usize,
     r: u32,
     c: u32,
     depth: u8,
-) -> NodeRecord<T> {
+) -> NodeRecord<H, X> {
     let record = |slot: u32| {
         usize::try_from(slot)
             .ok()
@@ -524,7 +568,7 @@ fn parent_record<T: Real>(
     let below = level.saturating_sub(1);
     let mut kids = [u32::MAX; 4];
     let mut n = 0usize;
-    let mut rec = NodeRecord::<T> {
+    let mut rec = NodeRecord::<H, X> {
         level: depth,
         ..NodeRecord::EMPTY
     };
@@ -569,6 +613,24 @@ fn parent_record<T: Real>(
     }
     rec.kids = kids;
     rec
+}
+
+/// Checks the grid and the heights ([`check_heights`]), that `tree` was built for the grid, and that a node
+/// buffer of `len` records holds its slots.
+fn check_records<T: Real, H: Real>(
+    heights: &[H],
+    grid: &Grid<T>,
+    tree: &Tree,
+    len: usize,
+) -> Result<(), BuildError> {
+    check_heights(heights, grid)?;
+    if node_slots(grid.rows, grid.cols, tree.block) != tree.slots() {
+        return Err(BuildError::RecordsMismatch);
+    }
+    if len < tree.slots() {
+        return Err(BuildError::BufferTooSmall);
+    }
+    Ok(())
 }
 
 /// Checks the grid and the heights: `rows × cols` of them, none infinite.

@@ -777,11 +777,12 @@ fn cached_bounds_give_identical_picks() {
 /// The node slots of a 3 × 3-vertex DEM with blocks of 2 × 2 cells (one zone, one leaf).
 const PEAK_SLOTS: usize = build::node_slots(3, 3, 2);
 
-/// [`PEAK`] in `f32` through the kernel's builder: heights, node records and node boxes (built in `f64`).
+/// [`PEAK`] in `f32` through the kernel's builder: heights, and node records without boxes and with them
+/// (built in `f64`).
 struct PeakF32 {
     heights: [f32; 9],
     nodes: [build::NodeRecord<f32>; PEAK_SLOTS],
-    boxes: [Option<boxes::NodeBox>; PEAK_SLOTS],
+    boxed: [build::NodeRecord<f32, Option<boxes::NodeBox>>; PEAK_SLOTS],
     tree: build::Tree,
 }
 
@@ -797,29 +798,40 @@ impl PeakF32 {
         }
     }
     fn new() -> Self {
-        let heights = PEAK.map(|h| h as f32);
+        let (heights, g) = (PEAK.map(|h| h as f32), Self::grid());
         let mut nodes = [build::NodeRecord::EMPTY; PEAK_SLOTS];
-        let tree = build::build_tree(&heights, &Self::grid(), 2, &mut nodes).unwrap();
-        let mut boxes = [None; PEAK_SLOTS];
-        let bare =
-            build::SliceStorage::new(Ellipsoid::wgs84(), Self::grid(), &heights, &nodes, tree)
-                .unwrap();
-        build::build_boxes(&bare, &mut boxes).unwrap();
+        let tree = build::build_tree(&heights, &g, 2, &mut nodes).unwrap();
+        let mut boxed = [build::NodeRecord::EMPTY; PEAK_SLOTS];
+        assert_eq!(build::build_tree(&heights, &g, 2, &mut boxed), Ok(tree));
+        build::build_boxes(&Ellipsoid::wgs84(), &g, &heights, tree, None, &mut boxed).unwrap();
         PeakF32 {
             heights,
             nodes,
-            boxes,
+            boxed,
             tree,
         }
     }
-    /// The storage, with the node box or without.
-    fn storage(&self, boxed: bool) -> build::SliceStorage<'_, f32> {
-        let parts = build::Parts {
-            boxes: if boxed { &self.boxes } else { &[] },
-            ..build::Parts::new(&self.heights, &self.nodes)
-        };
-        build::TreeStorage::with_buffers(Ellipsoid::wgs84(), Self::grid(), self.tree, parts)
-            .unwrap()
+    /// The storage without node boxes.
+    fn plain(&self) -> build::SliceStorage<'_, f32> {
+        build::SliceStorage::new(
+            Ellipsoid::wgs84(),
+            Self::grid(),
+            &self.heights,
+            &self.nodes,
+            self.tree,
+        )
+        .unwrap()
+    }
+    /// The storage with the node box.
+    fn boxed(&self) -> build::SliceStorage<'_, f32, f32, Option<boxes::NodeBox>> {
+        build::SliceStorage::new(
+            Ellipsoid::wgs84(),
+            Self::grid(),
+            &self.heights,
+            &self.boxed,
+            self.tree,
+        )
+        .unwrap()
     }
 }
 
@@ -829,7 +841,7 @@ const PEAK: [f64; 9] = [
 ];
 
 /// The hit of a ray straight down on [`PEAK`]'s summit from 10 km.
-fn pick_down_on_the_peak(p: &Picker<'_, f32, build::SliceStorage<'_, f32>>) -> Hit<f32> {
+fn pick_down_on_the_peak<S: TerrainStorage<f32>>(p: &Picker<'_, f32, S>) -> Hit<f32> {
     let e = Ellipsoid::<f32>::wgs84();
     let top = e.geodetic_deg_to_ecef(47.01, 8.01, 10_000.0);
     let n = e.normal(47.01_f32.to_radians(), 8.01_f32.to_radians());
@@ -843,13 +855,13 @@ fn f32_picker_with_a_box_built_in_f64_still_finds_the_peak() {
     // The box is exact for the f64 vertices; the f32 picker's vertices and frame differ by f32 rounding (0.5 m
     // at Earth scale), which the box test's tolerance covers.
     let peak = PeakF32::new();
-    assert!(peak.boxes.iter().flatten().count() == 1);
-    let dem = peak.storage(true);
-    let p: Picker<'_, f32, build::SliceStorage<'_, f32>> = Picker::new(&dem).unwrap();
+    assert!(peak.boxed.iter().filter(|r| r.bbox.is_some()).count() == 1);
+    let dem = peak.boxed();
+    let p: Picker<'_, f32, _> = Picker::new(&dem).unwrap();
     let hit = pick_down_on_the_peak(&p);
     assert!((hit.h - 2500.0).abs() < 3.0, "{}", hit.h);
     // Near the corners (at the box's lowest points) the boxed picker answers as the plain one.
-    let plain_dem = peak.storage(false);
+    let plain_dem = peak.plain();
     let plain: Picker<'_, f32, build::SliceStorage<'_, f32>> = Picker::new(&plain_dem).unwrap();
     let e = Ellipsoid::<f32>::wgs84();
     for (lat, lon) in [(47.0001, 8.0001), (47.0199, 8.0199), (47.0001, 8.0199)] {
@@ -867,7 +879,7 @@ fn f32_picker_with_a_box_built_in_f64_still_finds_the_peak() {
 #[test]
 fn f32_pick_of_a_peak() {
     let peak = PeakF32::new();
-    let dem = peak.storage(false);
+    let dem = peak.plain();
     let p: Picker<'_, f32, build::SliceStorage<'_, f32>> = Picker::new(&dem).unwrap();
     let hit = pick_down_on_the_peak(&p);
     // f32 ECEF coordinates are quantised to 0.5 m at Earth scale.
@@ -1218,7 +1230,7 @@ mod multires {
         // Everything resident: the full-resolution surface, as the single-resolution storage gives it.
         d.resident[w.0 as usize].store(true, Ordering::Relaxed);
         let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
-        let mut nodes = vec![NodeRecord::EMPTY; node_slots(ROWS, COLS, 4)];
+        let mut nodes = vec![NodeRecord::<f64>::EMPTY; node_slots(ROWS, COLS, 4)];
         let tree = build_tree(&d.heights, &d.grid, 4, &mut nodes).unwrap();
         let flat = SliceStorage::new(Ellipsoid::wgs84(), d.grid, &d.heights, &nodes, tree).unwrap();
         let single: Picker<'_, f64, _> = Picker::new(&flat).unwrap();
@@ -1520,9 +1532,51 @@ fn builder_rejects_bad_input_with_typed_errors() {
     let mismatch = SliceStorage::new(e, other, &[1.0; 54], &nodes, tree).unwrap_err();
     assert_eq!(mismatch, BuildError::RecordsMismatch);
     assert!(SliceStorage::new(e, g, &hs, &nodes[..short], tree).is_err());
-    // The sizes of a record, for the RAM a build needs per height.
+    // Boxes need the records of this tree and grid, and tables of the grid's lengths.
+    let mut boxed = std::vec![NodeRecord::EMPTY; node_slots(5, 6, 2)];
+    let tree = build_tree(&hs, &g, 2, &mut boxed).unwrap();
+    let boxes =
+        |g: &Grid<f64>, hs: &[f64], nodes: &mut [NodeRecord<f64, Option<boxes::NodeBox>>]| {
+            build::build_boxes(&e, g, hs, tree, None, nodes).unwrap_err()
+        };
+    assert_eq!(
+        boxes(&other, &[1.0; 54], &mut boxed),
+        BuildError::RecordsMismatch
+    );
+    assert_eq!(
+        boxes(&g, &hs, &mut boxed[..short]),
+        BuildError::BufferTooSmall
+    );
+    assert_eq!(boxes(&g, &hs[..29], &mut boxed), BuildError::HeightsLength);
+    let (mut rs, mut cs) = (std::vec![(0.0, 0.0); 4], std::vec![(0.0, 0.0); 6]);
+    let mut rp = std::vec![build::TrigTables::<f64>::UNSET_PARALLEL; 4];
+    let mut cd = std::vec![build::TrigTables::<f64>::UNSET_DD; 6];
+    let wrong = build::TrigTables {
+        row_sin_cos: &rs,
+        col_sin_cos: &cs,
+        row_parallel: &rp,
+        col_sin_cos_dd: &cd,
+    };
+    assert_eq!(
+        build::build_boxes(&e, &g, &hs, tree, Some(wrong), &mut boxed),
+        Err(BuildError::BufferLength)
+    );
+    assert_eq!(
+        build::trig_tables(&e, &g, &mut rs, &mut cs, &mut rp, &mut cd).err(),
+        Some(BuildError::BufferLength)
+    );
+    // The sizes of a record, for the RAM a build needs per height: heights in the samples' type, the box in
+    // the record only if its type keeps one.
     assert_eq!(core::mem::size_of::<NodeRecord<f64>>(), 56);
     assert_eq!(core::mem::size_of::<NodeRecord<f32>>(), 44);
+    assert_eq!(
+        core::mem::size_of::<NodeRecord<f32, Option<boxes::NodeBox>>>(),
+        72
+    );
+    assert_eq!(
+        core::mem::size_of::<NodeRecord<f64, Option<boxes::NodeBox>>>(),
+        80
+    );
 }
 
 #[test]
@@ -1545,9 +1599,6 @@ fn builder_boxes_and_trig_tables_give_the_bare_storages_picks() {
     let mut nodes = std::vec![NodeRecord::EMPTY; node_slots(rows, cols, 2)];
     let tree = build_tree(&hs, &g, 2, &mut nodes).unwrap();
     let bare: SliceStorage<'_, f64, f32> = SliceStorage::new(e, g, &hs, &nodes, tree).unwrap();
-    let mut boxes = std::vec![None; tree.slots()];
-    build::build_boxes(&bare, &mut boxes).unwrap();
-    assert!(boxes.iter().flatten().count() > 4);
     let (nr, nc) = (build::row_table_len(rows), build::col_table_len(cols));
     let (mut rs, mut cs) = (std::vec![(0.0, 0.0); nr], std::vec![(0.0, 0.0); nc]);
     let mut rp = std::vec![TrigTables::<f64>::UNSET_PARALLEL; nr];
@@ -1557,16 +1608,32 @@ fn builder_boxes_and_trig_tables_give_the_bare_storages_picks() {
         assert_eq!(trig.row_sin_cos[i as usize], sin_cos_deg(g.lat_deg(i)));
         assert_eq!(trig.row_parallel[i as usize], row_parallel(&e, &g, i));
     }
+    // The same records with boxes, built from the tables and without them (the tables hold the same values).
+    let mut boxed = std::vec![NodeRecord::EMPTY; tree.slots()];
+    assert_eq!(build_tree(&hs, &g, 2, &mut boxed), Ok(tree));
+    let mut untabled = boxed.clone();
+    build::build_boxes(&e, &g, &hs, tree, Some(trig), &mut boxed).unwrap();
+    build::build_boxes(&e, &g, &hs, tree, None, &mut untabled).unwrap();
+    assert_eq!(boxed, untabled);
+    assert!(boxed.iter().filter(|r| r.bbox.is_some()).count() > 4);
+    assert!(
+        boxed
+            .iter()
+            .zip(&nodes)
+            .all(|(b, n)| b.node::<f64>() == n.node::<f64>())
+    );
     let parts = Parts {
-        boxes: &boxes,
         trig: Some(trig),
-        ..Parts::new(&hs[..], &nodes[..])
+        ..Parts::new(&hs[..], &boxed[..])
     };
     let full = TreeStorage::with_buffers(e, g, tree, parts).unwrap();
-    assert!(full.node_box(NodeId(0)).is_some());
+    assert!(full.node_box(NodeId(0)).is_some() && bare.node_box(NodeId(0)).is_none());
     // Wrong lengths are typed errors.
     let short = Parts {
-        boxes: &boxes[1..],
+        trig: Some(TrigTables {
+            col_sin_cos: &trig.col_sin_cos[1..],
+            ..trig
+        }),
         ..parts
     };
     assert_eq!(
@@ -1599,7 +1666,7 @@ fn multires_builder_reports_strides_and_residency_flags() {
     use core::sync::atomic::{AtomicBool, Ordering};
     let g = grid(46.0, 8.0, -1.0 / 1200.0, 1.0 / 1200.0, 33, 65);
     let hs: Vec<f64> = (0..33 * 65).map(|k| (k % 97) as f64).collect();
-    let mut nodes = std::vec![NodeRecord::EMPTY; node_slots(33, 65, 2)];
+    let mut nodes = std::vec![NodeRecord::<f64>::EMPTY; node_slots(33, 65, 2)];
     // Fine only in the north-west corner; elsewhere branches end one level above the leaves.
     let shape = MultiRes {
         fine_region: Some([46.0 - 4.0 / 1200.0, 46.0, 8.0, 8.0 + 4.0 / 1200.0]),

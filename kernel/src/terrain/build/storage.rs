@@ -1,53 +1,51 @@
 //! [`TreeStorage`]: the one [`TerrainStorage`] over a tree [`build_tree`](super::build_tree) or
-//! [`build_multires_tree`](super::build_multires_tree) wrote (seed 000 §3.5, §4, §5), with the optional
-//! per-node boxes ([`build_boxes`](super::build_boxes)), per-row and per-column trigonometry
+//! [`build_multires_tree`](super::build_multires_tree) wrote (seed 000 §3.5, §4, §5), with the node boxes its
+//! records may keep ([`build_boxes`](super::build_boxes)), per-row and per-column trigonometry
 //! ([`trig_tables`](super::trig_tables)) and residency flags of the multi-resolution tree. The buffers are
 //! borrowed slices ([`SliceStorage`]: a static array will do) or owned by the caller's own type
 //! ([`Buffers`]), so that a host can keep them in vectors and still use this implementation.
 
 use super::super::boxes::NodeBox;
 use super::super::{Grid, Node, NodeId, Parallel, TerrainStorage};
-use super::{BuildError, NodeRecord, Tree, TrigTables, check_heights, half_up, node_slots};
+use super::{BoxSlot, BuildError, NodeRecord, Tree, TrigTables, check_records, half_up};
 use crate::dd::Dd;
 use crate::geodesy::Ellipsoid;
 use crate::real::Real;
-use core::marker::PhantomData;
 use core::sync::atomic::{AtomicBool, Ordering};
 
 /// The buffers of a [`TreeStorage`], borrowed: the heights (`H`: the samples' own scalar type, converted
-/// exactly), the node records, and the optional parts. An empty `boxes` or `resident` slice means none (every
-/// block resident); `trig: None` means the kernel computes the trigonometry when it asks.
+/// exactly), the node records (`X`: with or without boxes, [`BoxSlot`]), and the optional parts. An empty
+/// `resident` slice means every block resident; `trig: None` means the kernel computes the trigonometry when
+/// it asks.
 #[derive(Debug)]
-pub struct Parts<'a, T, H> {
+pub struct Parts<'a, T, H, X = ()> {
     /// `rows × cols` heights, row-major, NaN for nodata.
     pub heights: &'a [H],
-    /// The records of [`build_tree`](super::build_tree), [`node_slots`] of them.
-    pub nodes: &'a [NodeRecord<T>],
-    /// Per-node boxes of [`build_boxes`](super::build_boxes) ([`node_slots`] of them), or empty.
-    pub boxes: &'a [Option<NodeBox>],
+    /// The records of [`build_tree`](super::build_tree), [`node_slots`](super::node_slots) of them.
+    pub nodes: &'a [NodeRecord<H, X>],
     /// The tables of [`trig_tables`](super::trig_tables), or `None`.
     pub trig: Option<TrigTables<'a, T>>,
-    /// Per-node residency of a multi-resolution tree's blocks ([`node_slots`] flags, indexed by node id), or
-    /// empty (all resident). The caller pages blocks in and out by setting them (seed 000 §5); the picker
-    /// reports a block it needs that is not resident as [`super::super::TerrainError::NeedsBlock`].
+    /// Per-node residency of a multi-resolution tree's blocks ([`node_slots`](super::node_slots) flags, indexed
+    /// by node id), or empty (all resident). The caller pages blocks in and out by setting them (seed 000 §5);
+    /// the picker reports a block it needs that is not resident as
+    /// [`super::super::TerrainError::NeedsBlock`].
     pub resident: &'a [AtomicBool],
 }
 
-impl<T, H> Clone for Parts<'_, T, H> {
+impl<T, H, X> Clone for Parts<'_, T, H, X> {
     fn clone(&self) -> Self {
         *self
     }
 }
 
-impl<T, H> Copy for Parts<'_, T, H> {}
+impl<T, H, X> Copy for Parts<'_, T, H, X> {}
 
-impl<'a, T, H> Parts<'a, T, H> {
+impl<'a, T, H, X> Parts<'a, T, H, X> {
     /// Heights and node records only.
-    pub fn new(heights: &'a [H], nodes: &'a [NodeRecord<T>]) -> Self {
+    pub fn new(heights: &'a [H], nodes: &'a [NodeRecord<H, X>]) -> Self {
         Parts {
             heights,
             nodes,
-            boxes: &[],
             trig: None,
             resident: &[],
         }
@@ -57,14 +55,20 @@ impl<'a, T, H> Parts<'a, T, H> {
 /// Who owns a [`TreeStorage`]'s buffers: anything that can lend them as [`Parts`] (the slices themselves, or a
 /// host's struct of vectors). The storage checks their lengths once, when it is made, so an owner must not
 /// change them afterwards.
-pub trait Buffers<T, H> {
+pub trait Buffers<T> {
+    /// The samples' scalar type.
+    type Height: Real;
+    /// What a node record keeps of its box.
+    type Box: BoxSlot;
     /// The buffers, borrowed.
-    fn parts(&self) -> Parts<'_, T, H>;
+    fn parts(&self) -> Parts<'_, T, Self::Height, Self::Box>;
 }
 
-impl<T, H> Buffers<T, H> for Parts<'_, T, H> {
+impl<T, H: Real, X: BoxSlot> Buffers<T> for Parts<'_, T, H, X> {
+    type Height = H;
+    type Box = X;
     #[inline]
-    fn parts(&self) -> Parts<'_, T, H> {
+    fn parts(&self) -> Parts<'_, T, H, X> {
         *self
     }
 }
@@ -72,38 +76,33 @@ impl<T, H> Buffers<T, H> for Parts<'_, T, H> {
 /// The [`TerrainStorage`] over a built tree and its buffers (module docs). Use [`SliceStorage`] for
 /// borrowed slices.
 #[derive(Debug, Clone, Copy)]
-pub struct TreeStorage<T, H, B> {
+pub struct TreeStorage<T, B> {
     ellipsoid: Ellipsoid<T>,
     grid: Grid<T>,
     tree: Tree,
     buffers: B,
-    samples: PhantomData<fn() -> H>,
 }
 
-/// The [`TreeStorage`] over borrowed slices: everything borrowed, nothing allocated.
-pub type SliceStorage<'a, T, H = T> = TreeStorage<T, H, Parts<'a, T, H>>;
+/// The [`TreeStorage`] over borrowed slices: everything borrowed, nothing allocated. `H` is the samples' type,
+/// `X` what the records keep of their boxes (`()`: none; `Option<NodeBox>`: [`build_boxes`](super::build_boxes)).
+pub type SliceStorage<'a, T, H = T, X = ()> = TreeStorage<T, Parts<'a, T, H, X>>;
 
-impl<'a, T: Real, H: Real> TreeStorage<T, H, Parts<'a, T, H>> {
+impl<'a, T: Real, H: Real, X: BoxSlot> TreeStorage<T, Parts<'a, T, H, X>> {
     /// The storage over `heights` (as given to [`build_tree`](super::build_tree)) and `nodes` (its buffer, as it
-    /// wrote it), on `ellipsoid`, without boxes or tables. Checks the grid and heights again and that the buffer
-    /// holds the tree's slots.
+    /// wrote it), on `ellipsoid`, without tables. Checks the grid and heights again and that the buffer holds
+    /// the tree's slots.
     pub fn new(
         ellipsoid: Ellipsoid<T>,
         grid: Grid<T>,
         heights: &'a [H],
-        nodes: &'a [NodeRecord<T>],
+        nodes: &'a [NodeRecord<H, X>],
         tree: Tree,
     ) -> Result<Self, BuildError> {
         Self::with_buffers(ellipsoid, grid, tree, Parts::new(heights, nodes))
     }
-
-    /// The node records.
-    pub fn records(&self) -> &'a [NodeRecord<T>] {
-        self.buffers.nodes.get(..self.tree.slots()).unwrap_or(&[])
-    }
 }
 
-impl<T: Real, H: Real, B: Buffers<T, H>> TreeStorage<T, H, B> {
+impl<T: Real, B: Buffers<T>> TreeStorage<T, B> {
     /// The storage over `buffers`, on `ellipsoid`: checks the grid and heights again ([`BuildError`]), that
     /// the node buffer holds the tree's slots, and that every optional buffer has its `const fn`'s length.
     pub fn with_buffers(
@@ -113,15 +112,8 @@ impl<T: Real, H: Real, B: Buffers<T, H>> TreeStorage<T, H, B> {
         buffers: B,
     ) -> Result<Self, BuildError> {
         let p = buffers.parts();
-        check_heights(p.heights, &grid)?;
-        if node_slots(grid.rows, grid.cols, tree.block) != tree.slots() {
-            return Err(BuildError::RecordsMismatch);
-        }
-        if p.nodes.len() < tree.slots() {
-            return Err(BuildError::BufferTooSmall);
-        }
-        let slots_or_empty = |n: usize| n == 0 || n == tree.slots();
-        if !slots_or_empty(p.boxes.len()) || !slots_or_empty(p.resident.len()) {
+        check_records(p.heights, &grid, &tree, p.nodes.len())?;
+        if !(p.resident.is_empty() || p.resident.len() == tree.slots()) {
             return Err(BuildError::BufferLength);
         }
         if let Some(t) = p.trig {
@@ -134,7 +126,6 @@ impl<T: Real, H: Real, B: Buffers<T, H>> TreeStorage<T, H, B> {
             grid,
             tree,
             buffers,
-            samples: PhantomData,
         })
     }
 
@@ -148,17 +139,14 @@ impl<T: Real, H: Real, B: Buffers<T, H>> TreeStorage<T, H, B> {
         &self.buffers
     }
 
+    /// The record of node `id`.
     #[inline]
-    fn record(&self, id: NodeId) -> Option<NodeRecord<T>> {
-        self.buffers
-            .parts()
-            .nodes
-            .get(usize::try_from(id.0).ok()?)
-            .copied()
+    pub fn record(&self, id: NodeId) -> Option<&NodeRecord<B::Height, B::Box>> {
+        self.buffers.parts().nodes.get(usize::try_from(id.0).ok()?)
     }
 }
 
-impl<T: Real, H: Real, B: Buffers<T, H>> TerrainStorage<T> for TreeStorage<T, H, B> {
+impl<T: Real, B: Buffers<T>> TerrainStorage<T> for TreeStorage<T, B> {
     fn ellipsoid(&self) -> Ellipsoid<T> {
         self.ellipsoid
     }
@@ -182,7 +170,7 @@ impl<T: Real, H: Real, B: Buffers<T, H>> TerrainStorage<T> for TreeStorage<T, H,
     }
     #[inline]
     fn node(&self, id: NodeId) -> Option<Node<T>> {
-        self.record(id).map(|r| r.node())
+        self.record(id).map(NodeRecord::node)
     }
     #[inline]
     fn height(&self, i: u32, j: u32) -> Option<T> {
@@ -251,12 +239,7 @@ impl<T: Real, H: Real, B: Buffers<T, H>> TerrainStorage<T> for TreeStorage<T, H,
     }
     #[inline]
     fn node_box(&self, id: NodeId) -> Option<NodeBox> {
-        self.buffers
-            .parts()
-            .boxes
-            .get(usize::try_from(id.0).ok()?)
-            .copied()
-            .flatten()
+        self.record(id).and_then(|r| r.bbox.node_box())
     }
 }
 

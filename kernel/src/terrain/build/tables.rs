@@ -1,13 +1,13 @@
 //! What a storage may precompute beyond the node records (seed 000 §3.5; Wartell et al. cache the trigonometry
 //! of the grid lines, §5 the per-block data of the paged pyramid): the per-row and per-column trigonometry the
 //! kernel asks for ([`trig_tables`]; exactly the values the [`TerrainStorage`] docs require) and the per-node
-//! boxes in local frames ([`build_boxes`]; beyond the paper, [`super::super::boxes`]), each into a buffer the
-//! caller provides, whose length a `const fn` gives ([`super::row_table_len`], [`super::col_table_len`],
-//! [`super::node_slots`]).
+//! boxes in local frames ([`build_boxes`]; beyond the paper, [`super::super::boxes`]), the tables into buffers
+//! the caller provides, whose length a `const fn` gives ([`super::row_table_len`], [`super::col_table_len`]),
+//! the boxes into the node records that keep them ([`super::BoxSlot`]).
 
 use super::super::boxes::{BoxBuilder, LocalFrame, NodeBox, shares_frame_with_children};
 use super::super::{Grid, Node, NodeId, Parallel, TerrainStorage};
-use super::{Buffers, BuildError, Levels, NodeRecord, TreeStorage, level_slots};
+use super::{BoxSlot, BuildError, Levels, NodeRecord, Tree, check_records, level_slots};
 use crate::dd::Dd;
 use crate::geodesy::{Ellipsoid, sin_cos_deg};
 use crate::real::Real;
@@ -112,99 +112,120 @@ pub fn trig_tables<'a, T: Real>(
     })
 }
 
-/// Every node's box ([`super::super::boxes`]) into `boxes` ([`super::node_slots`] of them, by node id), with
-/// the host's frame rule: a zone's box in the grid's frame, a child's in the frame of its parent's box where
-/// [`shares_frame_with_children`] allows it, else in its parent's own frame. Computed in `f64` as
-/// [`TerrainStorage::node_box`] requires (an `f32` storage's grid and ellipsoid are converted exactly): a
-/// leaf's from every vertex of it with data ([`NodeBox::of_vertices`]); a parent's from its children's boxes,
-/// their union where they share its frame, their corners carried over from its own frame otherwise, so that a
-/// box contains its children's and thus all of its vertices. Nodes without data, and those no zone reaches (the
-/// children a multi-resolution shape cut off), get `None`. The storage's own boxes are ignored.
-pub fn build_boxes<T: Real, H: Real, B: Buffers<T, H>>(
-    storage: &TreeStorage<T, H, B>,
-    boxes: &mut [Option<NodeBox>],
+/// Every node's box ([`super::super::boxes`]) into its record in `nodes` (the buffer [`super::build_tree`] or
+/// [`super::build_multires_tree`] filled as `tree`, from `heights` on `grid`), with the host's frame rule: a
+/// zone's box in the grid's frame, a child's in the frame of its parent's box where [`shares_frame_with_children`]
+/// allows it, else in its parent's own frame. Computed in `f64` as [`TerrainStorage::node_box`] requires (an
+/// `f32` grid and ellipsoid are converted exactly; `trig`, the tables of [`trig_tables`], spares the
+/// trigonometry of every vertex in `f64`): a leaf's from every vertex of it with data
+/// ([`NodeBox::of_vertices`]); a parent's from its children's boxes, their union where they share its frame,
+/// their corners carried over from its own frame otherwise, so that a box contains its children's and thus all
+/// of its vertices. Nodes without data, and those no zone reaches (the children a multi-resolution shape cut
+/// off), get `None`. Cost: one pass over each leaf's vertices and one over the records.
+pub fn build_boxes<T: Real, H: Real>(
+    ellipsoid: &Ellipsoid<T>,
+    grid: &Grid<T>,
+    heights: &[H],
+    tree: Tree,
+    trig: Option<TrigTables<'_, T>>,
+    nodes: &mut [NodeRecord<H, Option<NodeBox>>],
 ) -> Result<(), BuildError> {
-    let grid = grid_f64(&storage.grid());
-    build_boxes_sharing(storage, boxes, |_, anchor| {
-        shares_frame_with_children(&grid, anchor)
+    let g = grid_f64(grid);
+    build_boxes_sharing(ellipsoid, grid, heights, tree, trig, nodes, |_, anchor| {
+        shares_frame_with_children(&g, anchor)
     })
 }
 
 /// [`build_boxes`] with another frame rule: `share(child, anchor)` says whether the box of `child` is in the
 /// frame of its parent's box, whose anchor is `anchor` (`None`: the grid), rather than in its parent's own
 /// frame. Any rule gives valid boxes; the kernel's tests and fuzz targets mix frames with it.
-pub fn build_boxes_sharing<T: Real, H: Real, B: Buffers<T, H>>(
-    storage: &TreeStorage<T, H, B>,
-    boxes: &mut [Option<NodeBox>],
+pub fn build_boxes_sharing<T: Real, H: Real>(
+    ellipsoid: &Ellipsoid<T>,
+    grid: &Grid<T>,
+    heights: &[H],
+    tree: Tree,
+    trig: Option<TrigTables<'_, T>>,
+    nodes: &mut [NodeRecord<H, Option<NodeBox>>],
     share: impl Fn(NodeId, Option<&Node<f64>>) -> bool,
 ) -> Result<(), BuildError> {
-    let parts = storage.buffers().parts();
-    let tree = storage.tree();
-    let boxes = match boxes.len() == tree.slots() {
-        true => boxes,
-        false => return Err(BuildError::BufferLength),
-    };
-    let e = storage.ellipsoid();
+    check_records(heights, grid, &tree, nodes.len())?;
+    if trig.is_some_and(|t| !t.fits(grid)) {
+        return Err(BuildError::BufferLength);
+    }
     let view = View64 {
-        ellipsoid: Ellipsoid::new(e.a().to_f64(), e.b().to_f64())
+        ellipsoid: Ellipsoid::new(ellipsoid.a().to_f64(), ellipsoid.b().to_f64())
             .map_err(|_| BuildError::InvalidGrid)?,
-        grid: grid_f64(&storage.grid()),
-        heights: parts.heights,
-        nodes: parts.nodes,
-        trig: parts.trig.filter(|_| T::MANTISSA_DIGITS == 53),
+        grid: grid_f64(grid),
+        heights,
+        trig: trig.filter(|_| T::MANTISSA_DIGITS == 53),
     };
-    let g = storage.grid();
-    let levels = Levels::new(g.rows, g.cols, tree.block()).ok_or(BuildError::InvalidBlock)?;
-    for k in 0..boxes.len() {
+    let levels = Levels::new(grid.rows, grid.cols, tree.block()).ok_or(BuildError::InvalidBlock)?;
+    // Children have smaller ids than their parents (levels from the leaves up), so their boxes come first.
+    for k in 0..tree.slots() {
         let id = NodeId(u32::try_from(k).map_err(|_| BuildError::BufferLength)?);
-        let built = view.node(id).filter(|n| n.heights.is_some()).and_then(|n| {
-            let (anchor, shared) = frame_of(&view, &levels, id, &share)?;
-            let a = anchor.and_then(|a| view.node(a));
-            if n.is_leaf() {
-                return NodeBox::of_vertices(&view, &view.ellipsoid, &n, a.as_ref(), shared);
-            }
-            let frame = LocalFrame::for_box(&view, &view.ellipsoid, a.as_ref());
-            let own = LocalFrame::of(&view, &view.ellipsoid, &n);
-            let (mut b, mut union) = (BoxBuilder::default(), None::<NodeBox>);
-            for cid in n.children.iter().flatten() {
-                let child = usize::try_from(cid.0).ok().and_then(|c| boxes.get(c));
-                let Some(cb) = child.copied().flatten() else {
-                    continue;
-                };
-                if cb.shared_frame {
-                    union = Some(union.map_or(cb, |u| u.union(&cb)));
-                } else {
-                    for q in cb.corners() {
-                        b.add_point(&frame, own.point(q));
-                    }
-                }
-            }
-            match (union, b.finish()) {
-                (Some(u), Some(c)) => Some(u.union(&c)),
-                (u, c) => u.or(c),
-            }
-            .map(|b| NodeBox {
-                shared_frame: shared,
-                ..b
-            })
-        });
-        if let Some(out) = boxes.get_mut(k) {
-            *out = built;
+        let built = box_of(&view, &levels, nodes, id, &share);
+        if let Some(out) = nodes.get_mut(k) {
+            out.bbox = built;
         }
     }
     Ok(())
 }
 
+/// Node `id`'s box (see [`build_boxes`]), its children's boxes already in `nodes`.
+fn box_of<H: Real>(
+    view: &View64<'_, impl Real, H>,
+    levels: &Levels,
+    nodes: &[NodeRecord<H, Option<NodeBox>>],
+    id: NodeId,
+    share: &impl Fn(NodeId, Option<&Node<f64>>) -> bool,
+) -> Option<NodeBox> {
+    let n = node64(nodes, id).filter(|n| n.heights.is_some())?;
+    let (anchor, shared) = frame_of(nodes, levels, id, share)?;
+    let a = anchor.and_then(|a| node64(nodes, a));
+    if n.is_leaf() {
+        return NodeBox::of_vertices(view, &view.ellipsoid, &n, a.as_ref(), shared);
+    }
+    let frame = LocalFrame::for_box(view, &view.ellipsoid, a.as_ref());
+    let own = LocalFrame::of(view, &view.ellipsoid, &n);
+    let (mut b, mut union) = (BoxBuilder::default(), None::<NodeBox>);
+    for cid in n.children.iter().flatten() {
+        let child = usize::try_from(cid.0).ok().and_then(|c| nodes.get(c));
+        let Some(cb) = child.and_then(|c| c.bbox) else {
+            continue;
+        };
+        if cb.shared_frame {
+            union = Some(union.map_or(cb, |u| u.union(&cb)));
+        } else {
+            for q in cb.corners() {
+                b.add_point(&frame, own.point(q));
+            }
+        }
+    }
+    match (union, b.finish()) {
+        (Some(u), Some(c)) => Some(u.union(&c)),
+        (u, c) => u.or(c),
+    }
+    .map(|b| NodeBox {
+        shared_frame: shared,
+        ..b
+    })
+}
+
+/// Node `id` of the records, in `f64`.
+fn node64<H: Real, X: BoxSlot>(nodes: &[NodeRecord<H, X>], id: NodeId) -> Option<Node<f64>> {
+    nodes.get(usize::try_from(id.0).ok()?).map(NodeRecord::node)
+}
+
 /// The frame of node `id`'s box: its anchor (`None`: the grid) and whether it is its parent's box frame, found
 /// on the way down from its zone (the children partition their parent's cells, so one contains the node's);
 /// `None` if no zone reaches the node. At most one step per level.
-fn frame_of<T: Real, H: Real>(
-    view: &View64<'_, T, H>,
+fn frame_of<H: Real, X: BoxSlot>(
+    nodes: &[NodeRecord<H, X>],
     levels: &Levels,
     id: NodeId,
     share: &impl Fn(NodeId, Option<&Node<f64>>) -> bool,
 ) -> Option<(Option<NodeId>, bool)> {
-    let target = view.node(id)?;
+    let target = node64(nodes, id)?;
     // The node's level and position, then its zone: the node at the top level above it.
     let level = (0..levels.count).rev().find(|&l| {
         let len = u32::try_from(level_slots_of(levels, l)).unwrap_or(0);
@@ -229,13 +250,13 @@ fn frame_of<T: Real, H: Real>(
     };
     let mut anchor: Option<NodeId> = None;
     for _ in 0..levels.count {
-        let node = view.node(cur)?;
+        let node = node64(nodes, cur)?;
         let kid = node
             .children
             .into_iter()
             .flatten()
-            .find(|&k| view.node(k).is_some_and(|n| inside(&n)))?;
-        let anchor_node = anchor.and_then(|a| view.node(a));
+            .find(|&k| node64(nodes, k).is_some_and(|n| inside(&n)))?;
+        let anchor_node = anchor.and_then(|a| node64(nodes, a));
         let shared = share(kid, anchor_node.as_ref());
         if kid == id {
             return Some(if shared {
@@ -270,13 +291,12 @@ fn grid_f64<T: Real>(g: &Grid<T>) -> Grid<f64> {
     }
 }
 
-/// The tree in `f64`, for building boxes: heights and node height ranges converted, the trigonometry computed
-/// in `f64` (or read from an `f64` storage's tables, which hold the same values).
+/// The DEM in `f64`, for building boxes: heights converted, the trigonometry computed in `f64` (or read from
+/// `f64` tables, which hold the same values). Its vertices are all the boxes need; it has no nodes.
 struct View64<'a, T, H> {
     ellipsoid: Ellipsoid<f64>,
     grid: Grid<f64>,
     heights: &'a [H],
-    nodes: &'a [NodeRecord<T>],
     trig: Option<TrigTables<'a, T>>,
 }
 
@@ -293,15 +313,8 @@ impl<T: Real, H: Real> TerrainStorage<f64> for View64<'_, T, H> {
     fn zone(&self, _: usize) -> Option<NodeId> {
         None
     }
-    fn node(&self, id: NodeId) -> Option<Node<f64>> {
-        let r = self.nodes.get(usize::try_from(id.0).ok()?)?.node();
-        Some(Node {
-            rows: r.rows,
-            cols: r.cols,
-            heights: r.heights.map(|h| h.map(Real::to_f64)),
-            children: r.children,
-            level: r.level,
-        })
+    fn node(&self, _: NodeId) -> Option<Node<f64>> {
+        None
     }
     fn height(&self, i: u32, j: u32) -> Option<f64> {
         if i >= self.grid.rows || j >= self.grid.cols {
