@@ -183,7 +183,7 @@ pub trait BoxSlot: Copy + PartialEq + core::fmt::Debug + sealed::Sealed {
 
 impl BoxSlot for () {
     const NONE: Self = ();
-    #[inline(always)]
+    #[inline]
     fn node_box(&self) -> Option<NodeBox> {
         None
     }
@@ -191,7 +191,7 @@ impl BoxSlot for () {
 
 impl BoxSlot for Option<NodeBox> {
     const NONE: Self = None;
-    #[inline(always)]
+    #[inline]
     fn node_box(&self) -> Option<NodeBox> {
         *self
     }
