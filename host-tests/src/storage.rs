@@ -44,8 +44,9 @@ impl DemBuffers<'_> {
 impl Buffers<f64> for DemBuffers<'_> {
     type Height = f32;
     type Box = Option<NodeBox>;
+    type Flag = AtomicBool;
     #[inline]
-    fn parts(&self) -> Parts<'_, f64, f32, Option<NodeBox>> {
+    fn parts(&self) -> Parts<'_, f64, f32, Option<NodeBox>, AtomicBool> {
         Parts {
             heights: self.heights,
             nodes: &self.nodes,

@@ -28,9 +28,11 @@
 //!
 //! What makes a storage fast, each into a buffer the caller provides (lengths from `const fn`s): the per-row
 //! and per-column trigonometry the kernel asks for at every quad wall and vertex ([`trig_tables`]: exactly the
-//! values [`TerrainStorage`] requires). For the paged pyramid of §5, [`build_multires_tree`] builds the same tree with a block per node
-//! at stride `2^k` and the branches of a [`MultiRes`] shape; residency flags (`&[AtomicBool]`, one per slot)
-//! let the caller page blocks in and out. [`TreeStorage`] serves all of it, from borrowed slices
+//! values [`TerrainStorage`] requires). For the paged pyramid of §5, [`build_multires_tree`] builds the same tree
+//! with a block per node at stride `2^k` and the branches of a [`MultiRes`] shape; residency flags
+//! (`&[AtomicBool]`, one per slot) let the caller page blocks in and out, and a storage whose flags are `()`
+//! ([`Residency`]) serves single-resolution trees without linking that code. [`TreeStorage`] serves all of it,
+//! from borrowed slices
 //! ([`SliceStorage`], [`Parts`]) or from buffers the caller owns ([`Buffers`]), and checks every length
 //! ([`BuildError::BufferLength`]).
 //!
@@ -73,7 +75,7 @@ use crate::real::Real;
 mod storage;
 mod tables;
 
-pub use storage::{Buffers, Parts, SliceStorage, TreeStorage};
+pub use storage::{Buffers, Parts, Residency, SliceStorage, TreeStorage};
 pub use tables::{TrigTables, build_boxes, build_boxes_sharing, trig_tables};
 
 /// Why [`build_tree`] or [`SliceStorage::new`] refused its input.
@@ -98,6 +100,9 @@ pub enum BuildError {
     BufferLength,
     /// The multi-resolution shape is invalid (a fine region with a non-finite or reversed bound).
     InvalidShape,
+    /// A multi-resolution tree given to a storage that serves single-resolution trees only (residency flags of
+    /// type `()`, [`Residency`]).
+    SingleResolution,
 }
 
 impl core::fmt::Display for BuildError {
@@ -119,6 +124,9 @@ impl core::fmt::Display for BuildError {
                 f.write_str("table or residency buffer of the wrong length")
             }
             BuildError::InvalidShape => f.write_str("invalid multi-resolution shape"),
+            BuildError::SingleResolution => {
+                f.write_str("multi-resolution tree in a single-resolution storage")
+            }
         }
     }
 }

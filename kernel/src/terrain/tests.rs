@@ -1151,11 +1151,9 @@ mod multires {
 
     impl Dem {
         /// The paged storage: the builder's multi-resolution tree with this DEM's residency flags.
-        fn paged(&self) -> SliceStorage<'_, f64> {
-            let parts = Parts {
-                resident: &self.resident,
-                ..Parts::new(&self.heights[..], &self.nodes[..])
-            };
+        fn paged(&self) -> SliceStorage<'_, f64, f64, (), AtomicBool> {
+            let parts =
+                Parts::new(&self.heights[..], &self.nodes[..]).with_resident(&self.resident);
             TreeStorage::with_buffers(Ellipsoid::wgs84(), self.grid, self.tree, parts).unwrap()
         }
         /// The child covering rows 0–3, columns 0–3.
@@ -1674,11 +1672,13 @@ fn multires_builder_reports_strides_and_residency_flags() {
     };
     let tree = build_multires_tree(&hs, &g, 2, shape, &mut nodes).unwrap();
     let flags: Vec<AtomicBool> = (0..tree.slots()).map(|_| AtomicBool::new(true)).collect();
-    let parts = Parts {
-        resident: &flags,
-        ..Parts::new(&hs[..], &nodes[..])
-    };
+    let parts = Parts::new(&hs[..], &nodes[..]).with_resident(&flags);
     let s = TreeStorage::with_buffers(Ellipsoid::wgs84(), g, tree, parts).unwrap();
+    // A storage whose residency flags are `()` serves single-resolution trees only.
+    assert_eq!(
+        build::SliceStorage::new(Ellipsoid::wgs84(), g, &hs, &nodes, tree).err(),
+        Some(build::BuildError::SingleResolution)
+    );
     let (mut fine_leaves, mut coarse_leaves) = (0, 0);
     for k in 0..tree.slots() as u32 {
         let n = s.node(NodeId(k)).unwrap();

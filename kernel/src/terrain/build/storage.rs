@@ -15,10 +15,10 @@ use core::sync::atomic::{AtomicBool, Ordering};
 
 /// The buffers of a [`TreeStorage`], borrowed: the heights (`H`: the samples' own scalar type, converted
 /// exactly), the node records (`X`: with or without boxes, [`BoxSlot`]), and the optional parts. An empty
-/// `resident` slice means every block resident; `trig: None` means the kernel computes the trigonometry when
-/// it asks.
+/// `resident` slice means every block resident (`R`: [`Residency`]); `trig: None` means the kernel computes the
+/// trigonometry when it asks.
 #[derive(Debug)]
-pub struct Parts<'a, T, H, X = ()> {
+pub struct Parts<'a, T, H, X = (), R = ()> {
     /// `rows × cols` heights, row-major, NaN for nodata.
     pub heights: &'a [H],
     /// The records of [`build_tree`](super::build_tree), [`node_slots`](super::node_slots) of them.
@@ -29,25 +29,35 @@ pub struct Parts<'a, T, H, X = ()> {
     /// by node id), or empty (all resident). The caller pages blocks in and out by setting them (seed 000 §5);
     /// the picker reports a block it needs that is not resident as
     /// [`super::super::TerrainError::NeedsBlock`].
-    pub resident: &'a [AtomicBool],
+    pub resident: &'a [R],
 }
 
-impl<T, H, X> Clone for Parts<'_, T, H, X> {
+impl<T, H, X, R> Clone for Parts<'_, T, H, X, R> {
     fn clone(&self) -> Self {
         *self
     }
 }
 
-impl<T, H, X> Copy for Parts<'_, T, H, X> {}
+impl<T, H, X, R> Copy for Parts<'_, T, H, X, R> {}
 
 impl<'a, T, H, X> Parts<'a, T, H, X> {
-    /// Heights and node records only.
+    /// Heights and node records only (a single-resolution tree, [`Residency`]).
     pub fn new(heights: &'a [H], nodes: &'a [NodeRecord<H, X>]) -> Self {
         Parts {
             heights,
             nodes,
             trig: None,
             resident: &[],
+        }
+    }
+
+    /// These parts with residency flags (`AtomicBool`: a multi-resolution tree's, [`Residency`]).
+    pub fn with_resident<R: Residency>(self, resident: &'a [R]) -> Parts<'a, T, H, X, R> {
+        Parts {
+            heights: self.heights,
+            nodes: self.nodes,
+            trig: self.trig,
+            resident,
         }
     }
 }
@@ -60,17 +70,54 @@ pub trait Buffers<T> {
     type Height: Real;
     /// What a node record keeps of its box.
     type Box: BoxSlot;
+    /// The residency flags' type.
+    type Flag: Residency;
     /// The buffers, borrowed.
-    fn parts(&self) -> Parts<'_, T, Self::Height, Self::Box>;
+    fn parts(&self) -> Parts<'_, T, Self::Height, Self::Box, Self::Flag>;
 }
 
-impl<T, H: Real, X: BoxSlot> Buffers<T> for Parts<'_, T, H, X> {
+impl<T, H: Real, X: BoxSlot, R: Residency> Buffers<T> for Parts<'_, T, H, X, R> {
     type Height = H;
     type Box = X;
+    type Flag = R;
     #[inline]
-    fn parts(&self) -> Parts<'_, T, H, X> {
+    fn parts(&self) -> Parts<'_, T, H, X, R> {
         *self
     }
+}
+
+/// The element of [`Parts::resident`]: `AtomicBool` for a storage that serves multi-resolution trees
+/// ([`build_multires_tree`](super::build_multires_tree)) with blocks paged in and out, or `()` for one that
+/// serves single-resolution trees only: every block resident at stride 1, known when the kernel is compiled,
+/// so that a program without paging links none of the multi-resolution fallback and stitching.
+pub trait Residency: sealed::Sealed {
+    /// Whether a storage with these flags serves multi-resolution trees.
+    const MULTIRES: bool;
+    /// Whether the flag says resident.
+    fn is_set(&self) -> bool;
+}
+
+impl Residency for () {
+    const MULTIRES: bool = false;
+    #[inline]
+    fn is_set(&self) -> bool {
+        true
+    }
+}
+
+impl Residency for AtomicBool {
+    const MULTIRES: bool = true;
+    #[inline]
+    fn is_set(&self) -> bool {
+        self.load(Ordering::Relaxed)
+    }
+}
+
+mod sealed {
+    /// [`super::Residency`] is implemented by the kernel only.
+    pub trait Sealed {}
+    impl Sealed for () {}
+    impl Sealed for core::sync::atomic::AtomicBool {}
 }
 
 /// The [`TerrainStorage`] over a built tree and its buffers (module docs). Use [`SliceStorage`] for
@@ -84,13 +131,14 @@ pub struct TreeStorage<T, B> {
 }
 
 /// The [`TreeStorage`] over borrowed slices: everything borrowed, nothing allocated. `H` is the samples' type,
-/// `X` what the records keep of their boxes (`()`: none; `Option<NodeBox>`: [`build_boxes`](super::build_boxes)).
-pub type SliceStorage<'a, T, H = T, X = ()> = TreeStorage<T, Parts<'a, T, H, X>>;
+/// `X` what the records keep of their boxes (`()`: none; `Option<NodeBox>`: [`build_boxes`](super::build_boxes)),
+/// `R` the residency flags' (`()`: a single-resolution tree; `AtomicBool`: [`Residency`]).
+pub type SliceStorage<'a, T, H = T, X = (), R = ()> = TreeStorage<T, Parts<'a, T, H, X, R>>;
 
 impl<'a, T: Real, H: Real, X: BoxSlot> TreeStorage<T, Parts<'a, T, H, X>> {
     /// The storage over `heights` (as given to [`build_tree`](super::build_tree)) and `nodes` (its buffer, as it
-    /// wrote it), on `ellipsoid`, without tables. Checks the grid and heights again and that the buffer holds
-    /// the tree's slots.
+    /// wrote it), on `ellipsoid`, without tables or residency flags (a single-resolution tree). Checks the grid
+    /// and heights again and that the buffer holds the tree's slots.
     pub fn new(
         ellipsoid: Ellipsoid<T>,
         grid: Grid<T>,
@@ -104,7 +152,8 @@ impl<'a, T: Real, H: Real, X: BoxSlot> TreeStorage<T, Parts<'a, T, H, X>> {
 
 impl<T: Real, B: Buffers<T>> TreeStorage<T, B> {
     /// The storage over `buffers`, on `ellipsoid`: checks the grid and heights again ([`BuildError`]), that
-    /// the node buffer holds the tree's slots, and that every optional buffer has its `const fn`'s length.
+    /// the node buffer holds the tree's slots, that every optional buffer has its `const fn`'s length, and that
+    /// a multi-resolution tree comes with flags that serve one ([`Residency::MULTIRES`]).
     pub fn with_buffers(
         ellipsoid: Ellipsoid<T>,
         grid: Grid<T>,
@@ -115,6 +164,9 @@ impl<T: Real, B: Buffers<T>> TreeStorage<T, B> {
         check_records(p.heights, &grid, &tree, p.nodes.len())?;
         if !(p.resident.is_empty() || p.resident.len() == tree.slots()) {
             return Err(BuildError::BufferLength);
+        }
+        if tree.is_multires() && !B::Flag::MULTIRES {
+            return Err(BuildError::SingleResolution);
         }
         if let Some(t) = p.trig {
             if !t.fits(&grid) {
@@ -187,14 +239,17 @@ impl<T: Real, B: Buffers<T>> TerrainStorage<T> for TreeStorage<T, B> {
     }
     #[inline]
     fn is_resident(&self, id: NodeId) -> bool {
+        if !B::Flag::MULTIRES {
+            return true;
+        }
         usize::try_from(id.0)
             .ok()
             .and_then(|k| self.buffers.parts().resident.get(k))
-            .is_none_or(|f| f.load(Ordering::Relaxed))
+            .is_none_or(Residency::is_set)
     }
     #[inline]
     fn block_stride(&self, id: NodeId) -> u32 {
-        if !self.tree.is_multires() {
+        if !B::Flag::MULTIRES || !self.tree.is_multires() {
             return 1;
         }
         self.record(id).map_or(1, |r| self.tree.stride(r.level))
