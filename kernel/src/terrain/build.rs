@@ -32,9 +32,8 @@
 //! with a block per node at stride `2^k` and the branches of a [`MultiRes`] shape; residency flags
 //! (`&[AtomicBool]`, one per slot) let the caller page blocks in and out, and a storage whose flags are `()`
 //! ([`Residency`]) serves single-resolution trees without linking that code. [`TreeStorage`] serves all of it,
-//! from borrowed slices
-//! ([`SliceStorage`], [`Parts`]) or from buffers the caller owns ([`Buffers`]), and checks every length
-//! ([`BuildError::BufferLength`]).
+//! from borrowed slices ([`SliceStorage`], [`Parts`]) or from buffers the caller owns ([`Buffers`]), and checks
+//! every length ([`BuildError::BufferLength`]).
 //!
 //! ```
 //! use curvicast::geodesy::Ellipsoid;
@@ -424,8 +423,8 @@ pub fn build_tree<T: Real, H: Real, X: BoxSlot>(
 /// (same arguments, same records and ids), whose every node has its own block, a regular sub-grid of the DEM's
 /// vertices at `2^k` grid steps, `k` its level above the leaves (the pyramid of §5: coarse blocks subsample the
 /// finest data), and whose branches end at level `shape.coarse_level` outside `shape.fine_region`. A storage
-/// over it ([`TreeStorage`]) reports those strides ([`super::TerrainStorage::block_stride`]) and, given
-/// residency flags, which blocks are in memory.
+/// over it with `AtomicBool` residency flags ([`TreeStorage`], [`Parts::with_resident`]; empty: all resident)
+/// reports those strides ([`super::TerrainStorage::block_stride`]) and which blocks are in memory.
 pub fn build_multires_tree<T: Real, H: Real, X: BoxSlot>(
     heights: &[H],
     grid: &Grid<T>,
