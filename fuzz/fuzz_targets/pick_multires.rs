@@ -1,8 +1,9 @@
 //! Fuzz target for multi-resolution terrain picking (seed 000 §5–§6): small random DEMs (3–17 × 3–17 vertices,
-//! anywhere on the globe, poles and the antimeridian included, nodata vertices and nodata patches), one or two
-//! zones, each a small quadtree (up to level 3) whose nodes carry blocks of power-of-two strides (aligned to the
-//! node ranges by construction, a child's stride at most its parent's), random residency, a random `min_level`
-//! and a random ray.
+//! or 5–33 × 3–17, anywhere on the globe, poles and the antimeridian included, nodata vertices and nodata
+//! patches), the kernel's builder's multi-resolution tree over them (`build_multires_tree`: leaves of 1–4 cells
+//! under up to 8 × 4 zones, up to level 3, every node with a block at stride `2^(its level above the leaves)`,
+//! branches ending at a coarse level outside a fine region), random residency flags, a random `min_level` and a
+//! random ray.
 //!
 //! The target builds, in `f64` and with logic of its own, the surface that the tree, the residency and
 //! `min_level` select (the kernel's module docs, "Multi-resolution"):
@@ -25,25 +26,28 @@
 //! * no miss: if the brute force finds a hit at a non-grazing angle whose point lies at least 1 mm inside a
 //!   triangle (from every edge), the kernel must return a hit no farther than it (within 1 mm).
 //!
-//! Bit 4 of `fine` (unused by the spacing) makes the storage provide node boxes
-//! ([`TerrainStorage::node_box`]), built here from every vertex of each node's range (not only its block's
-//! samples), so that half of the inputs run the traversal's box tests and half its spheroidal volumes (of the
-//! shipped seeds, the regression of the volumes' row walls keeps the volumes; `seed_1`–`seed_3` get boxes); bits
-//! 5–7 choose which boxes are in their parent's box frame rather than their parent's own.
+//! Bit 3 of `fine` (unused by the spacing) doubles the grid's rows, so that trees reach level 3 (strides up
+//! to 8). Bit 4 makes the storage provide node boxes ([`TerrainStorage::node_box`], the builder's
+//! `build_boxes_sharing`: each contains every vertex of its node's range, not only its block's samples), so
+//! that half of the inputs run the traversal's box tests and half its spheroidal volumes; bits 5–7 choose which
+//! boxes are in their parent's box frame rather than their parent's own.
 #![no_main]
 
 use arbitrary::Arbitrary;
 use curvicast::Ray;
 use curvicast::geodesy::Ellipsoid;
-use curvicast::terrain::boxes::{NodeBox, anchor_of};
+use curvicast::terrain::boxes::NodeBox;
+use curvicast::terrain::build::{
+    Buffers, MultiRes, NodeRecord, Parts, SliceStorage, TreeStorage, build_boxes_sharing,
+    build_multires_tree, node_slots,
+};
 use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainError, TerrainStorage};
 use libfuzzer_sys::fuzz_target;
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
+use std::sync::atomic::AtomicBool;
 
-/// The most vertices along a side of the grid.
+/// The most vertices along a side of the grid's heights (a grid of doubled rows repeats them).
 const MAX_SIDE: usize = 17;
-/// The deepest level of the trees (zones are level 0).
-const MAX_LEVEL: u8 = 3;
 
 #[derive(Debug, Arbitrary)]
 struct Input {
@@ -51,7 +55,7 @@ struct Input {
     lon0: i16,
     dlat: i16,
     dlon: u16,
-    /// Divides both spacings by `2^(fine % 8)`.
+    /// Divides both spacings by `2^(fine % 8)`; bits 3–7: see the module docs.
     fine: u8,
     rows: u8,
     cols: u8,
@@ -62,9 +66,11 @@ struct Input {
     holes: [u16; 6],
     /// A nodata rectangle of vertices `[i0, j0, di, dj]` (it may empty whole nodes).
     hole_rect: Option<[u8; 4]>,
-    /// 0: one zone; 1: two zones side by side; 2: two zones one above the other.
+    /// A multiple of 3: the full tree everywhere; else branches outside the fine region end at the coarse
+    /// level (`tree`).
     zones: u8,
-    /// The tree's shape, strides and split points, read in turn.
+    /// The leaf block (`tree[0]`), the fine region's rows and columns as fractions of the grid's
+    /// (`tree[1..5]`), and the coarse level (`tree[5]`).
     tree: [u8; 48],
     /// Non-resident nodes: bit `id % 128`; with `sparse`, only where `absent_and` has the bit too.
     absent: u128,
@@ -83,154 +89,113 @@ struct Input {
     t_max: Option<u16>,
 }
 
-/// The storage: one grid, heights, and the nodes of all zones with their strides, parents and residency.
-struct Tiny {
+/// The buffers of the storage, owned: heights (NaN: nodata), the builder's node records, node boxes (empty:
+/// none) and residency flags, by node id.
+struct Owned {
+    heights: Vec<f64>,
+    nodes: Vec<NodeRecord<f64>>,
+    boxes: Vec<Option<NodeBox>>,
+    resident: Vec<AtomicBool>,
+}
+
+impl Buffers<f64, f64> for Owned {
+    fn parts(&self) -> Parts<'_, f64, f64> {
+        Parts {
+            boxes: &self.boxes,
+            resident: &self.resident,
+            ..Parts::new(&self.heights, &self.nodes)
+        }
+    }
+}
+
+/// The storage: the kernel's [`TreeStorage`] over [`Owned`].
+type Storage = TreeStorage<f64, f64, Owned>;
+
+/// The one place the target builds its storage: the builder's multi-resolution tree of `heights` with leaves of
+/// `block` cells and `shape`, node boxes if `share` is given (a child's box in the frame of its parent's box
+/// where `share(id)`), and each node's residency from `resident(id)`.
+fn storage(
+    grid: Grid<f64>,
+    heights: Vec<f64>,
+    block: u32,
+    shape: MultiRes<f64>,
+    share: Option<&dyn Fn(NodeId) -> bool>,
+    resident: impl Fn(NodeId) -> bool,
+) -> Storage {
+    let e = Ellipsoid::wgs84();
+    let mut nodes = vec![NodeRecord::EMPTY; node_slots(grid.rows, grid.cols, block)];
+    let tree = build_multires_tree(&heights, &grid, block, shape, &mut nodes)
+        .expect("the builder refused a valid DEM");
+    let mut boxes = Vec::new();
+    if let Some(share) = share {
+        boxes.resize(tree.slots(), None);
+        let bare = SliceStorage::new(e, grid, &heights, &nodes, tree).expect("bare storage");
+        build_boxes_sharing(&bare, &mut boxes, |id, _| share(id)).expect("node boxes");
+    }
+    let resident = (0..tree.slots() as u32)
+        .map(|k| AtomicBool::new(resident(NodeId(k))))
+        .collect();
+    let owned = Owned {
+        heights,
+        nodes,
+        boxes,
+        resident,
+    };
+    TreeStorage::with_buffers(e, grid, tree, owned).expect("storage over the builder's buffers")
+}
+
+/// The oracle's copy of the tree, read from the storage once by walking down from its zones: the nodes with
+/// data (the kernel skips a zone without data, the builder leaves such children out), with their strides,
+/// parents and residency, indexed in the order found (children as those indices, `id` the storage's ids); and
+/// its own heights.
+struct Tree {
     grid: Grid<f64>,
     h: Vec<Option<f64>>,
     nodes: Vec<Node<f64>>,
+    id: Vec<u32>,
     stride: Vec<u32>,
     parent: Vec<Option<usize>>,
     resident: Vec<bool>,
-    zones: Vec<NodeId>,
-    /// Node boxes by id (empty: the storage provides none).
-    boxes: Vec<Option<NodeBox>>,
 }
 
-/// The tree bytes, read in turn (cycling).
-struct Bytes<'a> {
-    b: &'a [u8],
-    k: usize,
-}
-
-impl Bytes<'_> {
-    fn next(&mut self) -> u8 {
-        let v = self
-            .b
-            .get(self.k % self.b.len().max(1))
-            .copied()
-            .unwrap_or(0);
-        self.k += 1;
-        v
-    }
-}
-
-/// Multiples of `s` strictly inside `(a, b)`.
-fn lattice_inside(a: u32, b: u32, s: u32) -> Vec<u32> {
-    (a / s + 1..)
-        .map(|k| k * s)
-        .take_while(|&p| p < b)
-        .collect()
-}
-
-impl Tiny {
-    fn range(&self, r: [u32; 2], c: [u32; 2]) -> Option<[f64; 2]> {
-        let mut out: Option<[f64; 2]> = None;
-        for i in r[0]..=r[1] {
-            for j in c[0]..=c[1] {
-                if let Some(h) = self.h[(i * self.grid.cols + j) as usize] {
-                    out = Some(out.map_or([h, h], |[a, b]| [a.min(h), b.max(h)]));
-                }
+impl Tree {
+    fn read(s: &Storage, h: Vec<Option<f64>>) -> Self {
+        let mut t = Tree {
+            grid: s.grid(),
+            h,
+            nodes: Vec::new(),
+            id: Vec::new(),
+            stride: Vec::new(),
+            parent: Vec::new(),
+            resident: Vec::new(),
+        };
+        let mut todo: Vec<(NodeId, Option<usize>)> = (0..s.zone_count())
+            .filter_map(|k| s.zone(k))
+            .map(|z| (z, None))
+            .collect();
+        // Each node is reached once (the children partition their parent), so this visits at most every slot.
+        while let Some((id, parent)) = todo.pop() {
+            let node = s.node(id).expect("a node the tree links to");
+            if node.heights.is_none() {
+                continue;
+            }
+            let k = t.nodes.len();
+            t.nodes.push(node);
+            t.id.push(id.0);
+            t.stride.push(s.block_stride(id));
+            t.parent.push(parent);
+            t.resident.push(s.is_resident(id));
+            todo.extend(node.children.iter().flatten().map(|&c| (c, Some(k))));
+        }
+        let index: BTreeMap<u32, usize> = t.id.iter().enumerate().map(|(k, &id)| (id, k)).collect();
+        for n in &mut t.nodes {
+            for c in &mut n.children {
+                *c = c.and_then(|c| index.get(&c.0)).map(|&k| NodeId(k as u32));
             }
         }
-        out
+        t
     }
 
-    /// The box of every node, from all of the vertices with data of its range (at the grid's own spacing,
-    /// whatever its block's stride), as the storage's contract states it (computed while the storage provides
-    /// no boxes): a child's box in the frame of its parent's box where bit `k % 3` of `share` is set (node
-    /// `k`), else in its parent's own frame (a zone's in the grid's).
-    fn build_boxes(&self, share: u8) -> Vec<Option<NodeBox>> {
-        let e = self.ellipsoid();
-        let parent = |k: usize| self.parent.get(k).copied().flatten();
-        let shared = |k: usize| parent(k).is_some() && (share >> (k % 3)) & 1 == 1;
-        let n = self.nodes.len();
-        (0..n)
-            .map(|k| {
-                let a = anchor_of(k, n, parent, shared).and_then(|a| self.nodes.get(a));
-                NodeBox::of_vertices(self, &e, &self.nodes[k], a, shared(k))
-            })
-            .collect()
-    }
-
-    /// Adds the node (rows, cols) with block stride `stride` and, if the bytes say so, its subtree; `None` when
-    /// the node has no data (it is left out of its parent's children).
-    fn build(
-        &mut self,
-        rows: [u32; 2],
-        cols: [u32; 2],
-        stride: u32,
-        level: u8,
-        parent: Option<usize>,
-        bytes: &mut Bytes<'_>,
-    ) -> Option<usize> {
-        let heights = self.range(rows, cols)?;
-        let id = self.nodes.len();
-        self.nodes.push(Node {
-            rows,
-            cols,
-            heights: Some(heights),
-            children: [None; 4],
-            level,
-        });
-        self.stride.push(stride);
-        self.parent.push(parent);
-        if level >= MAX_LEVEL {
-            return Some(id);
-        }
-        let b = bytes.next();
-        if b & 3 == 0 {
-            return Some(id);
-        }
-        let cs = match (b >> 2) & 3 {
-            0 | 1 => stride / 2,
-            2 => stride,
-            _ => stride / 4,
-        }
-        .max(1);
-        let mut split = |[a, z]: [u32; 2]| {
-            let c = lattice_inside(a, z, cs);
-            let k = usize::from(bytes.next()) % (c.len() + 1);
-            c.get(k).copied()
-        };
-        let (rs, ks) = (split(rows), split(cols));
-        if rs.is_none() && ks.is_none() {
-            return Some(id);
-        }
-        let parts = |r: [u32; 2], m: Option<u32>| match m {
-            Some(m) => vec![[r[0], m], [m, r[1]]],
-            None => vec![r],
-        };
-        let mut kids = [None; 4];
-        let mut n = 0;
-        for rp in parts(rows, rs) {
-            for cp in parts(cols, ks) {
-                if let Some(c) = self.build(rp, cp, cs, level + 1, Some(id), bytes) {
-                    kids[n] = Some(NodeId(c as u32));
-                    n += 1;
-                }
-            }
-        }
-        self.nodes[id].children = kids;
-        Some(id)
-    }
-}
-
-impl TerrainStorage<f64> for Tiny {
-    fn ellipsoid(&self) -> Ellipsoid<f64> {
-        Ellipsoid::wgs84()
-    }
-    fn grid(&self) -> Grid<f64> {
-        self.grid
-    }
-    fn zone_count(&self) -> usize {
-        self.zones.len()
-    }
-    fn zone(&self, k: usize) -> Option<NodeId> {
-        self.zones.get(k).copied()
-    }
-    fn node(&self, id: NodeId) -> Option<Node<f64>> {
-        self.nodes.get(id.0 as usize).copied()
-    }
     fn height(&self, i: u32, j: u32) -> Option<f64> {
         if i >= self.grid.rows || j >= self.grid.cols {
             return None;
@@ -239,15 +204,6 @@ impl TerrainStorage<f64> for Tiny {
             .get((i * self.grid.cols + j) as usize)
             .copied()
             .flatten()
-    }
-    fn is_resident(&self, id: NodeId) -> bool {
-        self.resident.get(id.0 as usize).copied().unwrap_or(false)
-    }
-    fn block_stride(&self, id: NodeId) -> u32 {
-        self.stride.get(id.0 as usize).copied().unwrap_or(1)
-    }
-    fn node_box(&self, id: NodeId) -> Option<NodeBox> {
-        self.boxes.get(id.0 as usize).copied().flatten()
     }
 }
 
@@ -263,7 +219,7 @@ struct Region {
 type Regions = Result<(Vec<Region>, Vec<Option<usize>>), BTreeSet<u32>>;
 
 /// Rule 1 for every leaf: the traced regions and the per-cell paint, or the ids of every block needed.
-fn regions(t: &Tiny, min_level: u8) -> Regions {
+fn regions(t: &Tree, min_level: u8) -> Regions {
     let cc = t.grid.cols - 1;
     let cr = t.grid.rows - 1;
     let mut paint = vec![None; (cr * cc) as usize];
@@ -338,7 +294,7 @@ fn regions(t: &Tiny, min_level: u8) -> Regions {
             break;
         }
         if let Some(k) = need {
-            needs.insert(k as u32);
+            needs.insert(t.id[k]);
             continue;
         }
         let Some(reg) = reg else { continue };
@@ -374,7 +330,7 @@ struct Side {
 
 /// Rules 2–3: every triangle of the surface, in `f64`.
 fn triangles(
-    t: &Tiny,
+    t: &Tree,
     regs: &[Region],
     paint: &[Option<usize>],
     vert: &impl Fn(u32, u32) -> Option<P3>,
@@ -544,11 +500,15 @@ fn distance_to_triangle(p: P3, v: [P3; 3]) -> f64 {
 }
 
 fuzz_target!(|inp: Input| {
-    let rows = 3 + u32::from(inp.rows % 15);
+    // Bit 3 of `fine`: twice the rows (more than 16 cell rows: one-cell leaves three levels below the zones).
+    let rows = match 3 + u32::from(inp.rows % 15) {
+        n if inp.fine & 0x08 != 0 => 2 * n - 1,
+        n => n,
+    };
     let cols = 3 + u32::from(inp.cols % 15);
     let fine = f64::from(1u32 << (inp.fine % 8));
-    // Up to ±2.7° and 5.5°: a zone spans less than 90° of longitude, and a cell of the coarsest blocks (8 grid
-    // steps) less than 45° of arc, whose chords the kernel's volumes can bound.
+    // Up to ±2.7° and 5.5°: a zone (at most 12 cells wide) spans less than 90° of longitude, and a cell of the
+    // coarsest blocks (8 grid steps) less than 45° of arc, whose chords the kernel's volumes can bound.
     let dlat = f64::from(inp.dlat) / 12000.0 / fine;
     let dlon = (1e-4 + f64::from(inp.dlon) / 12000.0) / fine;
     if dlat == 0.0 {
@@ -580,7 +540,7 @@ fuzz_target!(|inp: Input| {
         (f64::from(inp.hstep) / 192.0 * cell_m / 128.0).min(63.0)
     };
     let mut h: Vec<Option<f64>> = (0..n)
-        .map(|k| Some(f64::from(inp.heights[k]) * unit))
+        .map(|k| Some(f64::from(inp.heights[k % (MAX_SIDE * MAX_SIDE)]) * unit))
         .collect();
     for k in inp.holes {
         if let Some(x) = h.get_mut(usize::from(k)) {
@@ -595,55 +555,37 @@ fuzz_target!(|inp: Input| {
             }
         }
     }
-    let mut t = Tiny {
-        grid,
-        h,
-        nodes: Vec::new(),
-        stride: Vec::new(),
-        parent: Vec::new(),
-        resident: Vec::new(),
-        zones: Vec::new(),
-        boxes: Vec::new(),
-    };
     let (cr, cc) = (rows - 1, cols - 1);
-    let mut bytes = Bytes { b: &inp.tree, k: 0 };
-    let mut zone_stride = || 1u32 << (bytes.next() % 4);
-    let (s0, s1) = (zone_stride(), zone_stride());
-    // The zones: the whole grid, or two halves split on a multiple of both zones' strides.
-    let whole = ([0, cr], [0, cc]);
-    let mut zones = vec![(whole, s0)];
-    let by_cols = inp.zones % 3 == 1;
-    if !inp.zones.is_multiple_of(3) {
-        let (a, z) = if by_cols { (0, cc) } else { (0, cr) };
-        let c = lattice_inside(a, z, s0.max(s1));
-        if !c.is_empty() {
-            let m = c[usize::from(bytes.next()) % c.len()];
-            zones = if by_cols {
-                vec![(([0, cr], [0, m]), s0), (([0, cr], [m, cc]), s1)]
-            } else {
-                vec![(([0, m], [0, cc]), s0), (([m, cr], [0, cc]), s1)]
-            };
+    let b = inp.tree;
+    let block = 1 + u32::from(b[0] % 4);
+    // The fine region: rows and columns between two fractions of the grid's each.
+    let shape = if inp.zones.is_multiple_of(3) {
+        MultiRes::default()
+    } else {
+        let at = |x: u8, n: u32| u32::from(x) * n / 255;
+        let (i0, i1) = (at(b[1], cr), at(b[2], cr));
+        let (j0, j1) = (at(b[3].min(b[4]), cc), at(b[3].max(b[4]), cc));
+        let (la, lb) = (grid.lat_deg(i0), grid.lat_deg(i1));
+        MultiRes {
+            fine_region: Some([la.min(lb), la.max(lb), grid.lon_deg(j0), grid.lon_deg(j1)]),
+            coarse_level: u32::from(b[5] % 4),
         }
-    }
-    for ((r, c), s) in zones {
-        if let Some(z) = t.build(r, c, s, 0, None, &mut bytes) {
-            t.zones.push(NodeId(z as u32));
-        }
-    }
-    t.resident = (0..t.nodes.len())
-        .map(|k| {
-            let bit = |m: u128| (m >> (k % 128)) & 1 == 1;
-            inp.all_resident || !(bit(inp.absent) && (!inp.sparse || bit(inp.absent_and)))
-        })
-        .collect();
-    if inp.fine & 0x10 != 0 {
-        t.boxes = t.build_boxes(inp.fine >> 5);
-    }
+    };
+    let share = inp.fine >> 5;
+    let shared = move |id: NodeId| (share >> (id.0 % 3)) & 1 == 1;
+    let resident = |id: NodeId| {
+        let bit = |m: u128| (m >> (id.0 % 128)) & 1 == 1;
+        inp.all_resident || !(bit(inp.absent) && (!inp.sparse || bit(inp.absent_and)))
+    };
+    let heights = h.iter().map(|v| v.unwrap_or(f64::NAN)).collect();
+    let boxes = (inp.fine & 0x10 != 0).then_some(&shared as &dyn Fn(NodeId) -> bool);
+    let s = storage(grid, heights, block, shape, boxes, resident);
+    let t = Tree::read(&s, h);
     let depth = t.nodes.iter().map(|n| n.level).max().unwrap_or(0);
     let min_level = inp.min_level % (depth + 1);
 
     let e = Ellipsoid::<f64>::wgs84();
-    let picker = match Picker::<'_, f64, Tiny>::new(&t) {
+    let picker = match Picker::<'_, f64, Storage>::new(&s) {
         Ok(p) => p.with_min_level(min_level),
         Err(err) => panic!("a valid storage was rejected: {err:?}"),
     };
@@ -691,7 +633,7 @@ fuzz_target!(|inp: Input| {
             match res {
                 Ok(_) => {}
                 Err(TerrainError::NeedsBlock(id)) => assert!(
-                    needs.contains(&id.0) && !t.resident[id.0 as usize],
+                    needs.contains(&id.0) && !s.is_resident(id),
                     "NeedsBlock({}) is not a needed block: {needs:?}",
                     id.0
                 ),

@@ -40,29 +40,17 @@
 //! ```
 //! use curvicast::geodesy::Ellipsoid;
 //! use curvicast::ray::Ray;
-//! use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainStorage};
+//! use curvicast::terrain::build::{NodeRecord, SliceStorage, build_tree, node_slots};
+//! use curvicast::terrain::{Grid, Picker};
 //!
-//! /// A 3 × 3-vertex DEM near (10°N, 20°E) with one raised vertex, as one zone that is also a leaf.
-//! struct Tiny([f64; 9]);
-//! impl TerrainStorage<f64> for Tiny {
-//!     fn ellipsoid(&self) -> Ellipsoid<f64> { Ellipsoid::wgs84() }
-//!     fn grid(&self) -> Grid<f64> {
-//!         Grid { lat0: 10.0, lon0: 20.0, dlat: 0.01, dlon: 0.01, rows: 3, cols: 3 }
-//!     }
-//!     fn zone_count(&self) -> usize { 1 }
-//!     fn zone(&self, k: usize) -> Option<NodeId> { (k == 0).then_some(NodeId(0)) }
-//!     fn node(&self, id: NodeId) -> Option<Node<f64>> {
-//!         (id == NodeId(0)).then_some(Node {
-//!             rows: [0, 2], cols: [0, 2], heights: Some([0.0, 500.0]), children: [None; 4], level: 0,
-//!         })
-//!     }
-//!     fn height(&self, i: u32, j: u32) -> Option<f64> {
-//!         self.0.get(usize::try_from(i * 3 + j).ok()?).copied()
-//!     }
-//! }
-//!
-//! let dem = Tiny([0.0, 0.0, 0.0, 0.0, 500.0, 0.0, 0.0, 0.0, 0.0]);
-//! let picker: Picker<'_, f64, Tiny> = Picker::new(&dem)?;
+//! // A 3 × 3-vertex DEM near (10°N, 20°E) with one raised vertex; blocks of 2 × 2 cells make it one zone that
+//! // is also a leaf.
+//! let grid = Grid { lat0: 10.0, lon0: 20.0, dlat: 0.01, dlon: 0.01, rows: 3, cols: 3 };
+//! let heights = [0.0, 0.0, 0.0, 0.0, 500.0, 0.0, 0.0, 0.0, 0.0];
+//! let mut nodes = [NodeRecord::<f64>::EMPTY; node_slots(3, 3, 2)];
+//! let tree = build_tree(&heights, &grid, 2, &mut nodes)?;
+//! let dem = SliceStorage::new(Ellipsoid::wgs84(), grid, &heights, &nodes, tree)?;
+//! let picker: Picker<'_, f64, SliceStorage<'_, f64>> = Picker::new(&dem)?;
 //! let e = Ellipsoid::<f64>::wgs84();
 //! // Straight down onto the raised center vertex from 10 km.
 //! let top = e.geodetic_deg_to_ecef(10.01, 20.01, 10_000.0);

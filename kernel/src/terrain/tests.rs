@@ -26,108 +26,20 @@ fn same_hit(
     assert!(same, "{what}: kernel {got:?} vs brute {want:?}");
 }
 
-/// An in-memory DEM with a quadtree built by halving cell ranges down to `block` cells, and `zr × zc` zones.
-struct TestDem {
+/// A DEM as the brute force reads it: the ellipsoid, the grid and the heights (NaN: nodata).
+struct Surface {
     e: Ellipsoid<f64>,
     grid: Grid<f64>,
     heights: Vec<f64>,
-    nodes: Vec<Node<f64>>,
-    zones: Vec<NodeId>,
-    cache: Vec<Option<HeightQuadBounds<f64>>>,
-    boxes: Vec<Option<boxes::NodeBox>>,
 }
 
-impl TestDem {
-    fn new(grid: Grid<f64>, heights: Vec<f64>, block: u32, zr: u32, zc: u32) -> Self {
-        let mut d = TestDem {
-            e: Ellipsoid::wgs84(),
-            grid,
-            heights,
-            nodes: Vec::new(),
-            zones: Vec::new(),
-            cache: Vec::new(),
-            boxes: Vec::new(),
-        };
-        let (cr, cc) = (grid.rows - 1, grid.cols - 1);
-        for a in 0..zr {
-            for b in 0..zc {
-                let rows = [cr * a / zr, cr * (a + 1) / zr];
-                let cols = [cc * b / zc, cc * (b + 1) / zc];
-                if rows[0] < rows[1] && cols[0] < cols[1] {
-                    let id = d.build(rows, cols, block, 0);
-                    d.zones.push(id);
-                }
-            }
-        }
-        d
-    }
-
-    /// Gives every node its box ([`boxes`]), from all of its vertices: a child's box in the frame of its
-    /// parent's box when `share(its index)`, else in its parent's own frame (a zone's in the grid's).
-    fn with_boxes(mut self, share: impl Fn(usize) -> bool) -> Self {
-        let parent: Vec<Option<usize>> = (0..self.nodes.len())
-            .map(|k| {
-                self.nodes
-                    .iter()
-                    .position(|p| p.children.iter().flatten().any(|c| c.0 as usize == k))
-            })
-            .collect();
-        let n = self.nodes.len();
-        let shared = |k: usize| parent[k].is_some() && share(k);
-        self.boxes = (0..n)
-            .map(|k| {
-                let a = boxes::anchor_of(k, n, |c| parent[c], shared).map(|a| &self.nodes[a]);
-                boxes::NodeBox::of_vertices(&self, &self.e, &self.nodes[k], a, shared(k))
-            })
-            .collect();
-        self
-    }
-
+impl Surface {
     fn h(&self, i: u32, j: u32) -> Option<f64> {
         let v = *self
             .heights
             .get((i * self.grid.cols + j) as usize)
             .filter(|_| i < self.grid.rows && j < self.grid.cols)?;
         (!v.is_nan()).then_some(v)
-    }
-
-    fn build(&mut self, rows: [u32; 2], cols: [u32; 2], block: u32, level: u8) -> NodeId {
-        let mut lo = f64::INFINITY;
-        let mut hi = f64::NEG_INFINITY;
-        for i in rows[0]..=rows[1] {
-            for j in cols[0]..=cols[1] {
-                if let Some(h) = self.h(i, j) {
-                    lo = lo.min(h);
-                    hi = hi.max(h);
-                }
-            }
-        }
-        let heights = (lo <= hi).then_some([lo, hi]);
-        let id = NodeId(self.nodes.len() as u32);
-        self.nodes.push(Node {
-            rows,
-            cols,
-            heights,
-            children: [None; 4],
-            level,
-        });
-        let (nr, nc) = (rows[1] - rows[0], cols[1] - cols[0]);
-        if nr > block || nc > block {
-            let rm = rows[0] + nr.div_ceil(2);
-            let cm = cols[0] + nc.div_ceil(2);
-            let mut kids = [None; 4];
-            let mut k = 0;
-            for r in [[rows[0], rm], [rm, rows[1]]] {
-                for c in [[cols[0], cm], [cm, cols[1]]] {
-                    if r[0] < r[1] && c[0] < c[1] {
-                        kids[k] = Some(self.build(r, c, block, level + 1));
-                        k += 1;
-                    }
-                }
-            }
-            self.nodes[id.0 as usize].children = kids;
-        }
-        id
     }
 
     fn vertex(&self, i: u32, j: u32) -> Option<V3<f64>> {
@@ -187,30 +99,135 @@ impl TestDem {
     }
 }
 
-impl TerrainStorage<f64> for TestDem {
+/// The storage the tests pick on: the kernel's builder's ([`build::SliceStorage`]).
+type Storage<'a> = build::SliceStorage<'a, f64>;
+
+/// A [`Surface`] and the kernel's builder's buffers over it, which [`TestDem::storage`] serves: the node
+/// records of [`build::build_tree`] (leaves of `block × block` cells under the builder's zones) and, if asked
+/// for, node boxes.
+struct TestDem {
+    surface: Surface,
+    nodes: Vec<build::NodeRecord<f64>>,
+    tree: build::Tree,
+    boxes: Vec<Option<boxes::NodeBox>>,
+}
+
+impl TestDem {
+    /// A DEM without node boxes.
+    fn new(grid: Grid<f64>, heights: Vec<f64>, block: u32) -> Self {
+        Self::build(grid, heights, block, None)
+    }
+
+    /// A DEM whose every node has its box ([`build::build_boxes_sharing`]): a child's box in the frame of its
+    /// parent's box when `share(its id)`, else in its parent's own frame (a zone's in the grid's).
+    fn with_boxes(grid: Grid<f64>, heights: Vec<f64>, block: u32, share: fn(u32) -> bool) -> Self {
+        Self::build(grid, heights, block, Some(share))
+    }
+
+    /// The one place the tests build a tree and boxes with the kernel's builder.
+    fn build(
+        grid: Grid<f64>,
+        heights: Vec<f64>,
+        block: u32,
+        share: Option<fn(u32) -> bool>,
+    ) -> Self {
+        let surface = Surface {
+            e: Ellipsoid::wgs84(),
+            grid,
+            heights,
+        };
+        let mut nodes =
+            std::vec![build::NodeRecord::EMPTY; build::node_slots(grid.rows, grid.cols, block)];
+        let tree = build::build_tree(&surface.heights, &grid, block, &mut nodes).unwrap();
+        let mut boxes = Vec::new();
+        if let Some(share) = share {
+            boxes.resize(tree.slots(), None);
+            let bare =
+                build::SliceStorage::new(surface.e, grid, &surface.heights, &nodes, tree).unwrap();
+            build::build_boxes_sharing(&bare, &mut boxes, |id, _| share(id.0)).unwrap();
+        }
+        TestDem {
+            surface,
+            nodes,
+            tree,
+            boxes,
+        }
+    }
+
+    /// The storage over the buffers.
+    fn storage(&self) -> Storage<'_> {
+        let parts = build::Parts {
+            boxes: &self.boxes,
+            ..build::Parts::new(&self.surface.heights, &self.nodes)
+        };
+        build::TreeStorage::with_buffers(self.surface.e, self.surface.grid, self.tree, parts)
+            .unwrap()
+    }
+}
+
+/// A storage of a grid alone, without zones: the builder refuses an invalid grid
+/// ([`build::BuildError::InvalidGrid`]), so the picker's own check of the grid is tested over this.
+struct GridOnly(Grid<f64>);
+
+impl TerrainStorage<f64> for GridOnly {
     fn ellipsoid(&self) -> Ellipsoid<f64> {
-        self.e
+        Ellipsoid::wgs84()
     }
     fn grid(&self) -> Grid<f64> {
-        self.grid
+        self.0
     }
     fn zone_count(&self) -> usize {
-        self.zones.len()
+        0
+    }
+    fn zone(&self, _: usize) -> Option<NodeId> {
+        None
+    }
+    fn node(&self, _: NodeId) -> Option<Node<f64>> {
+        None
+    }
+    fn height(&self, _: u32, _: u32) -> Option<f64> {
+        None
+    }
+}
+
+/// The builder's storage with [`TerrainStorage::cached_bounds`], which the builder does not provide (its
+/// node boxes stand in for it): every node's [`quad_bounds`], by node id.
+struct CachedBounds<'a> {
+    inner: Storage<'a>,
+    cache: Vec<Option<HeightQuadBounds<f64>>>,
+}
+
+impl<'a> CachedBounds<'a> {
+    fn new(inner: Storage<'a>) -> Self {
+        let (e, g) = (inner.ellipsoid(), inner.grid());
+        let cache = (0..inner.tree().slots() as u32)
+            .map(|k| quad_bounds(&e, &g, &inner.node(NodeId(k)).unwrap()).unwrap())
+            .collect();
+        CachedBounds { inner, cache }
+    }
+}
+
+impl TerrainStorage<f64> for CachedBounds<'_> {
+    fn ellipsoid(&self) -> Ellipsoid<f64> {
+        self.inner.ellipsoid()
+    }
+    fn grid(&self) -> Grid<f64> {
+        self.inner.grid()
+    }
+    fn zone_count(&self) -> usize {
+        self.inner.zone_count()
     }
     fn zone(&self, k: usize) -> Option<NodeId> {
-        self.zones.get(k).copied()
+        self.inner.zone(k)
     }
     fn node(&self, id: NodeId) -> Option<Node<f64>> {
-        self.nodes.get(id.0 as usize).copied()
+        self.inner.node(id)
     }
     fn height(&self, i: u32, j: u32) -> Option<f64> {
-        self.h(i, j)
+        self.inner.height(i, j)
     }
     fn cached_bounds(&self, id: NodeId) -> Option<HeightQuadBounds<f64>> {
         self.cache.get(id.0 as usize).copied().flatten()
-    }
-    fn node_box(&self, id: NodeId) -> Option<boxes::NodeBox> {
-        self.boxes.get(id.0 as usize).copied().flatten()
     }
 }
 
@@ -247,15 +264,23 @@ fn radial_ray(e: &Ellipsoid<f64>, lat: f64, lon: f64, h0: f64) -> Ray<f64> {
 #[cfg_attr(miri, ignore)] // many picks: minutes under Miri; the light tests below cover the same code
 fn flat_terrain_at_h0_hit_by_radial_rays_at_vertices() {
     let g = grid(45.0, 7.0, 0.01, 0.01, 9, 9);
-    let dem = TestDem::new(g, std::vec![0.0; 81], 2, 1, 1);
-    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let dem = TestDem::new(g, std::vec![0.0; 81], 2);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     for i in 0..9 {
         for j in 0..9 {
             let (lat, lon) = (g.lat_deg(i), g.lon_deg(j));
-            let hit = p.pick(&radial_ray(&dem.e, lat, lon, 1000.0)).unwrap();
-            let ray = radial_ray(&dem.e, lat, lon, 1000.0);
+            let hit = p
+                .pick(&radial_ray(&dem.surface.e, lat, lon, 1000.0))
+                .unwrap();
+            let ray = radial_ray(&dem.surface.e, lat, lon, 1000.0);
             let what = std::format!("{i},{j}");
-            same_hit(&ray, hit.map(|h| (h.t, h.cell)), dem.brute(&ray), &what);
+            same_hit(
+                &ray,
+                hit.map(|h| (h.t, h.cell)),
+                dem.surface.brute(&ray),
+                &what,
+            );
             assert!(hit.is_some(), "{i},{j} missed");
             let hit = hit.unwrap();
             // A vertex at h = 0 lies 1000 m down the normal.
@@ -267,7 +292,7 @@ fn flat_terrain_at_h0_hit_by_radial_rays_at_vertices() {
     }
     // Cell centres: the chord plane dips below the ellipsoid by less than the sagitta (≈ D²/(8R) ≈ 0.02 m).
     let hit = p
-        .pick(&radial_ray(&dem.e, 45.035, 7.045, 1000.0))
+        .pick(&radial_ray(&dem.surface.e, 45.035, 7.045, 1000.0))
         .unwrap()
         .unwrap();
     assert!(hit.h < 0.0 && hit.h > -0.05, "{}", hit.h);
@@ -279,23 +304,29 @@ fn single_raised_vertex_peak_and_its_slopes() {
     let g = grid(-33.0, 151.0, -0.001, 0.001, 5, 5);
     let mut hs = std::vec![0.0; 25];
     hs[2 * 5 + 2] = 300.0;
-    let dem = TestDem::new(g, hs, 1, 1, 1);
-    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let dem = TestDem::new(g, hs, 1);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     let (lat, lon) = (g.lat_deg(2), g.lon_deg(2));
     let hit = p
-        .pick(&radial_ray(&dem.e, lat, lon, 2000.0))
+        .pick(&radial_ray(&dem.surface.e, lat, lon, 2000.0))
         .unwrap()
         .unwrap();
     assert!((hit.t - 1700.0).abs() < 1e-6 && (hit.h - 300.0).abs() < 1e-6);
     // Halfway to a neighbouring vertex along a grid line (an edge of the triangulation), the edge is straight:
     // the hit height is close to 150 m (the chord of the peak's edge, less the tiny curvature term).
     let hit = p
-        .pick(&radial_ray(&dem.e, lat, lon + 0.0005, 2000.0))
+        .pick(&radial_ray(&dem.surface.e, lat, lon + 0.0005, 2000.0))
         .unwrap()
         .unwrap();
     assert!((hit.h - 150.0).abs() < 0.5, "{}", hit.h);
-    let ray = radial_ray(&dem.e, lat, lon + 0.0005, 2000.0);
-    same_hit(&ray, Some((hit.t, hit.cell)), dem.brute(&ray), "peak slope");
+    let ray = radial_ray(&dem.surface.e, lat, lon + 0.0005, 2000.0);
+    same_hit(
+        &ray,
+        Some((hit.t, hit.cell)),
+        dem.surface.brute(&ray),
+        "peak slope",
+    );
 }
 
 #[test]
@@ -313,10 +344,11 @@ fn ray_through_the_pole_row() {
             }
         })
         .collect();
-    let dem = TestDem::new(g, hs, 2, 1, 2);
-    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let dem = TestDem::new(g, hs, 2);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     // Straight down the z axis onto the pole vertex.
-    let e = dem.e;
+    let e = dem.surface.e;
     let ray = Ray::new([0.0, 0.0, e.b() + 10_000.0], [0.0, 0.0, -1.0]).unwrap();
     let hit = p.pick(&ray).unwrap().unwrap();
     assert!((hit.t - (10_000.0 - 250.0)).abs() < 1e-6, "{}", hit.t);
@@ -332,7 +364,12 @@ fn ray_through_the_pole_row() {
         let d = [az.cos(), az.sin(), -0.02 + 0.001 * k as f64];
         let ray = Ray::new(o, d).unwrap();
         let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
-        same_hit(&ray, got, dem.brute(&ray), &std::format!("azimuth {az}"));
+        same_hit(
+            &ray,
+            got,
+            dem.surface.brute(&ray),
+            &std::format!("azimuth {az}"),
+        );
     }
 }
 
@@ -341,14 +378,15 @@ fn steep_ray_across_a_latitude_border_at_80_degrees_finds_the_bulging_triangle()
     // 1° cells, one cell per leaf: the quad border at 80° is a cone, the triangles below it are chords that
     // bulge north of it (the containment problem). A steep ray from the north aims at the bulge.
     let g = grid(78.0, 10.0, 1.0, 1.0, 5, 4);
-    let dem = TestDem::new(g, std::vec![0.0; 20], 1, 1, 1);
-    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
-    let e = dem.e;
+    let dem = TestDem::new(g, std::vec![0.0; 20], 1);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = dem.surface.e;
     // The midpoint of the border edge V(2,1)–V(2,2) (lat 80°, lon 11°..12°) and a point just south of it on the
     // southern cell's triangle.
-    let a = dem.vertex(2, 1).unwrap();
-    let b = dem.vertex(2, 2).unwrap();
-    let c = dem.vertex(1, 2).unwrap();
+    let a = dem.surface.vertex(2, 1).unwrap();
+    let b = dem.surface.vertex(2, 2).unwrap();
+    let c = dem.surface.vertex(1, 2).unwrap();
     let target = a
         .scaled(0.49995)
         .plus(b.scaled(0.49995))
@@ -363,7 +401,12 @@ fn steep_ray_across_a_latitude_border_at_80_degrees_finds_the_bulging_triangle()
     let origin = target.add_scaled(-20_000.0, dir);
     let ray = Ray::new(origin, dir).unwrap();
     let hit = p.pick(&ray).unwrap().unwrap();
-    same_hit(&ray, Some((hit.t, hit.cell)), dem.brute(&ray), "steep ray");
+    same_hit(
+        &ray,
+        Some((hit.t, hit.cell)),
+        dem.surface.brute(&ray),
+        "steep ray",
+    );
     assert_eq!(
         hit.cell[0], 1,
         "the triangle belongs to the southern row of cells"
@@ -376,11 +419,13 @@ fn nodata_vertex_removes_its_triangles() {
     let g = grid(0.0, 0.0, 0.01, 0.01, 3, 3);
     let mut hs = std::vec![0.0; 9];
     hs[4] = f64::NAN;
-    let dem = TestDem::new(g, hs, 2, 1, 1);
-    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let dem = TestDem::new(g, hs, 2);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     // Every triangle touches the centre vertex: nothing to hit.
     assert_eq!(
-        p.pick(&radial_ray(&dem.e, 0.005, 0.005, 100.0)).unwrap(),
+        p.pick(&radial_ray(&dem.surface.e, 0.005, 0.005, 100.0))
+            .unwrap(),
         None
     );
 }
@@ -392,9 +437,10 @@ fn line_of_sight_over_and_through_a_ridge() {
     let hs = std::vec![
         0.0, 0.0, 800.0, 0.0, 0.0, 0.0, 0.0, 800.0, 0.0, 0.0, 0.0, 0.0, 800.0, 0.0, 0.0
     ];
-    let dem = TestDem::new(g, hs, 1, 1, 2);
-    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
-    let e = dem.e;
+    let dem = TestDem::new(g, hs, 1);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = dem.surface.e;
     let west = e.geodetic_deg_to_ecef(10.001, 10.0, 100.0);
     let east = e.geodetic_deg_to_ecef(10.001, 10.004, 100.0);
     assert!(!p.line_of_sight(west, east).unwrap());
@@ -405,12 +451,14 @@ fn line_of_sight_over_and_through_a_ridge() {
 
 #[test]
 fn pick_statistics_count_the_work() {
-    let g = grid(0.0, 0.0, 0.01, 0.01, 9, 9);
-    let dem = TestDem::new(g, std::vec![0.0; 81], 2, 1, 1);
-    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    // One-cell leaves two levels below the builder's zones (16 × 16 cells: 8 × 8, then 4 × 4 zones).
+    let g = grid(0.0, 0.0, 0.01, 0.01, 17, 17);
+    let dem = TestDem::new(g, std::vec![0.0; 289], 1);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     let mut st = PickStats::default();
     let hit = p
-        .pick_with_stats(&radial_ray(&dem.e, 0.035, 0.045, 100.0), &mut st)
+        .pick_with_stats(&radial_ray(&dem.surface.e, 0.035, 0.045, 100.0), &mut st)
         .unwrap();
     assert!(hit.is_some());
     assert!(st.quads_visited >= 3, "{st:?}");
@@ -426,57 +474,44 @@ fn pick_statistics_count_the_work() {
 
 #[test]
 fn typed_errors() {
-    let bad = TestDem::new(grid(0.0, 0.0, 0.0, 0.01, 3, 3), std::vec![0.0; 9], 2, 1, 1);
+    let bad = GridOnly(grid(0.0, 0.0, 0.0, 0.01, 3, 3));
     assert_eq!(
-        Picker::<'_, f64, TestDem>::new(&bad).err(),
+        Picker::<'_, f64, GridOnly>::new(&bad).err(),
         Some(TerrainError::InvalidGrid)
     );
-    let deep = TestDem::new(
-        grid(0.0, 0.0, 0.01, 0.01, 3, 3),
-        std::vec![-7.0e6; 9],
-        2,
-        1,
-        1,
-    );
+    let deep = TestDem::new(grid(0.0, 0.0, 0.01, 0.01, 3, 3), std::vec![-7.0e6; 9], 2);
     assert_eq!(
-        Picker::<'_, f64, TestDem>::new(&deep).err(),
+        Picker::<'_, f64, Storage<'_>>::new(&deep.storage()).err(),
         Some(TerrainError::Geodesy(GeodesyError::HeightTooLow))
     );
-    let mut malformed = TestDem::new(
-        grid(0.0, 0.0, 0.01, 0.01, 9, 9),
-        std::vec![0.0; 81],
-        1,
-        1,
-        1,
-    );
-    malformed.nodes[1].rows = [0, 8]; // a child as large as its parent
-    malformed.nodes[1].cols = [0, 8];
-    let p: Picker<'_, f64, TestDem> = Picker::new(&malformed).unwrap();
+    // The builder's records with one broken by hand: a child as large as its parent, under the ray's zone.
+    let mut malformed = TestDem::new(grid(0.0, 0.0, 0.01, 0.01, 9, 9), std::vec![0.0; 81], 1);
+    let zone = malformed
+        .nodes
+        .iter()
+        .copied()
+        .find(|n| {
+            n.level == 0 && n.rows[0] <= 3 && 3 < n.rows[1] && n.cols[0] <= 3 && 3 < n.cols[1]
+        })
+        .unwrap();
+    let child = &mut malformed.nodes[zone.kids[0] as usize];
+    (child.rows, child.cols) = (zone.rows, zone.cols);
+    let s = malformed.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     assert_eq!(
-        p.pick(&radial_ray(&malformed.e, 0.03, 0.03, 100.0)),
+        p.pick(&radial_ray(&malformed.surface.e, 0.03, 0.03, 100.0)),
         Err(TerrainError::MalformedTree)
     );
-    let ok = TestDem::new(
-        grid(0.0, 0.0, 0.01, 0.01, 17, 17),
-        std::vec![0.0; 289],
-        1,
-        1,
-        1,
-    );
-    let tiny: Picker<'_, f64, TestDem, 2> = Picker::new(&ok).unwrap();
+    let ok = TestDem::new(grid(0.0, 0.0, 0.01, 0.01, 17, 17), std::vec![0.0; 289], 1);
+    let s = ok.storage();
+    let tiny: Picker<'_, f64, Storage<'_>, 2> = Picker::new(&s).unwrap();
     assert_eq!(
-        tiny.pick(&radial_ray(&ok.e, 0.03, 0.03, 100.0)),
+        tiny.pick(&radial_ray(&ok.surface.e, 0.03, 0.03, 100.0)),
         Err(TerrainError::StackFull)
     );
-    let zones = TestDem::new(
-        grid(0.0, 0.0, 0.01, 0.01, 9, 9),
-        std::vec![0.0; 81],
-        2,
-        4,
-        4,
-    );
+    let zones = TestDem::new(grid(0.0, 0.0, 0.01, 0.01, 9, 9), std::vec![0.0; 81], 2);
     assert_eq!(
-        Picker::<'_, f64, TestDem, 64, 8>::new(&zones).err(),
+        Picker::<'_, f64, Storage<'_>, 64, 8>::new(&zones.storage()).err(),
         Some(TerrainError::TooManyZones)
     );
 }
@@ -485,15 +520,9 @@ fn typed_errors() {
 fn grid_of_80_degree_cells_is_triangle_too_large_not_height_too_low() {
     // 3 × 3 vertices 10° × 80° apart at the equator, flat at 0 m: the cells' diagonals (about 8 800 km) are
     // beyond the chord bound, and the heights are fine.
-    let dem = TestDem::new(
-        grid(-10.0, 0.0, 10.0, 80.0, 3, 3),
-        std::vec![0.0; 9],
-        1,
-        1,
-        1,
-    );
-    let e = dem.e;
-    let got = Picker::<'_, f64, TestDem>::new(&dem)
+    let dem = TestDem::new(grid(-10.0, 0.0, 10.0, 80.0, 3, 3), std::vec![0.0; 9], 1);
+    let e = dem.surface.e;
+    let got = Picker::<'_, f64, Storage<'_>>::new(&dem.storage())
         .and_then(|p| p.pick(&radial_ray(&e, 0.0, 40.0, 1000.0)))
         .err();
     assert_eq!(
@@ -506,14 +535,9 @@ fn grid_of_80_degree_cells_is_triangle_too_large_not_height_too_low() {
         "{text}"
     );
     // 60° cells are within the bound.
-    let ok = TestDem::new(
-        grid(-10.0, 0.0, 10.0, 60.0, 3, 3),
-        std::vec![0.0; 9],
-        1,
-        1,
-        1,
-    );
-    let p: Picker<'_, f64, TestDem> = Picker::new(&ok).unwrap();
+    let ok = TestDem::new(grid(-10.0, 0.0, 10.0, 60.0, 3, 3), std::vec![0.0; 9], 1);
+    let s = ok.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     assert!(
         p.pick(&radial_ray(&e, 0.0, 40.0, 1000.0))
             .unwrap()
@@ -523,14 +547,9 @@ fn grid_of_80_degree_cells_is_triangle_too_large_not_height_too_low() {
 
 #[test]
 fn grid_with_dlon_180_is_an_invalid_grid_whose_message_states_the_rules() {
-    let dem = TestDem::new(
-        grid(-10.0, 0.0, 10.0, 180.0, 3, 2),
-        std::vec![0.0; 6],
-        1,
-        1,
-        1,
-    );
-    let err = Picker::<'_, f64, TestDem>::new(&dem).err();
+    // The builder refuses the grid too (BuildError::InvalidGrid): the picker checks it over a bare grid.
+    let dem = GridOnly(grid(-10.0, 0.0, 10.0, 180.0, 3, 2));
+    let err = Picker::<'_, f64, GridOnly>::new(&dem).err();
     assert_eq!(err, Some(TerrainError::InvalidGrid));
     let text = std::format!("{}", err.unwrap());
     assert!(text.contains("0 < dlon < 180"), "{text}");
@@ -539,9 +558,10 @@ fn grid_with_dlon_180_is_an_invalid_grid_whose_message_states_the_rules() {
 #[test]
 fn ray_missing_everything_and_ray_starting_below_ground() {
     let g = grid(0.0, 0.0, 0.01, 0.01, 5, 5);
-    let dem = TestDem::new(g, std::vec![100.0; 25], 2, 1, 1);
-    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
-    let e = dem.e;
+    let dem = TestDem::new(g, std::vec![100.0; 25], 2);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = dem.surface.e;
     let up = radial_ray(&e, 0.02, 0.02, 1000.0);
     let away = Ray::new(up.origin(), up.dir().negated()).unwrap();
     assert_eq!(p.pick(&away).unwrap(), None);
@@ -573,13 +593,13 @@ fn random_rays_agree_with_brute_force_on_rough_terrain() {
             })
             .collect();
         // Spheroidal volumes, then node boxes, on the same rays.
-        let plain = TestDem::new(g, hs.clone(), 2, 2, 2);
+        let plain = TestDem::new(g, hs.clone(), 2);
         // Boxes in their parents' frames, in one frame for the whole grid, and a mix of the two.
-        let boxed = TestDem::new(g, hs.clone(), 2, 2, 2).with_boxes(|_| false);
-        let one_frame = TestDem::new(g, hs.clone(), 2, 2, 2).with_boxes(|_| true);
-        let mixed = TestDem::new(g, hs, 2, 2, 2).with_boxes(|k| k % 3 != 1);
+        let boxed = TestDem::with_boxes(g, hs.clone(), 2, |_| false);
+        let one_frame = TestDem::with_boxes(g, hs.clone(), 2, |_| true);
+        let mixed = TestDem::with_boxes(g, hs, 2, |k| k % 3 != 1);
         assert!(mixed.boxes.iter().flatten().any(|b| b.shared_frame));
-        let e = plain.e;
+        let e = plain.surface.e;
         let rays: Vec<Ray<f64>> = (0..300)
             .map(|_| {
                 let lat = lat0 + dlat * 11.0 * r.next();
@@ -596,12 +616,13 @@ fn random_rays_agree_with_brute_force_on_rough_terrain() {
             ("boxes in one frame", &one_frame),
             ("boxes in mixed frames", &mixed),
         ] {
-            let p: Picker<'_, f64, TestDem> = Picker::new(dem).unwrap();
+            let s = dem.storage();
+            let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
             let mut hits = 0;
             for (k, ray) in rays.iter().enumerate() {
                 let got = p.pick(ray).unwrap().map(|h| (h.t, h.cell));
                 let what = std::format!("grid at {lat0}, {name}, ray {k}");
-                same_hit(ray, got, dem.brute(ray), &what);
+                same_hit(ray, got, dem.surface.brute(ray), &what);
                 hits += usize::from(got.is_some());
             }
             // Agreeing on misses alone proves nothing: most rays must hit.
@@ -620,11 +641,12 @@ fn node_boxes_stand_in_for_the_volumes() {
     let hs: Vec<f64> = (0..81)
         .map(|k| if k % 9 == 4 { 1500.0 } else { 200.0 })
         .collect();
-    // Every other node's box in the frame of its parent's box.
-    let dem = TestDem::new(g, hs, 2, 1, 2).with_boxes(|k| k % 2 == 0);
+    // Every other node's box in the frame of its parent's box (one-cell leaves: every zone has children).
+    let dem = TestDem::with_boxes(g, hs, 1, |k| k % 2 == 0);
     assert!(dem.boxes.iter().all(Option::is_some));
-    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
-    let e = dem.e;
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = dem.surface.e;
     for k in 0..6 {
         let lat = -45.0 + 0.0125 * k as f64 + 0.001;
         let ray = radial_ray(&e, lat, 30.04, 4000.0);
@@ -634,7 +656,7 @@ fn node_boxes_stand_in_for_the_volumes() {
             .unwrap()
             .map(|h| (h.t, h.cell));
         assert!(got.is_some() && stats.triangles_tested > 0, "ray {k}");
-        same_hit(&ray, got, dem.brute(&ray), &std::format!("ray {k}"));
+        same_hit(&ray, got, dem.surface.brute(&ray), &std::format!("ray {k}"));
         // Grazing along the ridge from 50 km away.
         let target = e.geodetic_deg_to_ecef(lat, 30.04, 1400.0);
         let east = V3::new(
@@ -644,7 +666,12 @@ fn node_boxes_stand_in_for_the_volumes() {
         );
         let ray = Ray::new(target.add_scaled(-5.0e4, east), east).unwrap();
         let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
-        same_hit(&ray, got, dem.brute(&ray), &std::format!("grazing ray {k}"));
+        same_hit(
+            &ray,
+            got,
+            dem.surface.brute(&ray),
+            &std::format!("grazing ray {k}"),
+        );
     }
 }
 
@@ -668,13 +695,15 @@ fn steep_rays_aimed_at_latitude_borders_from_60_to_89_degrees() {
         let g = grid(lat0, 30.0, dlat, 2.0, 6, 6);
         let rows = g.rows;
         let hs: Vec<f64> = (0..36).map(|_| 2000.0 * r.next()).collect();
-        let dem = TestDem::new(g, hs, 1, 1, 1);
-        let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+        let dem = TestDem::new(g, hs, 1);
+        let s = dem.storage();
+        let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
         let (mut tried, mut hits) = (0, 0);
         for k in 0..200 {
             let i = 1 + (k % (rows - 2));
             let j = (k / 3) % 5;
-            let (Some(a), Some(b)) = (dem.vertex(i, j), dem.vertex(i, j + 1)) else {
+            let (Some(a), Some(b)) = (dem.surface.vertex(i, j), dem.surface.vertex(i, j + 1))
+            else {
                 continue;
             };
             let w = 0.3 + 0.4 * r.next();
@@ -685,7 +714,7 @@ fn steep_rays_aimed_at_latitude_borders_from_60_to_89_degrees() {
             same_hit(
                 &ray,
                 got,
-                dem.brute(&ray),
+                dem.surface.brute(&ray),
                 &std::format!("lat0 {lat0}, ray {k}"),
             );
             tried += 1;
@@ -704,16 +733,17 @@ fn ray_from_below_hits_the_chord_dip_of_a_polar_triangle_below_its_lowest_vertex
     // Flat h = 0 polar cap of 5° × 30° cells: the pole triangles are chords ~500 km long whose centroids dip
     // kilometres below the sphere through the lowest vertex (radius b): §3.2's lower bound would cull them.
     let g = grid(80.0, 0.0, 5.0, 30.0, 3, 13);
-    let dem = TestDem::new(g, std::vec![0.0; 39], 1, 1, 1);
-    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let dem = TestDem::new(g, std::vec![0.0; 39], 1);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     let (a, b, c) = (
-        dem.vertex(1, 3).unwrap(),
-        dem.vertex(1, 4).unwrap(),
-        dem.vertex(2, 4).unwrap(),
+        dem.surface.vertex(1, 3).unwrap(),
+        dem.surface.vertex(1, 4).unwrap(),
+        dem.surface.vertex(2, 4).unwrap(),
     );
     let centroid = a.plus(b).plus(c).scaled(1.0 / 3.0);
     assert!(
-        centroid.length() < dem.e.b() - 1000.0,
+        centroid.length() < dem.surface.e.b() - 1000.0,
         "the chord dips below radius b"
     );
     let up = centroid.scaled(1.0 / centroid.length());
@@ -722,7 +752,7 @@ fn ray_from_below_hits_the_chord_dip_of_a_polar_triangle_below_its_lowest_vertex
         .unwrap()
         .with_interval(0.0, 10_500.0)
         .unwrap();
-    assert!(V3::from(ray.at(10_500.0)).length() < dem.e.b());
+    assert!(V3::from(ray.at(10_500.0)).length() < dem.surface.e.b());
     let hit = p.pick(&ray).unwrap().unwrap();
     assert!((hit.t - 10_000.0).abs() < 1e-6, "{}", hit.t);
     assert_eq!(hit.cell, [1, 3]);
@@ -734,13 +764,14 @@ fn cached_bounds_give_identical_picks() {
     let mut r = Lcg(5);
     let g = grid(40.0, 100.0, -0.25, 0.25, 17, 17);
     let hs: Vec<f64> = (0..289).map(|_| 3000.0 * r.next()).collect();
-    let mut dem = TestDem::new(g, hs, 2, 2, 2);
+    let dem = TestDem::new(g, hs, 2);
     let plain: Vec<Option<(f64, [u32; 2])>> = {
-        let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+        let s = dem.storage();
+        let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
         (0..60)
             .map(|k| {
                 let ray = radial_ray(
-                    &dem.e,
+                    &dem.surface.e,
                     36.02 + 0.06 * k as f64,
                     100.0 + 0.065 * k as f64,
                     5000.0,
@@ -749,27 +780,29 @@ fn cached_bounds_give_identical_picks() {
             })
             .collect()
     };
-    dem.cache = dem
-        .nodes
-        .iter()
-        .map(|n| quad_bounds(&dem.e, &dem.grid, n).unwrap())
-        .collect();
-    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let s = CachedBounds::new(dem.storage());
+    assert!(s.cache.iter().flatten().count() > 4);
+    let p: Picker<'_, f64, CachedBounds<'_>> = Picker::new(&s).unwrap();
     for (k, want) in plain.iter().enumerate() {
         let ray = radial_ray(
-            &dem.e,
+            &dem.surface.e,
             36.02 + 0.06 * k as f64,
             100.0 + 0.065 * k as f64,
             5000.0,
         );
         assert_eq!(p.pick(&ray).unwrap().map(|h| (h.t, h.cell)), *want);
         let ray = radial_ray(
-            &dem.e,
+            &dem.surface.e,
             36.02 + 0.06 * k as f64,
             100.0 + 0.065 * k as f64,
             5000.0,
         );
-        same_hit(&ray, *want, dem.brute(&ray), &std::format!("ray {k}"));
+        same_hit(
+            &ray,
+            *want,
+            dem.surface.brute(&ray),
+            &std::format!("ray {k}"),
+        );
         assert!(want.is_some(), "ray {k}");
     }
 }
@@ -907,37 +940,41 @@ fn default_zones_of_a_global_grid_are_45_degree_tiles_on_grid_lines() {
     assert_eq!(zone_cells(&tiny, 4, 1, 1), Some(([0, 1], [0, 2])));
 }
 
-/// Fewest hits of the 40 rays of each kind in `global_grid_with_32_zones_agrees_with_brute_force` (measured: 29
+/// Fewest hits of the 40 rays of each kind in `global_grid_with_32_zones_agrees_with_brute_force` (measured: 28
 /// from below the surface, 35 to 40 for the others).
 const HITS_GLOBAL_PER_KIND: usize = 25;
 
 #[test]
 #[cfg_attr(miri, ignore)]
 fn global_grid_with_32_zones_agrees_with_brute_force() {
-    // A global 5° grid from pole to pole whose last column repeats the first (longitudes run to +180),
-    // quads of 2 × 2 cells under 8 × 4 zones; rays from orbit, across the antimeridian, over and through the
-    // poles, from below the surface and toward the center.
-    let g = grid(-90.0, -180.0, 5.0, 5.0, 37, 73);
+    // A global 5.625° grid from pole to pole whose last column repeats the first (longitudes run to +180):
+    // the builder's leaves of 2 × 2 cells under its 8 × 4 zones, which are the 45° tiles of zone_cells; rays
+    // from orbit, across the antimeridian, over and through the poles, from below the surface and toward the
+    // center.
+    let (rows, cols) = (33, 65);
+    let g = grid(-90.0, -180.0, 5.625, 5.625, rows as u32, cols as u32);
     let mut r = Lcg(2024);
-    let mut hs: Vec<f64> = (0..37 * 73).map(|_| -3000.0 + 9000.0 * r.next()).collect();
-    for i in 0..37 {
-        hs[i * 73 + 72] = hs[i * 73]; // the repeated column
+    let mut hs: Vec<f64> = (0..rows * cols)
+        .map(|_| -3000.0 + 9000.0 * r.next())
+        .collect();
+    for i in 0..rows {
+        hs[i * cols + cols - 1] = hs[i * cols]; // the repeated column
     }
-    for j in 0..73 {
+    for j in 0..cols {
         hs[j] = hs[0]; // one height per pole
-        hs[36 * 73 + j] = hs[36 * 73];
+        hs[(rows - 1) * cols + j] = hs[(rows - 1) * cols];
     }
-    let mut dem = TestDem::new(g, hs, 2, 1, 1);
-    dem.zones.clear();
-    let nodes_before = dem.nodes.len();
+    let dem = TestDem::new(g, hs, 2);
+    let s = dem.storage();
+    assert_eq!(s.zone_count(), 32);
     for k in 0..32 {
-        let (rows, cols) = zone_cells(&g, DEFAULT_ZONE_ROWS, DEFAULT_ZONE_COLS, k).unwrap();
-        let id = dem.build(rows, cols, 2, 0);
-        dem.zones.push(id);
+        let zone = s.node(s.zone(k).unwrap()).unwrap();
+        let tile = zone_cells(&g, DEFAULT_ZONE_ROWS, DEFAULT_ZONE_COLS, k as u32).unwrap();
+        assert_eq!((zone.rows, zone.cols), tile);
+        assert!(!zone.is_leaf());
     }
-    assert!(dem.nodes.len() > nodes_before);
-    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
-    let e = dem.e;
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = dem.surface.e;
     // Hits per kind of ray (k % 6): each kind must reach the surface, or it tests nothing.
     let mut hits = [0usize; 6];
     for k in 0..240 {
@@ -999,7 +1036,7 @@ fn global_grid_with_32_zones_agrees_with_brute_force() {
         };
         let ray = Ray::new(origin, dir).unwrap();
         let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
-        same_hit(&ray, got, dem.brute(&ray), &std::format!("ray {k}"));
+        same_hit(&ray, got, dem.surface.brute(&ray), &std::format!("ray {k}"));
         hits[k % 6] += usize::from(got.is_some());
     }
     assert!(hits.iter().all(|&h| h >= HITS_GLOBAL_PER_KIND), "{hits:?}");
@@ -1023,8 +1060,9 @@ fn ray_from_5e9_m_away_hits_a_vertical_sliver_at_the_south_pole() {
     ] {
         hs[k] = h;
     }
-    let dem = TestDem::new(g, hs, 8, 1, 1);
-    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let dem = TestDem::new(g, hs, 8);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     let ray = Ray::new(
         [
             -38_322_603.592_089_176,
@@ -1038,7 +1076,7 @@ fn ray_from_5e9_m_away_hits_a_vertical_sliver_at_the_south_pole() {
         ],
     )
     .unwrap();
-    let want = dem.brute(&ray);
+    let want = dem.surface.brute(&ray);
     assert!(want.is_some());
     let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
     same_hit(&ray, got, want, "sliver at the south pole");
@@ -1076,8 +1114,9 @@ fn ray_almost_in_the_meridian_plane_of_polar_sliver_triangles() {
         63.75, 0.0, 0.0, 0.0, 0.0, 0.25, 0.0, 0.0, 704.0, 0.0, 0.0, 0.5, 576.0, 3183.75, -2425.5,
         -2720.25, 6093.75, -5076.0,
     ];
-    let dem = TestDem::new(g, hs, 8, 1, 1);
-    let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+    let dem = TestDem::new(g, hs, 8);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     let ray = Ray::new(
         [0.0, -0.0, -5_362_342_899.685_755],
         [
@@ -1090,7 +1129,7 @@ fn ray_almost_in_the_meridian_plane_of_polar_sliver_triangles() {
     // The ray does cross the fan of slivers further out.
     let hit = p.pick(&ray).unwrap().unwrap();
     let [i, j] = hit.cell;
-    let v = |a: u32, b: u32| dem.vertex(a, b).unwrap();
+    let v = |a: u32, b: u32| dem.surface.vertex(a, b).unwrap();
     let near = [
         [v(i, j), v(i, j + 1), v(i + 1, j + 1)],
         [v(i, j), v(i + 1, j + 1), v(i + 1, j)],
@@ -1102,7 +1141,12 @@ fn ray_almost_in_the_meridian_plane_of_polar_sliver_triangles() {
         near < 1e-3,
         "hit {hit:?} is {near} m from its cell's triangles"
     );
-    same_hit(&ray, Some((hit.t, hit.cell)), dem.brute(&ray), "sliver fan");
+    same_hit(
+        &ray,
+        Some((hit.t, hit.cell)),
+        dem.surface.brute(&ray),
+        "sliver fan",
+    );
 }
 
 /// Multi-resolution (module docs, "Multi-resolution"): a 9 × 9-vertex DEM whose zone (8 × 8 cells) has a block of
@@ -1252,14 +1296,15 @@ mod multires {
 /// places and heights: each must hit at its vertex (triangles are closed; triangle.rs, "Edges on the border of
 /// the surface"), at `t` = 1000 m, and the brute force with the same border rule agrees.
 fn assert_hits_down_through(dem: &TestDem, vertices: &[(u32, u32)], what: &str) -> usize {
-    let p: Picker<'_, f64, TestDem> = Picker::new(dem).unwrap();
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     for &(i, j) in vertices {
-        let (lat, lon) = (dem.grid.lat_deg(i), dem.grid.lon_deg(j));
-        let h = dem.h(i, j).unwrap();
-        let ray = radial_ray(&dem.e, lat, lon, h + 1000.0);
+        let (lat, lon) = (dem.surface.grid.lat_deg(i), dem.surface.grid.lon_deg(j));
+        let h = dem.surface.h(i, j).unwrap();
+        let ray = radial_ray(&dem.surface.e, lat, lon, h + 1000.0);
         let hit = p.pick(&ray).unwrap();
         // Through a vertex the two may pick different triangles around it, at the same point.
-        let brute = dem.brute(&ray);
+        let brute = dem.surface.brute(&ray);
         assert!(
             brute.is_some(),
             "{what}: the brute force misses V({i}, {j})"
@@ -1295,13 +1340,7 @@ const BORDER_GRIDS: [(f64, f64, f64, f64); 5] = [
 fn rays_down_through_vertices_on_the_outer_edge_of_grids_hit() {
     let mut n = 0;
     for (lat0, lon0, d, h) in BORDER_GRIDS {
-        let dem = TestDem::new(
-            grid(lat0, lon0, d, d.abs(), 9, 9),
-            std::vec![h; 81],
-            2,
-            1,
-            1,
-        );
+        let dem = TestDem::new(grid(lat0, lon0, d, d.abs(), 9, 9), std::vec![h; 81], 2);
         let edge: Vec<(u32, u32)> = (0..9)
             .flat_map(|i| (0..9).map(move |j| (i, j)))
             .filter(|&(i, j)| i == 0 || j == 0 || i == 8 || j == 8)
@@ -1315,13 +1354,7 @@ fn rays_down_through_vertices_on_the_outer_edge_of_grids_hit() {
 #[cfg_attr(miri, ignore)] // 20 picks: over a minute under Miri; triangle.rs tests the border rule itself
 fn rays_down_through_the_four_corner_vertices_of_grids_hit() {
     for (lat0, lon0, d, h) in BORDER_GRIDS {
-        let dem = TestDem::new(
-            grid(lat0, lon0, d, d.abs(), 9, 9),
-            std::vec![h; 81],
-            2,
-            1,
-            1,
-        );
+        let dem = TestDem::new(grid(lat0, lon0, d, d.abs(), 9, 9), std::vec![h; 81], 2);
         let corners = [(0, 0), (0, 8), (8, 0), (8, 8)];
         assert_hits_down_through(&dem, &corners, &std::format!("corners at {lat0}°, {lon0}°"));
     }
@@ -1335,12 +1368,18 @@ fn rays_down_through_the_edge_vertices_of_a_one_vertex_nodata_hole_hit() {
     for (lat0, lon0, d, h) in BORDER_GRIDS {
         let mut hs = std::vec![h; 81];
         hs[4 * 9 + 4] = f64::NAN;
-        let dem = TestDem::new(grid(lat0, lon0, d, d.abs(), 9, 9), hs, 2, 1, 1);
+        let dem = TestDem::new(grid(lat0, lon0, d, d.abs(), 9, 9), hs, 2);
         let ring = [(3, 3), (3, 4), (4, 5), (5, 5), (5, 4), (4, 3)];
         assert_hits_down_through(&dem, &ring, &std::format!("hole at {lat0}°, {lon0}°"));
         // Straight down through the missing vertex: no triangle there.
-        let ray = radial_ray(&dem.e, dem.grid.lat_deg(4), dem.grid.lon_deg(4), h + 1000.0);
-        let p: Picker<'_, f64, TestDem> = Picker::new(&dem).unwrap();
+        let ray = radial_ray(
+            &dem.surface.e,
+            dem.surface.grid.lat_deg(4),
+            dem.surface.grid.lon_deg(4),
+            h + 1000.0,
+        );
+        let s = dem.storage();
+        let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
         assert_eq!(p.pick(&ray).unwrap(), None);
     }
 }
@@ -1358,7 +1397,7 @@ fn rays_down_through_the_edges_and_corners_of_a_square_nodata_hole_hit() {
                 hs[i * 9 + j] = f64::NAN;
             }
         }
-        let dem = TestDem::new(grid(lat0, lon0, d, d.abs(), 9, 9), hs, 2, 1, 1);
+        let dem = TestDem::new(grid(lat0, lon0, d, d.abs(), 9, 9), hs, 2);
         let outline: Vec<(u32, u32)> = (2..=6)
             .flat_map(|i| (2..=6).map(move |j| (i, j)))
             .filter(|&(i, j)| i == 2 || j == 2 || i == 6 || j == 6)
@@ -1462,7 +1501,6 @@ fn builder_tree_is_well_formed_with_nodata_rows_and_odd_sizes() {
 #[test]
 #[cfg_attr(miri, ignore)] // 600 picks with a brute force each
 fn builder_storage_picks_agree_with_brute_force() {
-    use build::{NodeRecord, SliceStorage, build_tree, node_slots};
     let mut r = Lcg(77);
     for (lat0, dlat, lon0, block) in [(-30.0, 0.5, 170.0, 2), (46.0, -1.0 / 1200.0, 8.0, 4)] {
         let g = grid(lat0, lon0, dlat, dlat.abs(), 17, 23);
@@ -1475,12 +1513,10 @@ fn builder_storage_picks_agree_with_brute_force() {
                 }
             })
             .collect();
-        let mut nodes = std::vec![NodeRecord::EMPTY; node_slots(17, 23, block)];
-        let tree = build_tree(&hs, &g, block, &mut nodes).unwrap();
-        let s = SliceStorage::new(Ellipsoid::wgs84(), g, &hs, &nodes, tree).unwrap();
-        let p: Picker<'_, f64, SliceStorage<'_, f64>> = Picker::new(&s).unwrap();
-        let brute = TestDem::new(g, hs.clone(), block, 1, 1);
-        let e = brute.e;
+        let dem = TestDem::new(g, hs, block);
+        let s = dem.storage();
+        let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+        let e = dem.surface.e;
         for _ in 0..300 {
             let lat = lat0 + dlat * 16.0 * r.next();
             let lon = lon0 + dlat.abs() * 22.0 * r.next();
@@ -1488,7 +1524,7 @@ fn builder_storage_picks_agree_with_brute_force() {
             let dir = V3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5);
             let ray = Ray::new(target.add_scaled(-(100.0 + 3.0e4 * r.next()), dir), dir).unwrap();
             let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
-            same_hit(&ray, got, brute.brute(&ray), "builder storage");
+            same_hit(&ray, got, dem.surface.brute(&ray), "builder storage");
         }
     }
 }
