@@ -38,8 +38,8 @@ use curvicast::Ray;
 use curvicast::geodesy::Ellipsoid;
 use curvicast::terrain::boxes::NodeBox;
 use curvicast::terrain::build::{
-    Buffers, MultiRes, NodeRecord, Parts, SliceStorage, TreeStorage, build_boxes_sharing,
-    build_multires_tree, node_slots,
+    Buffers, MultiRes, NodeRecord, Parts, TreeStorage, build_boxes_sharing, build_multires_tree,
+    node_slots,
 };
 use curvicast::terrain::{Grid, Node, NodeId, Picker, TerrainError, TerrainStorage};
 use libfuzzer_sys::fuzz_target;
@@ -89,27 +89,25 @@ struct Input {
     t_max: Option<u16>,
 }
 
-/// The buffers of the storage, owned: heights (NaN: nodata), the builder's node records, node boxes (empty:
-/// none) and residency flags, by node id.
+/// The buffers of the storage, owned: heights (NaN: nodata), the builder's node records with their boxes (none
+/// unless asked for) and residency flags, by node id.
 struct Owned {
     heights: Vec<f64>,
-    nodes: Vec<NodeRecord<f64>>,
-    boxes: Vec<Option<NodeBox>>,
+    nodes: Vec<NodeRecord<f64, Option<NodeBox>>>,
     resident: Vec<AtomicBool>,
 }
 
-impl Buffers<f64, f64> for Owned {
-    fn parts(&self) -> Parts<'_, f64, f64> {
-        Parts {
-            boxes: &self.boxes,
-            resident: &self.resident,
-            ..Parts::new(&self.heights, &self.nodes)
-        }
+impl Buffers<f64> for Owned {
+    type Height = f64;
+    type Box = Option<NodeBox>;
+    type Flag = AtomicBool;
+    fn parts(&self) -> Parts<'_, f64, f64, Option<NodeBox>, AtomicBool> {
+        Parts::new(&self.heights, &self.nodes).with_resident(&self.resident)
     }
 }
 
 /// The storage: the kernel's [`TreeStorage`] over [`Owned`].
-type Storage = TreeStorage<f64, f64, Owned>;
+type Storage = TreeStorage<f64, Owned>;
 
 /// The one place the target builds its storage: the builder's multi-resolution tree of `heights` with leaves of
 /// `block` cells and `shape`, node boxes if `share` is given (a child's box in the frame of its parent's box
@@ -126,11 +124,11 @@ fn storage(
     let mut nodes = vec![NodeRecord::EMPTY; node_slots(grid.rows, grid.cols, block)];
     let tree = build_multires_tree(&heights, &grid, block, shape, &mut nodes)
         .expect("the builder refused a valid DEM");
-    let mut boxes = Vec::new();
     if let Some(share) = share {
-        boxes.resize(tree.slots(), None);
-        let bare = SliceStorage::new(e, grid, &heights, &nodes, tree).expect("bare storage");
-        build_boxes_sharing(&bare, &mut boxes, |id, _| share(id)).expect("node boxes");
+        build_boxes_sharing(&e, &grid, &heights, tree, None, &mut nodes, |id, _| {
+            share(id)
+        })
+        .expect("node boxes");
     }
     let resident = (0..tree.slots() as u32)
         .map(|k| AtomicBool::new(resident(NodeId(k))))
@@ -138,7 +136,6 @@ fn storage(
     let owned = Owned {
         heights,
         nodes,
-        boxes,
         resident,
     };
     TreeStorage::with_buffers(e, grid, tree, owned).expect("storage over the builder's buffers")

@@ -100,16 +100,15 @@ impl Surface {
 }
 
 /// The storage the tests pick on: the kernel's builder's ([`build::SliceStorage`]).
-type Storage<'a> = build::SliceStorage<'a, f64>;
+type Storage<'a> = build::SliceStorage<'a, f64, f64, Option<boxes::NodeBox>>;
 
 /// A [`Surface`] and the kernel's builder's buffers over it, which [`TestDem::storage`] serves: the node
 /// records of [`build::build_tree`] (leaves of `block × block` cells under the builder's zones) and, if asked
 /// for, node boxes.
 struct TestDem {
     surface: Surface,
-    nodes: Vec<build::NodeRecord<f64>>,
+    nodes: Vec<build::NodeRecord<f64, Option<boxes::NodeBox>>>,
     tree: build::Tree,
-    boxes: Vec<Option<boxes::NodeBox>>,
 }
 
 impl TestDem {
@@ -139,29 +138,22 @@ impl TestDem {
         let mut nodes =
             std::vec![build::NodeRecord::EMPTY; build::node_slots(grid.rows, grid.cols, block)];
         let tree = build::build_tree(&surface.heights, &grid, block, &mut nodes).unwrap();
-        let mut boxes = Vec::new();
         if let Some(share) = share {
-            boxes.resize(tree.slots(), None);
-            let bare =
-                build::SliceStorage::new(surface.e, grid, &surface.heights, &nodes, tree).unwrap();
-            build::build_boxes_sharing(&bare, &mut boxes, |id, _| share(id.0)).unwrap();
+            let (e, hs) = (&surface.e, &surface.heights);
+            build::build_boxes_sharing(e, &grid, hs, tree, None, &mut nodes, |id, _| share(id.0))
+                .unwrap();
         }
         TestDem {
             surface,
             nodes,
             tree,
-            boxes,
         }
     }
 
     /// The storage over the buffers.
     fn storage(&self) -> Storage<'_> {
-        let parts = build::Parts {
-            boxes: &self.boxes,
-            ..build::Parts::new(&self.surface.heights, &self.nodes)
-        };
-        build::TreeStorage::with_buffers(self.surface.e, self.surface.grid, self.tree, parts)
-            .unwrap()
+        let s = &self.surface;
+        build::SliceStorage::new(s.e, s.grid, &s.heights, &self.nodes, self.tree).unwrap()
     }
 }
 
@@ -598,7 +590,13 @@ fn random_rays_agree_with_brute_force_on_rough_terrain() {
         let boxed = TestDem::with_boxes(g, hs.clone(), 2, |_| false);
         let one_frame = TestDem::with_boxes(g, hs.clone(), 2, |_| true);
         let mixed = TestDem::with_boxes(g, hs, 2, |k| k % 3 != 1);
-        assert!(mixed.boxes.iter().flatten().any(|b| b.shared_frame));
+        assert!(
+            mixed
+                .nodes
+                .iter()
+                .filter_map(|n| n.bbox)
+                .any(|b| b.shared_frame)
+        );
         let e = plain.surface.e;
         let rays: Vec<Ray<f64>> = (0..300)
             .map(|_| {
@@ -643,7 +641,7 @@ fn node_boxes_stand_in_for_the_volumes() {
         .collect();
     // Every other node's box in the frame of its parent's box (one-cell leaves: every zone has children).
     let dem = TestDem::with_boxes(g, hs, 1, |k| k % 2 == 0);
-    assert!(dem.boxes.iter().all(Option::is_some));
+    assert!(dem.nodes.iter().all(|n| n.bbox.is_some()));
     let s = dem.storage();
     let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     let e = dem.surface.e;
