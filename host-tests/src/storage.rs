@@ -562,10 +562,10 @@ impl<T: curvicast::Real> curvicast::terrain::TerrainStorage<T> for DemStorage<'_
 
     fn grid(&self) -> curvicast::terrain::Grid<T> {
         curvicast::terrain::Grid {
-            lat0: T::from_f64(self.dem.lat0),
-            lon0: T::from_f64(self.dem.lon0),
-            dlat: T::from_f64(self.dem.dlat),
-            dlon: T::from_f64(self.dem.dlon),
+            lat0_deg: T::from_f64(self.dem.lat0),
+            lon0_deg: T::from_f64(self.dem.lon0),
+            dlat_deg: T::from_f64(self.dem.dlat),
+            dlon_deg: T::from_f64(self.dem.dlon),
             rows: self.dem.rows as u32,
             cols: self.dem.cols as u32,
         }

@@ -23,10 +23,10 @@ impl TerrainStorage<f32> for Hills {
     }
     fn grid(&self) -> Grid<f32> {
         Grid {
-            lat0: 45.0,
-            lon0: 7.0,
-            dlat: 0.01,
-            dlon: 0.01,
+            lat0_deg: 45.0,
+            lon0_deg: 7.0,
+            dlat_deg: 0.01,
+            dlon_deg: 0.01,
             rows: N,
             cols: N,
         }
