@@ -529,7 +529,14 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         ray: &Ray<T>,
         stats: &mut PickStats,
     ) -> Result<Option<Hit<T>>, TerrainError> {
-        Ok(self.nearest(ray, stats)?.map(|c| self.make_hit(ray, c)))
+        let Some(unit) = unit_sized(ray)? else {
+            return Ok(self.nearest(ray, stats)?.map(|c| self.make_hit(ray, c)));
+        };
+        let Some(c) = self.nearest(&unit, stats)? else {
+            return Ok(None);
+        };
+        let hit = self.make_hit(&unit, c);
+        Ok(t_of_unit_sized(ray, hit.t)?.map(|t| Hit { t, ..hit }))
     }
 
     /// The parameter `t` and the cell of the nearest hit as the traversal finds it, without [`Picker::pick`]'s
@@ -568,7 +575,13 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// ```
     pub fn pick_t(&self, ray: &Ray<T>) -> Result<Option<(T, [u32; 2])>, TerrainError> {
         let mut stats = PickStats::default();
-        Ok(self.nearest(ray, &mut stats)?.map(|c| (c.t, c.cell)))
+        let Some(unit) = unit_sized(ray)? else {
+            return Ok(self.nearest(ray, &mut stats)?.map(|c| (c.t, c.cell)));
+        };
+        let Some(c) = self.nearest(&unit, &mut stats)? else {
+            return Ok(None);
+        };
+        Ok(t_of_unit_sized(ray, c.t)?.map(|t| (t, c.cell)))
     }
 
     /// Line of sight from `a` to `b` (ECEF): `true` when no terrain triangle meets the closed segment.
@@ -580,7 +593,42 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let seg = Ray::segment(a, b)?;
         // Only whether a triangle meets the segment matters: no hit point, so no refinement.
         let mut stats = PickStats::default();
-        Ok(self.nearest(&seg, &mut stats)?.is_none())
+        let Some(unit) = unit_sized(&seg)? else {
+            return Ok(self.nearest(&seg, &mut stats)?.is_none());
+        };
+        Ok(match self.nearest(&unit, &mut stats)? {
+            Some(c) => t_of_unit_sized(&seg, c.t)?.is_none(),
+            None => true,
+        })
+    }
+}
+
+/// The same line as `ray` with the direction [`Ray::scaled_dir`] (exactly `ray`'s times a power of two, its
+/// largest component in `[1, 2)`) when `ray`'s own direction is far from unit size (a component beyond 2^±32),
+/// `None` otherwise. The traversal multiplies the direction with Earth-sized coordinates and with `t`; a
+/// subnormal direction (seen down to the smallest, 5e-324) or a huge one would lose bits there or overflow,
+/// while at unit size every product is ordinary and `t` converts back exactly ([`t_of_unit_sized`]).
+fn unit_sized<T: Real>(ray: &Ray<T>) -> Result<Option<Ray<T>>, TerrainError> {
+    if ray.scale_exponent().unsigned_abs() <= 32 {
+        return Ok(None);
+    }
+    // The interval scales exactly too (unless `t_min` overflows: then no `t` of the ray is representable).
+    let unit = Ray::new(ray.origin(), ray.scaled_dir())?
+        .with_interval(ray.t_to_scaled(ray.t_min()), ray.t_to_scaled(ray.t_max()))
+        .map_err(|_| TerrainError::Unrepresentable)?;
+    Ok(Some(unit))
+}
+
+/// The caller's `t` of a hit at `s` on [`unit_sized`]'s ray: `None` beyond `ray`'s `t_max` (the scaled bound
+/// may have overflowed), [`TerrainError::Unrepresentable`] when `t` itself overflows.
+fn t_of_unit_sized<T: Real>(ray: &Ray<T>, s: T) -> Result<Option<T>, TerrainError> {
+    let t = ray.t_from_scaled(s);
+    if t > ray.t_max() {
+        Ok(None)
+    } else if t == T::INFINITY {
+        Err(TerrainError::Unrepresentable)
+    } else {
+        Ok(Some(t))
     }
 }
 
