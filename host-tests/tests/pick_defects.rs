@@ -18,9 +18,11 @@ fn up() -> [f64; 3] {
 
 /// Picks each ray through the command; returns one JSON value per output line.
 fn pick(name: &str, rays: &[RaySpec]) -> Vec<serde_json::Value> {
-    let dir = std::env::temp_dir().join(format!("curvicast-pick-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let json = dir.join("terrain.json");
+    let tmp = tempfile::Builder::new()
+        .prefix(&format!("curvicast-pick-{name}-"))
+        .tempdir()
+        .unwrap();
+    let json = tmp.path().join("terrain.json");
     std::fs::write(&json, TERRAIN).unwrap();
     let mut child = Command::new(env!("CARGO_BIN_EXE_curvicast"))
         .args(["pick", "--terrain", json.to_str().unwrap(), "--block", "1"])
@@ -40,7 +42,6 @@ fn pick(name: &str, rays: &[RaySpec]) -> Vec<serde_json::Value> {
         .write_all(text.as_bytes())
         .unwrap();
     let out = child.wait_with_output().unwrap();
-    std::fs::remove_dir_all(&dir).unwrap();
     assert_eq!(
         out.status.code(),
         Some(0),
