@@ -127,10 +127,10 @@ fuzz_target!(|inp: Input| {
     }
     let lon0 = f64::from(inp.lon0) / 90.0;
     let grid = Grid {
-        lat0,
-        lon0,
-        dlat,
-        dlon,
+        lat0_deg: lat0,
+        lon0_deg: lon0,
+        dlat_deg: dlat,
+        dlon_deg: dlon,
         rows,
         cols,
     };

@@ -517,10 +517,10 @@ fuzz_target!(|inp: Input| {
     let lat0 = lo + f64::from(inp.lat0) / f64::from(u16::MAX) * (hi - lo);
     let lon0 = f64::from(inp.lon0) / 90.0;
     let grid = Grid {
-        lat0,
-        lon0,
-        dlat,
-        dlon,
+        lat0_deg: lat0,
+        lon0_deg: lon0,
+        dlat_deg: dlat,
+        dlon_deg: dlon,
         rows,
         cols,
     };

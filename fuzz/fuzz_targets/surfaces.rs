@@ -51,9 +51,9 @@ impl Num {
 enum Shape {
     /// `Spheroid::new(a, b)`.
     Spheroid(Num, Num),
-    /// `AxialCone::from_zenith(apex_z, theta)`.
+    /// `AxialCone::from_zenith_rad(apex_z, theta)`.
     Cone(Num, Num),
-    /// `HalfPlane::from_azimuth(phi)`.
+    /// `HalfPlane::from_azimuth_rad(phi)`.
     HalfPlane(Num),
     /// `PlaneZ::new(c)`.
     PlaneZ(Num),
@@ -230,12 +230,12 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
         Shape::Cone(k, theta) => {
             let (k, theta) = (r(k), r(theta));
             let (kf, thf) = (k.to_f64(), theta.to_f64());
-            let c = AxialCone::from_zenith(k, theta);
+            let c = AxialCone::from_zenith_rad(k, theta);
             let valid = finite(kf) && finite(thf) && (0.0..=T::PI.to_f64()).contains(&thf);
             assert_eq!(
                 c.is_ok(),
                 valid,
-                "AxialCone::from_zenith({kf}, {thf}) = {c:?}"
+                "AxialCone::from_zenith_rad({kf}, {thf}) = {c:?}"
             );
             let Ok(c) = c else { return };
             let (cf, sf) = (c.cos().to_f64(), c.sin().to_f64());
@@ -248,11 +248,11 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
         Shape::HalfPlane(phi) => {
             let phi = r(phi);
             let pf = phi.to_f64();
-            let h = HalfPlane::from_azimuth(phi);
+            let h = HalfPlane::from_azimuth_rad(phi);
             assert_eq!(
                 h.is_ok(),
                 finite(pf),
-                "HalfPlane::from_azimuth({pf}) = {h:?}"
+                "HalfPlane::from_azimuth_rad({pf}) = {h:?}"
             );
             let Ok(h) = h else { return };
             let (cf, sf) = (h.cos().to_f64(), h.sin().to_f64());

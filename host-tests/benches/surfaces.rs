@@ -45,7 +45,7 @@ fn bench_mode<T: Real>(c: &mut Criterion, kind: Kind, mode: Mode, cases: &[Surfa
         Kind::Cone => {
             let s: Vec<_> = cases
                 .iter()
-                .filter_map(|x| AxialCone::from_zenith(p(x).0, p(x).1).ok())
+                .filter_map(|x| AxialCone::from_zenith_rad(p(x).0, p(x).1).ok())
                 .collect();
             assert_eq!(s.len(), rays.len());
             g.bench_function(id, |b| b.iter(|| run(&s, &rays)));
@@ -53,7 +53,7 @@ fn bench_mode<T: Real>(c: &mut Criterion, kind: Kind, mode: Mode, cases: &[Surfa
         Kind::HalfPlane => {
             let s: Vec<_> = cases
                 .iter()
-                .filter_map(|x| HalfPlane::from_azimuth(p(x).0).ok())
+                .filter_map(|x| HalfPlane::from_azimuth_rad(p(x).0).ok())
                 .collect();
             assert_eq!(s.len(), rays.len());
             g.bench_function(id, |b| b.iter(|| run(&s, &rays)));

@@ -71,9 +71,11 @@ fn main() -> anyhow::Result<()> {
             if pass == 0 {
                 match answer {
                     Ok(Some(h)) => {
-                        [h.t, h.ecef[0], h.ecef[1], h.ecef[2], h.lat, h.lon, h.h]
-                            .map(f64::to_bits)
-                            .hash(&mut checksum);
+                        [
+                            h.t, h.ecef[0], h.ecef[1], h.ecef[2], h.lat_deg, h.lon_deg, h.h,
+                        ]
+                        .map(f64::to_bits)
+                        .hash(&mut checksum);
                         (h.cell, h.level, h.stride).hash(&mut checksum);
                     }
                     Ok(None) => 0u8.hash(&mut checksum),

@@ -107,10 +107,10 @@ impl<'a> DemStorage<'a> {
             .max(1);
         let block = u32::try_from(block.clamp(1, max_block)).unwrap_or(u32::MAX);
         let grid = Grid {
-            lat0: dem.lat0,
-            lon0: dem.lon0,
-            dlat: dem.dlat,
-            dlon: dem.dlon,
+            lat0_deg: dem.lat0,
+            lon0_deg: dem.lon0,
+            dlat_deg: dem.dlat,
+            dlon_deg: dem.dlon,
             rows: dem.rows as u32,
             cols: dem.cols as u32,
         };
@@ -121,10 +121,10 @@ impl<'a> DemStorage<'a> {
             Err(why) => {
                 static NODATA: [f32; 4] = [f32::NAN; 4];
                 let g = Grid {
-                    lat0: 0.0,
-                    lon0: 0.0,
-                    dlat: 1.0,
-                    dlon: 1.0,
+                    lat0_deg: 0.0,
+                    lon0_deg: 0.0,
+                    dlat_deg: 1.0,
+                    dlon_deg: 1.0,
                     rows: 2,
                     cols: 2,
                 };
@@ -349,10 +349,10 @@ impl TerrainStorage<f32> for DemStorage<'_> {
     fn grid(&self) -> Grid<f32> {
         let g = self.grid;
         Grid {
-            lat0: g.lat0 as f32,
-            lon0: g.lon0 as f32,
-            dlat: g.dlat as f32,
-            dlon: g.dlon as f32,
+            lat0_deg: g.lat0_deg as f32,
+            lon0_deg: g.lon0_deg as f32,
+            dlat_deg: g.dlat_deg as f32,
+            dlon_deg: g.dlon_deg as f32,
             rows: g.rows,
             cols: g.cols,
         }

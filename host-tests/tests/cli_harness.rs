@@ -4,8 +4,8 @@
 //! panic; `tessellate` answers extreme radii right.
 
 use std::io::Read;
-use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
+use tempfile::TempPath;
 
 fn cli() -> Command {
     Command::new(env!("CARGO_BIN_EXE_curvicast"))
@@ -15,10 +15,14 @@ fn run(args: &[&str]) -> Output {
     cli().args(args).output().unwrap()
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("curvicast-cli-harness-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+/// A fresh empty file whose name ends in `name`, removed when the returned path drops.
+fn scratch(name: &str) -> TempPath {
+    tempfile::Builder::new()
+        .prefix("curvicast-cli-harness-")
+        .suffix(&format!("-{name}"))
+        .tempfile()
+        .unwrap()
+        .into_temp_path()
 }
 
 fn assert_usage_error(args: &[&str]) -> String {

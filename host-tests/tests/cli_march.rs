@@ -4,10 +4,14 @@
 use std::io::Write;
 use std::process::{Command, Stdio};
 
-fn tmp(name: &str, text: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("curvicast-cli-march-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(name);
+/// A file holding `text` whose name ends in `name`, removed when the returned path drops.
+fn tmp(name: &str, text: &str) -> tempfile::TempPath {
+    let p = tempfile::Builder::new()
+        .prefix("curvicast-cli-march-")
+        .suffix(&format!("-{name}"))
+        .tempfile()
+        .unwrap()
+        .into_temp_path();
     std::fs::write(&p, text).unwrap();
     p
 }

@@ -4,13 +4,14 @@ use curvicast_host::oracle::terrain::TerrainOracle;
 use curvicast_host::scenes::spec::RaySpec;
 use curvicast_host::scenes::terrain_cases::{TerrainKind, random_rays, synthetic};
 use std::io::Write;
-use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("curvicast-pick-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh temporary directory, removed with everything in it when the returned guard drops.
+fn dir(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("curvicast-pick-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 fn run(args: &[&str], stdin: Option<&str>) -> (i32, String, String) {
@@ -43,7 +44,8 @@ fn run(args: &[&str], stdin: Option<&str>) -> (i32, String, String) {
 
 #[test]
 fn pick_answers_every_ray_in_order_and_matches_the_oracle() {
-    let d = dir("ok");
+    let tmp = dir("ok");
+    let d = tmp.path();
     let dem = synthetic(
         TerrainKind::Fractal,
         (36.0, -118.0, 0.01, 0.01),
@@ -112,12 +114,12 @@ fn pick_answers_every_ray_in_order_and_matches_the_oracle() {
     assert!(lines[40]["error"].as_str().unwrap().contains("invalid ray"));
     assert_eq!(lines[41]["ray"], 41);
     assert!(lines[41]["error"].is_string());
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
 fn pick_reads_rays_from_stdin_with_inline_heights() {
-    let d = dir("stdin");
+    let tmp = dir("stdin");
+    let d = tmp.path();
     let json = d.join("t.json");
     std::fs::write(
         &json,
@@ -138,7 +140,6 @@ fn pick_reads_rays_from_stdin_with_inline_heights() {
     let t = v["hit"]["t"].as_f64().unwrap();
     assert!((t - (1_000_000.0 - 100.0)).abs() < 1e-6, "{t}");
     assert!((v["hit"]["h"].as_f64().unwrap() - 100.0).abs() < 1e-6);
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 fn assert_usage_error(args: &[&str], needle: &str) {
@@ -151,7 +152,8 @@ fn assert_usage_error(args: &[&str], needle: &str) {
 
 #[test]
 fn pick_bad_files_and_arguments_exit_2_with_one_line_naming_the_file() {
-    let d = dir("bad");
+    let tmp = dir("bad");
+    let d = tmp.path();
     let json = d.join("terrain.json");
     let j = json.to_str().unwrap();
     assert_usage_error(&["pick", "--terrain", j], "terrain.json");
@@ -183,14 +185,14 @@ fn pick_bad_files_and_arguments_exit_2_with_one_line_naming_the_file() {
     assert_usage_error(&["pick", "--terrain", j], "outside [-90, 90]");
     let (code, out, _) = run(&["pick", "--terrain", j], Some(""));
     assert_eq!((code, out.as_str()), (2, ""));
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
 fn pick_on_the_shipped_etopo20_written_as_terrain_json_matches_the_oracle() {
     use curvicast_host::scenes::real_dem;
     use curvicast_host::scenes::terrain_cases::orbit_rays;
-    let d = dir("etopo");
+    let tmp = dir("etopo");
+    let d = tmp.path();
     let dem = real_dem::etopo20().unwrap();
     let json = d.join("etopo20.json");
     dem.write_terrain_json(&json).unwrap();
@@ -231,7 +233,6 @@ fn pick_on_the_shipped_etopo20_written_as_terrain_json_matches_the_oracle() {
         }
     }
     assert!(hits >= 20, "{hits}");
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 /// Multi-resolution options end to end: a tree with full resolution only in a box, the blocks below the zones not
@@ -242,7 +243,8 @@ fn pick_on_the_shipped_etopo20_written_as_terrain_json_matches_the_oracle() {
 fn pick_multi_resolution_options_page_in_what_each_ray_needs() {
     use curvicast_host::oracle::multires::MultiResOracle;
     use curvicast_host::storage::{DemStorage, MultiRes};
-    let d = dir("multires");
+    let tmp = dir("multires");
+    let d = tmp.path();
     let dem = synthetic(
         TerrainKind::Fractal,
         (36.0, -118.0, 0.002, 0.002),

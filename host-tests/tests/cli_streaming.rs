@@ -3,18 +3,16 @@
 //! with one line (or silently for a closed pipe), never a panic.
 
 use std::io::{BufRead, BufReader, Read, Write};
-use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
 
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "curvicast-cli-streaming-{}-{name}",
-        std::process::id()
-    ));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh temporary directory, removed with everything in it when the returned guard drops.
+fn dir(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("curvicast-cli-streaming-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 fn write(d: &std::path::Path, name: &str, bytes: &[u8]) -> String {
@@ -126,24 +124,27 @@ fn answers_arrive_while_input_is_open(args: &[&str], ray: &str) {
 
 #[test]
 fn march_answers_each_ray_piped_in_before_the_next_arrives() {
-    let d = dir("march-pipe");
-    let g = write(&d, "grid.json", SPHERE.as_bytes());
+    let tmp = dir("march-pipe");
+    let d = tmp.path();
+    let g = write(d, "grid.json", SPHERE.as_bytes());
     answers_arrive_while_input_is_open(&["march", "--grid", &g], RAY);
     answers_arrive_while_input_is_open(&["march", "--grid", &g, "--engine", "separable"], RAY);
 }
 
 #[test]
 fn pick_answers_each_ray_piped_in_before_the_next_arrives() {
-    let d = dir("pick-pipe");
-    let t = write(&d, "terrain.json", TERRAIN.as_bytes());
+    let tmp = dir("pick-pipe");
+    let d = tmp.path();
+    let t = write(d, "terrain.json", TERRAIN.as_bytes());
     answers_arrive_while_input_is_open(&["pick", "--terrain", &t], &down_ray());
 }
 
 #[test]
 fn nan_in_line_2_is_reported_as_line_2_and_blank_lines_keep_their_numbers() {
-    let d = dir("nan");
-    let g = write(&d, "grid.json", SPHERE.as_bytes());
-    let t = write(&d, "terrain.json", TERRAIN.as_bytes());
+    let tmp = dir("nan");
+    let d = tmp.path();
+    let g = write(d, "grid.json", SPHERE.as_bytes());
+    let t = write(d, "terrain.json", TERRAIN.as_bytes());
     let nan = r#"{"origin": [NaN, 0, 0], "dir": [1, 0, 0]}"#;
     let input = format!("{RAY}\n{nan}\n\n{nan}\n");
     for (args, good) in [
@@ -169,10 +170,11 @@ fn nan_in_line_2_is_reported_as_line_2_and_blank_lines_keep_their_numbers() {
 
 #[test]
 fn rays_file_starting_with_a_utf8_byte_order_mark_is_accepted() {
-    let d = dir("bom");
-    let g = write(&d, "grid.json", SPHERE.as_bytes());
+    let tmp = dir("bom");
+    let d = tmp.path();
+    let g = write(d, "grid.json", SPHERE.as_bytes());
     let rays = write(
-        &d,
+        d,
         "rays.jsonl",
         format!("\u{FEFF}{RAY}\r\n{RAY}\r\n").as_bytes(),
     );
@@ -187,8 +189,9 @@ fn rays_file_starting_with_a_utf8_byte_order_mark_is_accepted() {
 
 #[test]
 fn malformed_line_1000_after_999_answers_is_that_rays_error_line() {
-    let d = dir("line1000");
-    let g = write(&d, "grid.json", SPHERE.as_bytes());
+    let tmp = dir("line1000");
+    let d = tmp.path();
+    let g = write(d, "grid.json", SPHERE.as_bytes());
     let mut text = String::new();
     for _ in 0..999 {
         text.push_str(RAY);
@@ -197,7 +200,7 @@ fn malformed_line_1000_after_999_answers_is_that_rays_error_line() {
     text.push_str("{\"origin\": [1, 2\n");
     text.push_str(RAY);
     text.push('\n');
-    let rays = write(&d, "rays.jsonl", text.as_bytes());
+    let rays = write(d, "rays.jsonl", text.as_bytes());
     let (code, out, err) = run(&["march", "--grid", &g, "--rays", &rays], b"");
     assert_eq!(code, 0, "{err}");
     let lines = json_lines(&out);
@@ -215,8 +218,9 @@ fn malformed_line_1000_after_999_answers_is_that_rays_error_line() {
 
 #[test]
 fn line_longer_than_the_limit_is_an_error_for_that_ray_only() {
-    let d = dir("long");
-    let g = write(&d, "grid.json", SPHERE.as_bytes());
+    let tmp = dir("long");
+    let d = tmp.path();
+    let g = write(d, "grid.json", SPHERE.as_bytes());
     let long = format!("{{\"origin\": [{}0, 0, 0]}}", "0".repeat(200_000));
     let input = format!("{RAY}\n{long}\n{RAY}\n");
     let (code, out, err) = run(&["march", "--grid", &g], input.as_bytes());
@@ -234,8 +238,9 @@ fn line_longer_than_the_limit_is_an_error_for_that_ray_only() {
 
 #[test]
 fn unreadable_rays_file_exits_2_with_one_line_naming_it() {
-    let d = dir("unreadable");
-    let g = write(&d, "grid.json", SPHERE.as_bytes());
+    let tmp = dir("unreadable");
+    let d = tmp.path();
+    let g = write(d, "grid.json", SPHERE.as_bytes());
     for rays in [
         d.to_str().unwrap().to_string(),
         d.join("missing.jsonl").to_str().unwrap().to_string(),
@@ -259,12 +264,13 @@ fn many_rays(d: &std::path::Path, ray: &str, n: usize) -> String {
 
 #[test]
 fn closed_output_pipe_ends_march_and_pick_silently() {
-    let d = dir("head");
-    let g = write(&d, "grid.json", SPHERE.as_bytes());
-    let t = write(&d, "terrain.json", TERRAIN.as_bytes());
-    let march_rays = many_rays(&d, RAY, 200_000);
+    let tmp = dir("head");
+    let d = tmp.path();
+    let g = write(d, "grid.json", SPHERE.as_bytes());
+    let t = write(d, "terrain.json", TERRAIN.as_bytes());
+    let march_rays = many_rays(d, RAY, 200_000);
     let pick_rays = write(
-        &d,
+        d,
         "pick.jsonl",
         format!("{}\n", down_ray()).repeat(50_000).as_bytes(),
     );
@@ -296,9 +302,10 @@ fn closed_output_pipe_ends_march_and_pick_silently() {
 
 #[test]
 fn full_disk_on_output_is_one_line_on_stderr_not_a_panic() {
-    let d = dir("full");
-    let g = write(&d, "grid.json", SPHERE.as_bytes());
-    let t = write(&d, "terrain.json", TERRAIN.as_bytes());
+    let tmp = dir("full");
+    let d = tmp.path();
+    let g = write(d, "grid.json", SPHERE.as_bytes());
+    let t = write(d, "terrain.json", TERRAIN.as_bytes());
     let ray = down_ray();
     for (args, input) in [
         (vec!["march", "--grid", &g], RAY),
@@ -327,7 +334,8 @@ fn full_disk_on_output_is_one_line_on_stderr_not_a_panic() {
 /// per ray, in order, with touching crossings that change one index at a time.
 #[test]
 fn ray_through_50_000_radii_streams_one_complete_line_per_ray() {
-    let d = dir("radii");
+    let tmp = dir("radii");
+    let d = tmp.path();
     let n = 50_000;
     let r: Vec<String> = (0..=n)
         .map(|k| format!("{}", k as f64 / n as f64))
@@ -336,7 +344,7 @@ fn ray_through_50_000_radii_streams_one_complete_line_per_ray() {
         r#"{{"kind": "spherical", "r": [{}], "theta": [0.0, 3.141592653589793], "phi": [0.0, 6.283185307179586]}}"#,
         r.join(",")
     );
-    let g = write(&d, "grid.json", grid.as_bytes());
+    let g = write(d, "grid.json", grid.as_bytes());
     // At distance 0.25 + 0.5/n from the center: between two breakpoints, so no tangent shell.
     let dist = 0.25 + 0.5 / n as f64;
     let ray_b = format!(r#"{{"origin": [-2, {dist}, 0.0], "dir": [1, 0, 0]}}"#);

@@ -160,7 +160,7 @@ fn point(kind: Kind, rng: &mut ChaCha8Rng) -> [f64; 3] {
             let lat = (rng.random::<f64>() * 2.0 - 1.0).asin();
             let lon = (rng.random::<f64>() * 2.0 - 1.0) * core::f64::consts::PI;
             let h = (rng.random::<f64>() * 2.0 - 1.0) * 5.0e6;
-            e.geodetic_to_ecef(lat, lon, h).to_array()
+            e.geodetic_rad_to_ecef(lat, lon, h).to_array()
         }
         Kind::NearPole => {
             let eps = 10f64.powf(-rng.random_range(1.0..14.0));
@@ -168,7 +168,7 @@ fn point(kind: Kind, rng: &mut ChaCha8Rng) -> [f64; 3] {
                 * if rng.random::<bool>() { 1.0 } else { -1.0 };
             let lon = (rng.random::<f64>() * 2.0 - 1.0) * core::f64::consts::PI;
             let h = (rng.random::<f64>() * 2.0 - 1.0) * 5.0e6;
-            e.geodetic_to_ecef(lat, lon, h).to_array()
+            e.geodetic_rad_to_ecef(lat, lon, h).to_array()
         }
         Kind::ZAxis => {
             let z = (e.b() + (rng.random::<f64>() * 2.0 - 1.0) * 5.0e6)
@@ -202,11 +202,11 @@ fn measure(kind: Kind, n: usize, seed: u64) -> (f64, f64, [f64; 3]) {
                 let p = point(kind, &mut rng);
                 let g = e.ecef_to_geodetic(V3::from(p));
                 assert!(
-                    g.lat.is_finite() && g.lon.is_finite() && g.h.is_finite(),
+                    g.lat_rad.is_finite() && g.lon_rad.is_finite() && g.h.is_finite(),
                     "{p:?}"
                 );
                 let rt = to_f64(
-                    &r.round_trip_error(p, bf(g.lat), bf(g.lon), g.h, &mut cc),
+                    &r.round_trip_error(p, bf(g.lat_rad), bf(g.lon_rad), g.h, &mut cc),
                     &mut cc,
                 );
                 let (_, _, h_ref) = r.solve(p[0].hypot(p[1]), p[2]);

@@ -107,8 +107,8 @@ fn run_cli(args: &[&str], stdin: &str) -> String {
 /// longer has ordinary, finite crossings.
 #[test]
 fn tiny_direction_whose_t_overflows_is_an_error_line_not_a_miss() {
-    let dir = std::env::temp_dir().join(format!("curvicast-march-defects-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     let grid = dir.join("sphere.json");
     std::fs::write(
         &grid,
@@ -153,8 +153,8 @@ fn tiny_direction_whose_t_overflows_is_an_error_line_not_a_miss() {
 /// `t_min` begins there. Before the fix an `f32` march printed the bound rounded to `f32` (1.7000000476837158).
 #[test]
 fn cli_last_crossing_of_a_ray_ending_inside_a_partial_grid_is_the_given_t_max() {
-    let dir = std::env::temp_dir().join(format!("curvicast-march-tmax-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     let grid = dir.join("partial.json");
     std::fs::write(
         &grid,

@@ -18,9 +18,11 @@ fn up() -> [f64; 3] {
 
 /// Picks each ray through the command; returns one JSON value per output line.
 fn pick(name: &str, rays: &[RaySpec]) -> Vec<serde_json::Value> {
-    let dir = std::env::temp_dir().join(format!("curvicast-pick-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let json = dir.join("terrain.json");
+    let tmp = tempfile::Builder::new()
+        .prefix(&format!("curvicast-pick-{name}-"))
+        .tempdir()
+        .unwrap();
+    let json = tmp.path().join("terrain.json");
     std::fs::write(&json, TERRAIN).unwrap();
     let mut child = Command::new(env!("CARGO_BIN_EXE_curvicast"))
         .args(["pick", "--terrain", json.to_str().unwrap(), "--block", "1"])
@@ -40,7 +42,6 @@ fn pick(name: &str, rays: &[RaySpec]) -> Vec<serde_json::Value> {
         .write_all(text.as_bytes())
         .unwrap();
     let out = child.wait_with_output().unwrap();
-    std::fs::remove_dir_all(&dir).unwrap();
     assert_eq!(
         out.status.code(),
         Some(0),
@@ -78,9 +79,7 @@ fn tiny_direction_whose_hit_t_overflows_is_an_error_line_not_a_miss() {
 
 /// Straight down onto the peak from 1 cm above it with a subnormal direction (length 1e-308, every component
 /// below the smallest normal f64): the hit is at t ≈ 1e306, representable, while the far side of the terrain's
-/// bounding shell is not (about 1.3e315). The hit is found, 1 cm along the ray, at the peak's height. (Deeper
-/// subnormal lengths, 1e-309 and below, are still answered with the error of a `t` beyond the largest finite
-/// value: a known limit, stated in the README's command-line contract.)
+/// bounding shell is not (about 1.3e315). The hit is found, 1 cm along the ray, at the peak's height.
 #[test]
 fn subnormal_direction_with_a_representable_hit_finds_it() {
     let u = up();
@@ -92,4 +91,63 @@ fn subnormal_direction_with_a_representable_hit_finds_it() {
     let t = hit["t"].as_f64().unwrap_or_else(|| panic!("{lines:?}"));
     assert!((t * 1e-308 - 0.01).abs() < 1e-6, "{t}");
     assert!((hit["h"].as_f64().unwrap() - 100.0).abs() < 1e-6, "{hit}");
+}
+
+/// The peak from 1 cm above it with directions deep in the subnormal range: length 1e-309 (t ≈ 1e307, still
+/// representable) is an ordinary hit 1 cm along the ray; length 1e-315 (t ≈ 1e313) and a direction of the
+/// smallest subnormal components (t ≈ 1e321) are error lines; the same 1e-309 direction with `t_max` short of
+/// the hit is a miss, not an error (before the fix, every direction of length 1e-309 or less was the error).
+#[test]
+fn deep_subnormal_directions_hit_where_t_is_representable_and_error_where_not() {
+    let u = up();
+    let from = u.map(|c| c * (6_371_000.0 + 100.01));
+    let down = |len: f64| u.map(|c| -c * len);
+    let smallest = u.map(|c| -c.signum() * f64::from_bits(1));
+    let mut short = RaySpec::new(from, down(1e-309));
+    short.t_max = Some(0.005 / 1e-309);
+    let lines = pick(
+        "deep-subnormal",
+        &[
+            RaySpec::new(from, down(1e-309)),
+            RaySpec::new(from, down(1e-315)),
+            RaySpec::new(from, smallest),
+            short,
+        ],
+    );
+    let t = lines[0]["hit"]["t"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{lines:?}"));
+    assert!((t * 1e-309 - 0.01).abs() < 1e-6, "{t}");
+    assert!((lines[0]["hit"]["h"].as_f64().unwrap() - 100.0).abs() < 1e-6);
+    for line in &lines[1..3] {
+        let e = line["error"].as_str().unwrap_or_else(|| panic!("{line}"));
+        assert!(e.contains("largest finite"), "{e}");
+    }
+    assert!(
+        lines[3]["hit"].is_null() && lines[3].get("error").is_none(),
+        "{}",
+        lines[3]
+    );
+}
+
+/// A direction of length 1e300 from 1 000 km above the peak: t ≈ 1e-294 (the line is the same, its parameter
+/// tiny); the hit is the peak's, as with a unit direction.
+#[test]
+fn huge_direction_hits_like_a_unit_one() {
+    let u = up();
+    let from = u.map(|c| c * (6_371_000.0 + 1_000_000.0));
+    let lines = pick(
+        "huge",
+        &[
+            RaySpec::new(from, u.map(|c| -c * 1e300)),
+            RaySpec::new(from, u.map(|c| -c)),
+        ],
+    );
+    let t = lines[0]["hit"]["t"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{lines:?}"));
+    let t1 = lines[1]["hit"]["t"].as_f64().unwrap();
+    assert!(((t * 1e300) / t1 - 1.0).abs() < 1e-12, "{t} vs {t1}");
+    assert_eq!(lines[0]["hit"]["cell"], lines[1]["hit"]["cell"]);
+    assert!((lines[0]["hit"]["h"].as_f64().unwrap() - 100.0).abs() < 1e-6);
 }

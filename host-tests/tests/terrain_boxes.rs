@@ -352,11 +352,11 @@ fn wide_nodes_keep_their_own_frames_down_to_a_degree() {
         if b.shared_frame {
             shared += 1;
             assert!(
-                span(a.rows, g.dlat) <= 1.0 && span(a.cols, g.dlon) <= 1.0,
+                span(a.rows, g.dlat_deg) <= 1.0 && span(a.cols, g.dlon_deg) <= 1.0,
                 "node {}: shares the frame of a {}° × {}° anchor",
                 id.0,
-                span(a.rows, g.dlat),
-                span(a.cols, g.dlon)
+                span(a.rows, g.dlat_deg),
+                span(a.cols, g.dlon_deg)
             );
         } else {
             own += 1;

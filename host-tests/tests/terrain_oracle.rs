@@ -75,16 +75,18 @@ fn compare(dem: &Dem, block: usize, rays: &[RaySpec]) -> Tally {
                 // The hit's geodetic coordinates (seeded at its cell) against the closed form's of its point.
                 if let Some(h) = hit {
                     let g = Ellipsoid::<f64>::wgs84().ecef_to_geodetic(V3::from(h.ecef));
-                    let dlon = (h.lon - g.lon.to_degrees() + 540.0).rem_euclid(360.0) - 180.0;
-                    let off = [h.lat - g.lat.to_degrees(), dlon].map(|d| d.abs() * 111_320.0);
+                    let dlon =
+                        (h.lon_deg - g.lon_rad.to_degrees() + 540.0).rem_euclid(360.0) - 180.0;
+                    let off =
+                        [h.lat_deg - g.lat_rad.to_degrees(), dlon].map(|d| d.abs() * 111_320.0);
                     if off.iter().any(|&d| d > 1e-8) || (h.h - g.h).abs() > 1e-8 {
                         return Err(format!(
                             "ray {k}: hit ({}, {}, {}) vs closed form ({}, {}, {})",
-                            h.lat,
-                            h.lon,
+                            h.lat_deg,
+                            h.lon_deg,
                             h.h,
-                            g.lat.to_degrees(),
-                            g.lon.to_degrees(),
+                            g.lat_rad.to_degrees(),
+                            g.lon_rad.to_degrees(),
                             g.h
                         ));
                     }

@@ -57,7 +57,7 @@ fn rays(dem: &Dem) -> Vec<RaySpec> {
     let e = Ellipsoid::<f64>::wgs84();
     let at = |i: usize, j: usize, h: f64| e.geodetic_deg_to_ecef(dem.lat(i), dem.lon(j), h);
     let normal = |i: usize, j: usize| {
-        let n = e.normal(dem.lat(i).to_radians(), dem.lon(j).to_radians());
+        let n = e.normal_rad(dem.lat(i).to_radians(), dem.lon(j).to_radians());
         [n.x, n.y, n.z]
     };
     let h = |i: usize, j: usize| f64::from(dem.height(i, j).expect("no nodata in the crop"));
@@ -75,7 +75,7 @@ fn rays(dem: &Dem) -> Vec<RaySpec> {
     // vertices (rounded by up to about 0.4 m) may put it just outside, where the border closure answers.
     let near_edge = |i: usize, j: usize, (di, dj): (f64, f64), above: f64| {
         let (lat, lon) = (dem.lat(i) + di, dem.lon(j) + dj);
-        let n = e.normal(lat.to_radians(), lon.to_radians());
+        let n = e.normal_rad(lat.to_radians(), lon.to_radians());
         let o = e.geodetic_deg_to_ecef(lat, lon, h(i, j) + above);
         RaySpec::new(f32_exact([o.x, o.y, o.z]), f32_exact([-n.x, -n.y, -n.z]))
     };
@@ -110,10 +110,10 @@ fn rays(dem: &Dem) -> Vec<RaySpec> {
 /// The first hit's `t` of the kernel over the builder's tree, in precision `T`.
 fn kernel_t<T: Real>(dem: &Dem, rays: &[RaySpec]) -> Vec<Option<f64>> {
     let grid = Grid {
-        lat0: T::from_f64(dem.lat0),
-        lon0: T::from_f64(dem.lon0),
-        dlat: T::from_f64(dem.dlat),
-        dlon: T::from_f64(dem.dlon),
+        lat0_deg: T::from_f64(dem.lat0),
+        lon0_deg: T::from_f64(dem.lon0),
+        dlat_deg: T::from_f64(dem.dlat),
+        dlon_deg: T::from_f64(dem.dlon),
         rows: ROWS as u32,
         cols: COLS as u32,
     };

@@ -584,8 +584,8 @@ fn run_cli(args: &[&str]) -> std::process::Output {
 
 #[test]
 fn cli_obj_loads_as_a_closed_outward_mesh() {
-    let dir = std::env::temp_dir().join(format!("curvicast-tess-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     for (args, axes) in [
         (vec!["--sphere", "2.5", "--level", "3"], [2.5; 3]),
         (
@@ -650,7 +650,6 @@ fn cli_obj_loads_as_a_closed_outward_mesh() {
             assert!(min_dihedral(&below.unwrap()).to_degrees() < 170.0);
         }
     }
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]

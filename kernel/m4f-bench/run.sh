@@ -117,8 +117,8 @@ verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "me
     echo "| $(( march_s - kernel )) | the rest beyond the empty firmware: libraries (libm, compiler-builtins) and the firmware's own code (breakpoints, rays, the loop over the crossings) |"
     echo
     echo "The march's stack by frame (opt 3, from each function's prologue by \`stack-frames.sh\`; a frame holds" \
-         "what was inlined into it): the firmware's \`march_once\` holds the inlined set-up and the \`SerialMarch\`" \
-         "itself;" \
+         "what was inlined into it): the firmware's \`march_once\` holds the \`SerialMarch\` itself, and the per-ray" \
+         "set-up (\`engine::setup\`, kept out of line) adds its frame below it while it runs;" \
          "$(awk '$2 ~ /march_once|curvicast::/ { b = $1; $1 = ""; sub(/^ /, ""); printf "%s`%s` %d B", sep, $0, b; sep = ", " }' march-f32-frames.txt)."
 } > embedded.md
 rm -f march-f32-text.txt march-f32-frames.txt march-f32-all-frames.txt

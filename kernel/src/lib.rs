@@ -23,7 +23,7 @@
 //! use curvicast::{ray::Ray, surface::{AxialCone, Surface}};
 //! // Where does a ray cross the 60° zenith cone?
 //! let ray = Ray::new([-4.0_f64, 0.0, 1.0], [1.0, 0.0, 0.0])?;
-//! let cone = AxialCone::from_zenith(0.0, core::f64::consts::FRAC_PI_3)?;
+//! let cone = AxialCone::from_zenith_rad(0.0, core::f64::consts::FRAC_PI_3)?;
 //! let ts: Vec<f64> = cone.crossings(&ray).iter().map(|c| c.t).collect();
 //! assert_eq!(ts.len(), 2);
 //! # Ok::<(), Box<dyn core::error::Error>>(())

@@ -336,15 +336,15 @@ mod tests {
             &spheroid(1.0, 0.75).crossings(&unit),
             &spheroid(ks, 0.75 * ks).crossings(&tiny),
         );
-        let cone = AxialCone::from_zenith(0.0, 1.5).unwrap();
+        let cone = AxialCone::from_zenith_rad(0.0, 1.5).unwrap();
         check("cone", &cone.crossings(&unit), &cone.crossings(&tiny));
-        let offset = |k: f64| AxialCone::from_zenith(-0.25 * k, 1.52).unwrap();
+        let offset = |k: f64| AxialCone::from_zenith_rad(-0.25 * k, 1.52).unwrap();
         check(
             "offset cone",
             &offset(1.0).crossings(&unit),
             &offset(ks).crossings(&tiny),
         );
-        let half = HalfPlane::from_azimuth(1.0).unwrap();
+        let half = HalfPlane::from_azimuth_rad(1.0).unwrap();
         check("half-plane", &half.crossings(&unit), &half.crossings(&tiny));
         let plane = |z: f64| PlaneZ::new(z).unwrap();
         check(

@@ -755,7 +755,7 @@ mod tests {
     #[cfg(feature = "fast-math")]
     #[test]
     fn f32_fast_sin_cos_of_huge_angles_stay_on_the_unit_circle() {
-        // Found by the `surfaces` fuzz target: HalfPlane::<F32Fast>::from_azimuth(7.9e28) was rejected as
+        // Found by the `surfaces` fuzz target: HalfPlane::<F32Fast>::from_azimuth_rad(7.9e28) was rejected as
         // non-finite while micromath's sin/cos (whose argument reduction saturates an i32 cast) were in use.
         // Below 6400 the values are within about an ulp of libm's; above, the `f32` sine and cosine are those of a
         // point within half an ulp of x (an ulp of 1e10 is 1024), so only the unit circle is checked there.
@@ -774,7 +774,7 @@ mod tests {
                 "{x}: {s}, {c}"
             );
         }
-        assert!(crate::surface::HalfPlane::from_azimuth(F32Fast(7.946_028e28)).is_ok());
+        assert!(crate::surface::HalfPlane::from_azimuth_rad(F32Fast(7.946_028e28)).is_ok());
         assert!(F32Fast(f32::INFINITY).sin().is_nan());
     }
 }

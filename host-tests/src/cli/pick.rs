@@ -117,7 +117,7 @@ pub fn hit_line(ray: usize, hit: Option<&curvicast::terrain::Hit<f64>>) -> Strin
     match hit {
         None => serde_json::json!({"ray": ray, "hit": null}).to_string(),
         Some(h) => serde_json::json!({"ray": ray, "hit": {
-            "t": h.t, "ecef": h.ecef, "lat": h.lat, "lon": h.lon, "h": h.h,
+            "t": h.t, "ecef": h.ecef, "lat": h.lat_deg, "lon": h.lon_deg, "h": h.h,
             "cell": h.cell, "level": h.level, "stride": h.stride}})
         .to_string(),
     }

@@ -65,9 +65,9 @@ pub const SIN_BAND: f64 = 0.25;
 pub enum Kind {
     /// `Spheroid::new(a, b)`, a sphere when `a = b`.
     Spheroid,
-    /// `AxialCone::from_zenith(apex_z, theta)`.
+    /// `AxialCone::from_zenith_rad(apex_z, theta)`.
     Cone,
-    /// `HalfPlane::from_azimuth(phi)`.
+    /// `HalfPlane::from_azimuth_rad(phi)`.
     HalfPlane,
     /// `PlaneZ::new(c)`.
     PlaneZ,
@@ -285,8 +285,8 @@ pub fn kernel_crossings<T: Real>(case: &SurfaceCase) -> Result<Vec<KernelCrossin
     let e = |e: curvicast::surface::SurfaceError| e.to_string();
     let c = match case.kind {
         Kind::Spheroid => Spheroid::new(a, b).map_err(e)?.crossings(&ray),
-        Kind::Cone => AxialCone::from_zenith(a, b).map_err(e)?.crossings(&ray),
-        Kind::HalfPlane => HalfPlane::from_azimuth(a).map_err(e)?.crossings(&ray),
+        Kind::Cone => AxialCone::from_zenith_rad(a, b).map_err(e)?.crossings(&ray),
+        Kind::HalfPlane => HalfPlane::from_azimuth_rad(a).map_err(e)?.crossings(&ray),
         Kind::PlaneZ => PlaneZ::new(a).map_err(e)?.crossings(&ray),
     };
     Ok(c.iter()
@@ -785,14 +785,14 @@ pub fn median_ns(kind: Kind, mode: Mode, cases: &[SurfaceCase], reps: usize) -> 
             Kind::Cone => {
                 let s: Vec<_> = cases
                     .iter()
-                    .filter_map(|c| AxialCone::from_zenith(p(c).0, p(c).1).ok())
+                    .filter_map(|c| AxialCone::from_zenith_rad(p(c).0, p(c).1).ok())
                     .collect();
                 time_kind(&s, &rays, reps)
             }
             Kind::HalfPlane => {
                 let s: Vec<_> = cases
                     .iter()
-                    .filter_map(|c| HalfPlane::from_azimuth(p(c).0).ok())
+                    .filter_map(|c| HalfPlane::from_azimuth_rad(p(c).0).ok())
                     .collect();
                 time_kind(&s, &rays, reps)
             }

@@ -518,8 +518,8 @@ mod tests {
 
     #[test]
     fn terrain_json_round_trip_and_errors_name_the_file() {
-        let dir = std::env::temp_dir().join(format!("curvicast-terrain-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
         let mut d = flat(4, 5, 100.0);
         d.heights[7] = f32::NAN;
         let json = dir.join("t.json");
@@ -542,6 +542,5 @@ mod tests {
         assert_eq!(d.height(0, 0), Some(1.0));
         assert_eq!(d.height(0, 1), None);
         assert_eq!(d.height(1, 1), None);
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

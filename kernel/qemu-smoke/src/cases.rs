@@ -6,9 +6,9 @@
 pub enum Kind {
     /// `Spheroid::new(p[0], p[1])` (a sphere when equal).
     Spheroid,
-    /// `AxialCone::from_zenith(p[0] /* apex_z */, p[1] /* theta */)`.
+    /// `AxialCone::from_zenith_rad(p[0] /* apex_z */, p[1] /* theta */)`.
     Cone,
-    /// `HalfPlane::from_azimuth(p[0])`.
+    /// `HalfPlane::from_azimuth_rad(p[0])`.
     HalfPlane,
     /// `PlaneZ::new(p[0])`.
     PlaneZ,

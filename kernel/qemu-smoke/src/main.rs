@@ -76,10 +76,10 @@ fn crossings<T: Real>(case: &Case) -> Result<Crossings<T>, Failure> {
         Kind::Spheroid => Spheroid::new(p0, p1)
             .map_err(Failure::Surface)?
             .crossings(&ray),
-        Kind::Cone => AxialCone::from_zenith(p0, p1)
+        Kind::Cone => AxialCone::from_zenith_rad(p0, p1)
             .map_err(Failure::Surface)?
             .crossings(&ray),
-        Kind::HalfPlane => HalfPlane::from_azimuth(p0)
+        Kind::HalfPlane => HalfPlane::from_azimuth_rad(p0)
             .map_err(Failure::Surface)?
             .crossings(&ray),
         Kind::PlaneZ => PlaneZ::new(p0).map_err(Failure::Surface)?.crossings(&ray),
@@ -198,10 +198,10 @@ fn peak_heights<T: Real>() -> [T; (PEAK_ROWS * PEAK_COLS) as usize] {
 fn peak_grid<T: Real>() -> Grid<T> {
     let h = |x: f64| T::from_f64(x);
     Grid {
-        lat0: h(10.0),
-        lon0: h(20.0),
-        dlat: h(0.01),
-        dlon: h(0.01),
+        lat0_deg: h(10.0),
+        lon0_deg: h(20.0),
+        dlat_deg: h(0.01),
+        dlon_deg: h(0.01),
         rows: PEAK_ROWS,
         cols: PEAK_COLS,
     }
@@ -244,7 +244,7 @@ fn pick_case<T: Real>(tol_m: f64, boxed: bool) -> bool {
     };
     let top = e.geodetic_deg_to_ecef(h(10.01), h(20.01), h(10_000.0));
     let down = e
-        .normal(h(10.01_f64.to_radians()), h(20.01_f64.to_radians()))
+        .normal_rad(h(10.01_f64.to_radians()), h(20.01_f64.to_radians()))
         .negated();
     let Ok(ray) = Ray::new(top, down) else {
         return false;
@@ -275,12 +275,12 @@ fn pick_case<T: Real>(tol_m: f64, boxed: bool) -> bool {
 /// every ray of [`dem_crop::RAYS`], each within `tol` metres of the oracle's `t` (or a miss where it misses).
 fn crop_case<T: Real>(tol: f64) -> bool {
     use dem_crop::{BLOCK, COLS, GRID, HEIGHTS, RAYS, ROWS};
-    let [lat0, lon0, dlat, dlon] = GRID.map(T::from_f64);
+    let [lat0_deg, lon0_deg, dlat_deg, dlon_deg] = GRID.map(T::from_f64);
     let grid = Grid {
-        lat0,
-        lon0,
-        dlat,
-        dlon,
+        lat0_deg,
+        lon0_deg,
+        dlat_deg,
+        dlon_deg,
         rows: ROWS,
         cols: COLS,
     };

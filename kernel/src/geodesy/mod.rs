@@ -23,15 +23,15 @@
 //!   (§3.4, eq. 3.4-1), the locus of the normals at geodetic latitude ψ, as an [`AxialCone`] of zenith angle
 //!   `θ = π/2 − ψ`. Its negative side is geodetic latitude `> ψ`, its positive side latitude `< ψ` (for points
 //!   with `h > −b²/a`, where normals of different latitudes do not cross: Appendix A2).
-//! * [`meridian`]: the half-plane of longitude λ (§3.3; eq. 3.3-1 names the plane's normal with sin and cos
+//! * [`meridian_rad`]: the half-plane of longitude λ (§3.3; eq. 3.3-1 names the plane's normal with sin and cos
 //!   swapped — the plane containing the meridian has normal `(−sin λ, cos λ, 0)`).
 //!
 //! ```
 //! use curvicast::geodesy::Ellipsoid;
 //! let wgs84 = Ellipsoid::<f64>::wgs84();
-//! let p = wgs84.geodetic_to_ecef(0.5, -1.2, 812.3);
+//! let p = wgs84.geodetic_rad_to_ecef(0.5, -1.2, 812.3);
 //! let g = wgs84.ecef_to_geodetic(p);
-//! assert!((g.lat - 0.5).abs() < 1e-15 && (g.lon + 1.2).abs() < 1e-15 && (g.h - 812.3).abs() < 1e-8);
+//! assert!((g.lat_rad - 0.5).abs() < 1e-15 && (g.lon_rad + 1.2).abs() < 1e-15 && (g.h - 812.3).abs() < 1e-8);
 //! ```
 
 mod bounds;
@@ -95,9 +95,9 @@ impl From<SurfaceError> for GeodesyError {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Geodetic<T> {
     /// Geodetic latitude ψ, radians, in `[−π/2, π/2]`.
-    pub lat: T,
+    pub lat_rad: T,
     /// Longitude λ, radians, in `[−π, π]`.
-    pub lon: T,
+    pub lon_rad: T,
     /// Height above the ellipsoid along its normal.
     pub h: T,
 }
@@ -213,7 +213,8 @@ impl<T: Real> Ellipsoid<T> {
     }
 
     /// ECEF of the geodetic point (latitude, longitude in radians).
-    pub fn geodetic_to_ecef(&self, lat: T, lon: T, h: T) -> V3<T> {
+    pub fn geodetic_rad_to_ecef(&self, lat_rad: T, lon_rad: T, h: T) -> V3<T> {
+        let (lat, lon) = (lat_rad, lon_rad);
         self.ecef_from_sin_cos(lat.sin(), lat.cos(), lon.sin(), lon.cos(), h)
     }
 
@@ -225,10 +226,24 @@ impl<T: Real> Ellipsoid<T> {
         self.ecef_from_sin_cos(sl, cl, so, co, h)
     }
 
-    /// The outward unit normal of the ellipsoid at geodetic latitude / longitude (radians).
-    pub fn normal(&self, lat: T, lon: T) -> V3<T> {
-        let (cl, sl) = (lat.cos(), lat.sin());
-        V3::new(cl * lon.cos(), cl * lon.sin(), sl)
+    /// The outward unit normal of the ellipsoid at geodetic latitude / longitude in radians.
+    pub fn normal_rad(&self, lat_rad: T, lon_rad: T) -> V3<T> {
+        let (cl, sl) = (lat_rad.cos(), lat_rad.sin());
+        V3::new(cl * lon_rad.cos(), cl * lon_rad.sin(), sl)
+    }
+
+    /// The outward unit normal of the ellipsoid at geodetic latitude / longitude in degrees (the unit of
+    /// [`crate::terrain::Grid`]); exact at multiples of 90° (see [`sin_cos_deg`]).
+    ///
+    /// ```
+    /// use curvicast::geodesy::Ellipsoid;
+    /// let n = Ellipsoid::<f64>::wgs84().normal_deg(90.0, 0.0);
+    /// assert_eq!((n.x, n.y, n.z), (0.0, 0.0, 1.0));
+    /// ```
+    pub fn normal_deg(&self, lat_deg: T, lon_deg: T) -> V3<T> {
+        let (sl, cl) = sin_cos_deg(lat_deg);
+        let (so, co) = sin_cos_deg(lon_deg);
+        V3::new(cl * co, cl * so, sl)
     }
 
     /// `X_ψ` and `Z_ψ` of §3.4: the point of the meridian ellipse (y = 0, x ≥ 0) at geodetic latitude ψ, from
@@ -266,8 +281,8 @@ impl<T: Real> Ellipsoid<T> {
         let lon = if r_xy == T::ZERO { T::ZERO } else { y.atan2(x) };
         let (sin_lat, cos_lat, h) = self.reverse_meridian(r_xy, z);
         Geodetic {
-            lat: sin_lat.atan2(cos_lat),
-            lon,
+            lat_rad: sin_lat.atan2(cos_lat),
+            lon_rad: lon,
             h,
         }
     }
@@ -306,8 +321,8 @@ impl<T: Real> Ellipsoid<T> {
     pub fn ecef_to_geodetic_near(
         &self,
         p: V3<T>,
-        (lat0, s0, c0): (T, T, T),
-        (lon0, sl, cl): (T, T, T),
+        (lat0_deg, s0, c0): (T, T, T),
+        (lon0_deg, sl, cl): (T, T, T),
     ) -> Option<(T, T, T)> {
         let limit = T::from_f64(0.02);
         let deg = T::from_f64(180.0) / T::PI;
@@ -325,7 +340,7 @@ impl<T: Real> Ellipsoid<T> {
             T::ONE / T::from_f64(9.0),
         );
         let d_lon = w * (T::ONE - w2 * (third - w2 * (fifth - w2 * (seventh - w2 * ninth))));
-        let mut lon = lon0 + d_lon * deg;
+        let mut lon = lon0_deg + d_lon * deg;
         let (half, full) = (T::from_f64(180.0), T::from_f64(360.0));
         if lon > half {
             lon -= full;
@@ -373,7 +388,7 @@ impl<T: Real> Ellipsoid<T> {
             }
             if step.abs() <= tol {
                 let h = r * c + z * s - a * (T::ONE - e2 * s * s).sqrt();
-                let lat = lat0 + delta * deg;
+                let lat = lat0_deg + delta * deg;
                 return (lat.is_finite() && lon.is_finite() && h.is_finite())
                     .then_some((lat, lon, h));
             }
@@ -509,9 +524,9 @@ pub fn sin_cos_deg<T: Real>(x: T) -> (T, T) {
     (s + T::ZERO, c + T::ZERO)
 }
 
-/// The meridian half-plane of longitude `lon` (radians) (§3.3): its positive side is east (increasing λ).
-pub fn meridian<T: Real>(lon: T) -> Result<HalfPlane<T>, GeodesyError> {
-    Ok(HalfPlane::from_azimuth(lon)?)
+/// The meridian half-plane of longitude `lon_rad` (radians) (§3.3): its positive side is east (increasing λ).
+pub fn meridian_rad<T: Real>(lon_rad: T) -> Result<HalfPlane<T>, GeodesyError> {
+    Ok(HalfPlane::from_azimuth_rad(lon_rad)?)
 }
 
 /// The meridian half-plane of longitude `lon_deg` (degrees), exact at multiples of 90°.
@@ -599,7 +614,7 @@ mod tests {
             let lat = -1.5 + 3.0 * f64::from(i) / 200.0;
             let lon = 0.1 * f64::from(i);
             let h = 9000.0 * f64::from(i % 7) - 3000.0;
-            let p = e64.geodetic_to_ecef(lat, lon, h);
+            let p = e64.geodetic_rad_to_ecef(lat, lon, h);
             let p32 = V3::new(p.x as f32, p.y as f32, p.z as f32);
             let g32 = e32.ecef_to_geodetic(p32);
             let g64 = e64.ecef_to_geodetic(V3::new(
@@ -607,7 +622,7 @@ mod tests {
                 f64::from(p32.y),
                 f64::from(p32.z),
             ));
-            dlat = dlat.max((f64::from(g32.lat) - g64.lat).abs());
+            dlat = dlat.max((f64::from(g32.lat_rad) - g64.lat_rad).abs());
             dh = dh.max((f64::from(g32.h) - g64.h).abs());
         }
         std::println!("ecef_to_geodetic::<f32>: worst latitude {dlat:.3e} rad, height {dh:.3} m");
@@ -626,9 +641,9 @@ mod tests {
             (0.9, -0.4, -4.5e6),
             (1e-9, 0.2, 300.0),
         ] {
-            let g = e.ecef_to_geodetic(e.geodetic_to_ecef(lat, lon, h));
-            assert!(close(g.lat, lat, 2e-15), "{lat} {}", g.lat);
-            assert!(close(g.lon, lon, 2e-15));
+            let g = e.ecef_to_geodetic(e.geodetic_rad_to_ecef(lat, lon, h));
+            assert!(close(g.lat_rad, lat, 2e-15), "{lat} {}", g.lat_rad);
+            assert!(close(g.lon_rad, lon, 2e-15));
             assert!(close(g.h, h, 2e-8), "{h} {}", g.h);
         }
     }
@@ -637,15 +652,15 @@ mod tests {
     fn reverse_on_the_z_axis_and_at_the_center() {
         let e = Ellipsoid::<f64>::wgs84();
         let g = e.ecef_to_geodetic(V3::new(0.0, 0.0, 7.0e6));
-        assert_eq!((g.lat, g.lon), (core::f64::consts::FRAC_PI_2, 0.0));
+        assert_eq!((g.lat_rad, g.lon_rad), (core::f64::consts::FRAC_PI_2, 0.0));
         assert!(close(g.h, 7.0e6 - e.b(), 1e-8));
         let g = e.ecef_to_geodetic(V3::new(0.0, 0.0, -100.0));
-        assert_eq!(g.lat, -core::f64::consts::FRAC_PI_2);
+        assert_eq!(g.lat_rad, -core::f64::consts::FRAC_PI_2);
         assert!(close(g.h, 100.0 - e.b(), 1e-8));
         // The center: nearest surface points are the poles, h = −b.
         let g = e.ecef_to_geodetic(V3::new(0.0, 0.0, 0.0));
         assert!(close(g.h, -e.b(), 1e-8), "{}", g.h);
-        assert!(close(g.lat.abs(), core::f64::consts::FRAC_PI_2, 1e-12));
+        assert!(close(g.lat_rad.abs(), core::f64::consts::FRAC_PI_2, 1e-12));
     }
 
     #[test]
@@ -656,9 +671,9 @@ mod tests {
         let n = e.prime_vertical_radius(s);
         let g = e.ecef_to_geodetic(V3::new(n * e.e2() * c, 0.0, 0.0));
         assert!(
-            close(g.lat.abs(), core::f64::consts::FRAC_PI_6, 1e-9),
+            close(g.lat_rad.abs(), core::f64::consts::FRAC_PI_6, 1e-9),
             "{}",
-            g.lat
+            g.lat_rad
         );
         assert!(close(g.h, -n * (1.0 - e.e2()), 1e-6));
     }
@@ -669,16 +684,16 @@ mod tests {
         let g = e.ecef_to_geodetic(V3::new(3.0, 4.0, 12.0));
         assert!(close(g.h, 3.0, 1e-14));
         // libm, not std: Miri perturbs std's transcendental results by a few ulps.
-        assert!(close(g.lat, libm::atan2(12.0, 5.0), 1e-15));
+        assert!(close(g.lat_rad, libm::atan2(12.0, 5.0), 1e-15));
     }
 
     #[test]
     fn reverse_f32_is_close() {
         let e = Ellipsoid::<f32>::wgs84();
-        let p = e.geodetic_to_ecef(0.7, 0.2, 100.0);
+        let p = e.geodetic_rad_to_ecef(0.7, 0.2, 100.0);
         let g = e.ecef_to_geodetic(p);
         assert!(
-            (g.lat - 0.7).abs() < 1e-6 && (g.h - 100.0).abs() < 2.0,
+            (g.lat_rad - 0.7).abs() < 1e-6 && (g.h - 100.0).abs() < 2.0,
             "{g:?}"
         );
     }
@@ -693,7 +708,7 @@ mod tests {
         assert!(close(cone.apex_z(), zp - xp * s / c, 1e-6));
         // A point on the normal line at height 3000 m lies on the cone; 1 m further north is on the negative side.
         let on = e.geodetic_deg_to_ecef(52.0, 10.0, 3000.0);
-        let n = e.normal(52.0_f64.to_radians(), 10.0_f64.to_radians());
+        let n = e.normal_rad(52.0_f64.to_radians(), 10.0_f64.to_radians());
         let north = V3::new(-s * n.x / c, -s * n.y / c, c);
         let inside = on.add_scaled(1.0, north);
         assert_eq!(cone.side_of(inside), Some(Side::Negative));
@@ -712,7 +727,7 @@ mod tests {
             e.latitude_cone(0.0, -1.0),
             Err(GeodesyError::LatitudeOutOfRange)
         );
-        assert_eq!(meridian(f64::INFINITY), Err(GeodesyError::NonFinite));
+        assert_eq!(meridian_rad(f64::INFINITY), Err(GeodesyError::NonFinite));
     }
 
     #[test]

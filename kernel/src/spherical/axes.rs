@@ -128,7 +128,7 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
         let sin = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
         for (index, &th) in theta.iter().enumerate() {
             // π/2 and π give exact (0, 1) and (−1, 0): θ = π/2 is exactly the plane z = 0.
-            let cone = AxialCone::from_zenith(T::ZERO, th)
+            let cone = AxialCone::from_zenith_rad(T::ZERO, th)
                 .map_err(|_| GridError::OutOfRange { axis, index })?;
             let (c, s) = (cone.cos(), cone.sin());
             if let (Some(a), Some(b), Some(d)) =
@@ -227,7 +227,8 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
         let cos = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
         let sin = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
         for (index, &p) in phi.iter().enumerate() {
-            let h = HalfPlane::from_azimuth(p).map_err(|_| GridError::NonFinite { axis, index })?;
+            let h =
+                HalfPlane::from_azimuth_rad(p).map_err(|_| GridError::NonFinite { axis, index })?;
             if let (Some(c), Some(s)) = (cos.get_mut(index), sin.get_mut(index)) {
                 *c = h.cos();
                 *s = h.sin();

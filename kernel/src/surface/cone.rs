@@ -43,13 +43,13 @@ pub struct AxialCone<T> {
 }
 
 impl<T: Real> AxialCone<T> {
-    /// The cone of zenith angle `theta` ∈ [0, π] with apex `(0, 0, apex_z)`.
+    /// The cone of zenith angle `theta` ∈ [0, π] (radians) with apex `(0, 0, apex_z)`.
     ///
     /// `theta` within `8ε` of π/2 (`T::FRAC_PI_2` and its neighbours) gives exactly the plane `z = apex_z`: its
     /// cosine is taken as 0, not as a rounding residue like `6e-17`. Such a cone differs from the plane by less
     /// than `8ε·ρ`, below the solvers' own backward error, and as a nearly flat cone its nappe could not be told
     /// apart from rounding (the `march` fuzz target found a wrong zenith band at θ = π/2 + 3 ulps).
-    pub fn from_zenith(apex_z: T, theta: T) -> Result<Self, SurfaceError> {
+    pub fn from_zenith_rad(apex_z: T, theta: T) -> Result<Self, SurfaceError> {
         if !theta.is_finite() || !apex_z.is_finite() {
             return Err(SurfaceError::NonFinite);
         }
@@ -337,7 +337,7 @@ mod tests {
     #[test]
     fn horizontal_ray_through_45_degree_cone() {
         // cone θ = 45°, apex at origin; ray along x at height z = 1 crosses it at x = −1 and x = +1.
-        let cone = AxialCone::from_zenith(0.0, FRAC_PI_4).unwrap();
+        let cone = AxialCone::from_zenith_rad(0.0, FRAC_PI_4).unwrap();
         let r = Ray::new([-3.0, 0.0, 1.0], [1.0, 0.0, 0.0]).unwrap();
         let (t, s, n) = list(&cone.crossings(&r));
         assert_eq!(n, 2);
@@ -352,7 +352,7 @@ mod tests {
     #[test]
     fn lower_nappe_only() {
         // θ = 135°: only z < 0. A ray at z = +1 never meets it.
-        let cone = AxialCone::from_zenith(0.0, 3.0 * FRAC_PI_4).unwrap();
+        let cone = AxialCone::from_zenith_rad(0.0, 3.0 * FRAC_PI_4).unwrap();
         let r = Ray::new([-3.0, 0.0, 1.0], [1.0, 0.0, 0.0]).unwrap();
         assert!(cone.crossings(&r).is_empty());
         let r = Ray::new([-3.0, 0.0, -1.0], [1.0, 0.0, 0.0]).unwrap();
@@ -365,7 +365,7 @@ mod tests {
 
     #[test]
     fn ray_along_z_axis_through_apex() {
-        let cone = AxialCone::from_zenith(0.0, FRAC_PI_4).unwrap();
+        let cone = AxialCone::from_zenith_rad(0.0, FRAC_PI_4).unwrap();
         let down = Ray::new([0.0, 0.0, 2.0], [0.0, 0.0, -1.0]).unwrap();
         let (t, s, n) = list(&cone.crossings(&down));
         assert_eq!((n, t[0], s[0]), (1, 2.0, Side::Positive));
@@ -377,7 +377,7 @@ mod tests {
     #[test]
     fn ray_through_apex_staying_outside() {
         // Horizontal through the apex of a 45° cone: θ = 90° on both sides: no crossing.
-        let cone = AxialCone::from_zenith(0.0, FRAC_PI_4).unwrap();
+        let cone = AxialCone::from_zenith_rad(0.0, FRAC_PI_4).unwrap();
         let r = Ray::new([-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]).unwrap();
         assert!(cone.crossings(&r).is_empty());
     }
@@ -385,7 +385,7 @@ mod tests {
     #[test]
     fn ray_parallel_to_generator_is_linear() {
         // Generator direction of the 45° cone is (1, 0, 1); a parallel ray offset in y crosses once.
-        let cone = AxialCone::from_zenith(0.0, FRAC_PI_4).unwrap();
+        let cone = AxialCone::from_zenith_rad(0.0, FRAC_PI_4).unwrap();
         let r = Ray::new([0.0, 1.0, -1.0], [1.0, 0.0, 1.0]).unwrap();
         let (t, s, n) = list(&cone.crossings(&r));
         // point p + t d = (t, 1, t − 1): c²(t² + 1) = s²(t − 1)² ⇒ t² + 1 = t² − 2t + 1 ⇒ t = 0, but z = −1 < 0
@@ -404,7 +404,7 @@ mod tests {
 
     #[test]
     fn ray_along_generator_reports_nothing() {
-        let cone = AxialCone::from_zenith(0.0, FRAC_PI_4).unwrap();
+        let cone = AxialCone::from_zenith_rad(0.0, FRAC_PI_4).unwrap();
         let r = Ray::new([1.0, 0.0, 1.0], [1.0, 0.0, 1.0])
             .unwrap()
             .with_interval(-5.0, 5.0)
@@ -414,7 +414,7 @@ mod tests {
 
     #[test]
     fn half_pi_is_exactly_the_plane() {
-        let cone = AxialCone::from_zenith(0.5, FRAC_PI_2).unwrap();
+        let cone = AxialCone::from_zenith_rad(0.5, FRAC_PI_2).unwrap();
         assert_eq!(cone.cos(), 0.0);
         let r = Ray::new([0.3, 0.2, 2.0], [0.1, 0.0, -1.0]).unwrap();
         let (t, s, n) = list(&cone.crossings(&r));
@@ -424,7 +424,7 @@ mod tests {
     #[test]
     fn apex_offset_latitude_cone() {
         // ψ = 30° latitude cone of a sphere-like setup with apex at z = −1: θ = 60°.
-        let cone = AxialCone::from_zenith(-1.0, PI / 3.0).unwrap();
+        let cone = AxialCone::from_zenith_rad(-1.0, PI / 3.0).unwrap();
         // the generator through (√3, 0, 0) (since tan 30° · √3 = 1 = z − k): a radial ray from far outside
         let r = Ray::new([10.0, 0.0, 0.0], [-1.0, 0.0, 0.0]).unwrap();
         let (t, s, n) = list(&cone.crossings(&r));
@@ -455,7 +455,7 @@ mod tests {
         // Regression: the crossing lies 0.022 from the apex while the origin is 1.1 away. Without the Newton step
         // at the crossing, the rounding of C at the origin (ε|q|²) divided by the small |∇Q| there put the point
         // 10.8 ε·S off the cone and t 27 ulps off (forward error 24 ε·S). The expected t is the 256-bit oracle's.
-        let cone = AxialCone::from_zenith(0.5267998051560774, 2.0648687785548936).unwrap();
+        let cone = AxialCone::from_zenith_rad(0.5267998051560774, 2.0648687785548936).unwrap();
         let r = Ray::new(
             [
                 0.6286096275634043,
@@ -487,8 +487,8 @@ mod tests {
         // where the computed z is exactly 0, so the sign of z cannot say which root is whose and the upper
         // cone's crossing used to be dropped. The line is steeper than the cone (A < 0): one root per nappe, the
         // earlier (higher, d_z < 0) one on the upper nappe.
-        let up = AxialCone::from_zenith(0.0, FRAC_PI_2 - 1e-9).unwrap();
-        let down = AxialCone::from_zenith(0.0, FRAC_PI_2 + 1e-9).unwrap();
+        let up = AxialCone::from_zenith_rad(0.0, FRAC_PI_2 - 1e-9).unwrap();
+        let down = AxialCone::from_zenith_rad(0.0, FRAC_PI_2 + 1e-9).unwrap();
         let r = Ray::new([1e-6, 0.0, 100.0], [0.0, 0.0, -1.0]).unwrap();
         let (t, s, n) = list(&up.crossings(&r));
         assert_eq!(n, 1, "{t:?}");
@@ -509,8 +509,8 @@ mod tests {
         // A line flatter than a 45° cone passing 1e-14 above its apex, seen from 100 away: both roots are near
         // the apex (|z| ~ 1e-14, the rounding of z there is ~1e-14 too). The line is flatter than the cone
         // (A > 0), so it enters and leaves the nappe its closest approach to the apex lies on: the upper one.
-        let up = AxialCone::from_zenith(0.0, FRAC_PI_4).unwrap();
-        let down = AxialCone::from_zenith(0.0, 3.0 * FRAC_PI_4).unwrap();
+        let up = AxialCone::from_zenith_rad(0.0, FRAC_PI_4).unwrap();
+        let down = AxialCone::from_zenith_rad(0.0, 3.0 * FRAC_PI_4).unwrap();
         let r = Ray::new([-100.0, 0.0, 1e-14 + 0.5], [1.0, 0.0, -0.005]).unwrap();
         // closest approach to the apex: z = (0.5 + 1e-14) − 0.005·100 (rounded) > 0 at x ≈ 0
         let (_, s, n) = list(&up.crossings(&r));
@@ -522,9 +522,9 @@ mod tests {
     #[test]
     fn zenith_a_few_ulps_from_half_pi_is_exactly_the_plane() {
         let near = f64::from_bits(core::f64::consts::FRAC_PI_2.to_bits() + 3);
-        assert_eq!(AxialCone::from_zenith(0.0, near).unwrap().cos(), 0.0);
+        assert_eq!(AxialCone::from_zenith_rad(0.0, near).unwrap().cos(), 0.0);
         let far = f64::from_bits(core::f64::consts::FRAC_PI_2.to_bits() + 64);
-        assert!(AxialCone::from_zenith(0.0, far).unwrap().cos() < 0.0);
+        assert!(AxialCone::from_zenith_rad(0.0, far).unwrap().cos() < 0.0);
     }
 
     #[test]
@@ -540,15 +540,15 @@ mod tests {
     #[test]
     fn bad_angles_are_errors() {
         assert_eq!(
-            AxialCone::from_zenith(0.0, -0.1),
+            AxialCone::from_zenith_rad(0.0, -0.1),
             Err(SurfaceError::AngleOutOfRange)
         );
         assert_eq!(
-            AxialCone::from_zenith(0.0, 4.0),
+            AxialCone::from_zenith_rad(0.0, 4.0),
             Err(SurfaceError::AngleOutOfRange)
         );
         assert_eq!(
-            AxialCone::from_zenith(f64::NAN, 1.0),
+            AxialCone::from_zenith_rad(f64::NAN, 1.0),
             Err(SurfaceError::NonFinite)
         );
         assert_eq!(
@@ -569,7 +569,7 @@ mod tests {
         let cone = AxialCone::from_cos_sin(0.0_f32, h, h).unwrap();
         let r = Ray::new([-core::f32::consts::PI, y0, y0], [0.0, 43690.0, 43690.0]).unwrap();
         assert!(cone.crossings(&r).is_empty(), "{:?}", cone.crossings(&r));
-        let cone = AxialCone::from_zenith(0.0_f64, FRAC_PI_4).unwrap();
+        let cone = AxialCone::from_zenith_rad(0.0_f64, FRAC_PI_4).unwrap();
         let r = Ray::new([-PI, f64::from(y0), f64::from(y0)], [0.0, 1.0, 1.0]).unwrap();
         assert!(cone.crossings(&r).is_empty(), "{:?}", cone.crossings(&r));
     }
@@ -578,7 +578,7 @@ mod tests {
     fn tangent_ray_touches_at_the_point_of_tangency_f32() {
         // Found by the `surfaces` fuzz target: a ray along x at y = z = 341 touches the 45° cone at x = 0. C's two
         // terms cancel there, and the double root used to be taken as C/q, which put the touch at x ≈ 2.
-        let cone = AxialCone::from_zenith(0.0_f32, core::f32::consts::FRAC_PI_4).unwrap();
+        let cone = AxialCone::from_zenith_rad(0.0_f32, core::f32::consts::FRAC_PI_4).unwrap();
         let r = Ray::new([-1.0 / 256.0, 341.0, 341.0], [341.0_f32, 0.0, 0.0]).unwrap();
         for c in &cone.crossings(&r) {
             let x = -1.0 / 256.0 + c.t * 341.0;

@@ -28,8 +28,8 @@ pub struct HalfPlane<T> {
 }
 
 impl<T: Real> HalfPlane<T> {
-    /// The half-plane at azimuth `phi` (any finite angle; taken modulo 2π).
-    pub fn from_azimuth(phi: T) -> Result<Self, SurfaceError> {
+    /// The half-plane at azimuth `phi` in radians (any finite angle; taken modulo 2π).
+    pub fn from_azimuth_rad(phi: T) -> Result<Self, SurfaceError> {
         if !phi.is_finite() {
             return Err(SurfaceError::NonFinite);
         }
@@ -155,7 +155,7 @@ mod tests {
 
     #[test]
     fn ray_in_the_plane_reports_nothing() {
-        let h = HalfPlane::from_azimuth(FRAC_PI_2).unwrap();
+        let h = HalfPlane::from_azimuth_rad(FRAC_PI_2).unwrap();
         let r = Ray::new([0.0, 1.0, 0.0], [0.0, 1.0, 1.0]).unwrap();
         assert!(h.crossings(&r).is_empty());
     }
@@ -164,7 +164,7 @@ mod tests {
     fn ray_through_z_axis_meets_every_half_plane_at_the_axis() {
         let r = Ray::new([-1.0, -1.0, 5.0], [1.0, 1.0, 0.0]).unwrap();
         for phi in [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0] {
-            let c = HalfPlane::from_azimuth(phi).unwrap().crossings(&r);
+            let c = HalfPlane::from_azimuth_rad(phi).unwrap().crossings(&r);
             assert_eq!(c.len(), 1, "phi {phi}");
             assert!((c[0].t - 1.0).abs() < 1e-15);
         }
@@ -172,14 +172,14 @@ mod tests {
 
     #[test]
     fn ray_along_z_axis_is_parallel() {
-        let h = HalfPlane::from_azimuth(0.3).unwrap();
+        let h = HalfPlane::from_azimuth_rad(0.3).unwrap();
         let r = Ray::new([0.0, 0.0, -1.0], [0.0, 0.0, 1.0]).unwrap();
         assert!(h.crossings(&r).is_empty());
     }
 
     #[test]
     fn side_of_points() {
-        let h = HalfPlane::from_azimuth(0.0).unwrap();
+        let h = HalfPlane::from_azimuth_rad(0.0).unwrap();
         assert_eq!(h.side_of(V3::new(1.0, 0.1, 0.0)), Some(Side::Positive));
         assert_eq!(h.side_of(V3::new(1.0, -0.1, 0.0)), Some(Side::Negative));
         assert_eq!(h.side_of(V3::new(-1.0, -0.1, 0.0)), None);

@@ -145,7 +145,7 @@ pub fn shares_frame_with_children<T: Real>(grid: &Grid<T>, anchor: Option<&Node<
     };
     let span = |[a, b]: [u32; 2], step: T| T::from_f64(f64::from(b.saturating_sub(a))) * step.abs();
     let lim = T::from_f64(SHARED_FRAME_SPAN_DEG);
-    span(rows, grid.dlat) <= lim && span(cols, grid.dlon) <= lim
+    span(rows, grid.dlat_deg) <= lim && span(cols, grid.dlon_deg) <= lim
 }
 
 /// The anchor of node `k`'s box frame ([`LocalFrame::for_box`]) for a storage's build step, from its tree's parent
@@ -460,7 +460,7 @@ mod tests {
             let q = f.coords(p);
             assert!(f.point(q).minus(p).max_abs() < 1e-8, "{lat} {lon}");
             // Up along the normal: a point 100 m above another moves 100 m in `up` only.
-            let n = e.normal(lat.to_radians(), lon.to_radians());
+            let n = e.normal_rad(lat.to_radians(), lon.to_radians());
             let d = f.coords(p.add_scaled(100.0, n)).minus(q);
             assert!((d.z - 100.0).abs() < 1e-8 && d.x.abs() < 1e-8 && d.y.abs() < 1e-8);
         }

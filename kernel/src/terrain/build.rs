@@ -45,7 +45,7 @@
 //! const ROWS: u32 = 33;
 //! const COLS: u32 = 33;
 //! const BLOCK: u32 = 8;
-//! let grid = Grid { lat0: 46.0, lon0: 8.0, dlat: 1.0 / 1200.0, dlon: 1.0 / 1200.0, rows: ROWS, cols: COLS };
+//! let grid = Grid { lat0_deg: 46.0, lon0_deg: 8.0, dlat_deg: 1.0 / 1200.0, dlon_deg: 1.0 / 1200.0, rows: ROWS, cols: COLS };
 //! let mut heights = [0.0_f64; (ROWS * COLS) as usize];
 //! for (k, h) in heights.iter_mut().enumerate() {
 //!     let (i, j) = ((k as f64 / COLS as f64).floor(), (k % COLS as usize) as f64);
@@ -59,7 +59,7 @@
 //! // Straight down onto the top of the hill from 2 km above the ellipsoid.
 //! let e = Ellipsoid::<f64>::wgs84();
 //! let (lat, lon) = (grid.lat_deg(16), grid.lon_deg(16));
-//! let down = e.normal(lat.to_radians(), lon.to_radians()).negated();
+//! let down = e.normal_deg(lat, lon).negated();
 //! let hit = picker.pick(&Ray::new(e.geodetic_deg_to_ecef(lat, lon, 2000.0), down)?)?.ok_or("no hit")?;
 //! assert!((hit.h - 900.0).abs() < 1e-6 && (hit.t - 1100.0).abs() < 1e-6);
 //! # Ok::<(), Box<dyn core::error::Error>>(())
@@ -449,7 +449,7 @@ fn build<T: Real, H: Real, X: BoxSlot>(
     nodes: &mut [NodeRecord<H, X>],
 ) -> Result<Tree, BuildError> {
     check_heights(heights, grid)?;
-    if block == 0 || !(grid.dlon * T::from_f64(f64::from(block)) < T::from_f64(180.0)) {
+    if block == 0 || !(grid.dlon_deg * T::from_f64(f64::from(block)) < T::from_f64(180.0)) {
         return Err(BuildError::InvalidBlock);
     }
     let levels = Levels::new(grid.rows, grid.cols, block).ok_or(BuildError::InvalidBlock)?;

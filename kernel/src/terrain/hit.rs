@@ -54,13 +54,13 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let (lat, lon, h) = near.unwrap_or_else(|| {
             let geo = self.ellipsoid.ecef_to_geodetic(V3::from(p));
             let deg = T::from_f64(180.0) / T::PI;
-            (geo.lat * deg, geo.lon * deg, geo.h)
+            (geo.lat_rad * deg, geo.lon_rad * deg, geo.h)
         });
         Hit {
             t,
             ecef: p,
-            lat,
-            lon,
+            lat_deg: lat,
+            lon_deg: lon,
             h,
             cell,
             level,

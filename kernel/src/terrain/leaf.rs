@@ -70,7 +70,7 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             origin: o,
             dir: d,
             tau: T::from_f64(64.0) * T::EPSILON,
-            north_up: self.grid.dlat > T::ZERO,
+            north_up: self.grid.dlat_deg > T::ZERO,
             stitchable: u.stride > 1,
             rows: RowCache::new(u),
             cull: HeightCull {
@@ -98,7 +98,7 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let (sin_half, cos_half) = if j1.saturating_sub(j) == stride {
             self.half_cell(stride)
         } else {
-            sin_cos_deg(self.grid.dlon * T::HALF * self.scale(j1.saturating_sub(j)))
+            sin_cos_deg(self.grid.dlon_deg * T::HALF * self.scale(j1.saturating_sub(j)))
         };
         // The cell's middle meridian λ_j + w/2 by the addition theorem (a few ulps; the row plane only needs its
         // direction, and the vertices' rounding is covered by `tau`).
@@ -433,7 +433,7 @@ struct UnitTrace<T> {
     dir: V3<T>,
     /// The walls' tolerance relative to the coordinates' magnitude (64 ε).
     tau: T,
-    /// Rows run northwards (`dlat > 0`).
+    /// Rows run northwards (`dlat_deg > 0`).
     north_up: bool,
     /// A coarse unit (stride above 1), whose border cells may be stitched.
     stitchable: bool,

@@ -45,7 +45,7 @@
 //!
 //! // A 3 × 3-vertex DEM near (10°N, 20°E) with one raised vertex; blocks of 2 × 2 cells make it one zone that
 //! // is also a leaf.
-//! let grid = Grid { lat0: 10.0, lon0: 20.0, dlat: 0.01, dlon: 0.01, rows: 3, cols: 3 };
+//! let grid = Grid { lat0_deg: 10.0, lon0_deg: 20.0, dlat_deg: 0.01, dlon_deg: 0.01, rows: 3, cols: 3 };
 //! let heights = [0.0, 0.0, 0.0, 0.0, 500.0, 0.0, 0.0, 0.0, 0.0];
 //! let mut nodes = [NodeRecord::<f64>::EMPTY; node_slots(3, 3, 2)];
 //! let tree = build_tree(&heights, &grid, 2, &mut nodes)?;
@@ -54,7 +54,7 @@
 //! let e = Ellipsoid::<f64>::wgs84();
 //! // Straight down onto the raised center vertex from 10 km.
 //! let top = e.geodetic_deg_to_ecef(10.01, 20.01, 10_000.0);
-//! let down = e.normal(10.01_f64.to_radians(), 20.01_f64.to_radians()).negated();
+//! let down = e.normal_deg(10.01, 20.01).negated();
 //! let hit = picker.pick(&Ray::new(top, down)?)?.expect("the peak is below");
 //! assert!((hit.t - 9_500.0).abs() < 1e-6 && (hit.h - 500.0).abs() < 1e-6);
 //! assert_eq!(hit.level, 0);
@@ -166,9 +166,9 @@ pub struct Hit<T> {
     /// per coordinate (so it may differ from `ray.at(t)` by the rounding of `t·dir`; module docs, step 5; `hit.rs`).
     pub ecef: [T; 3],
     /// Geodetic latitude of the hit point, degrees.
-    pub lat: T,
+    pub lat_deg: T,
     /// Longitude of the hit point, degrees in [−180, 180].
-    pub lon: T,
+    pub lon_deg: T,
     /// Height of the hit point above the ellipsoid.
     pub h: T,
     /// The grid cell `[i, j]` whose triangle was hit: the first grid row and column of the traced cell, which
@@ -374,7 +374,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             return Err(TerrainError::TooManyZones);
         }
         let mut half_cells = [(T::ZERO, T::ONE); 32];
-        let mut width = grid.dlon.abs() * T::HALF;
+        let mut width = grid.dlon_deg.abs() * T::HALF;
         for h in &mut half_cells {
             *h = sin_cos_deg(width);
             width *= T::TWO;
@@ -398,7 +398,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             regional: {
                 let span = |n: u32, step: T| T::from_f64(f64::from(n)) * step.abs();
                 let lim = T::from_f64(30.0);
-                span(grid.cell_rows(), grid.dlat) < lim && span(grid.cell_cols(), grid.dlon) < lim
+                span(grid.cell_rows(), grid.dlat_deg) < lim
+                    && span(grid.cell_cols(), grid.dlon_deg) < lim
             },
         };
         for k in 0..n {
@@ -416,8 +417,8 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                     &node_trig(&grid, storage, &node, None, picker.half_cell(stride).1),
                     lo,
                     hi,
-                    grid.dlat * picker.scale(stride),
-                    grid.dlon * picker.scale(stride),
+                    grid.dlat_deg * picker.scale(stride),
+                    grid.dlon_deg * picker.scale(stride),
                 )?),
             };
             picker.h_max = picker.h_max.max(hi);
@@ -484,7 +485,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// impl TerrainStorage<f64> for Flat {
     ///     fn ellipsoid(&self) -> Ellipsoid<f64> { Ellipsoid::wgs84() }
     ///     fn grid(&self) -> Grid<f64> {
-    ///         Grid { lat0: -17.0, lon0: 179.99, dlat: 0.01, dlon: 0.01, rows: 3, cols: 3 }
+    ///         Grid { lat0_deg: -17.0, lon0_deg: 179.99, dlat_deg: 0.01, dlon_deg: 0.01, rows: 3, cols: 3 }
     ///     }
     ///     fn zone_count(&self) -> usize { 1 }
     ///     fn zone(&self, k: usize) -> Option<NodeId> { (k == 0).then_some(NodeId(0)) }
@@ -497,10 +498,10 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// let e = Ellipsoid::<f64>::wgs84();
     /// // A vertex of the grid (lat −16.99°, lon 180.00°), seen straight down from 1 km above the terrain.
     /// let from = e.geodetic_deg_to_ecef(-16.99, 180.0, 1100.0);
-    /// let down = e.normal((-16.99_f64).to_radians(), 180.0_f64.to_radians()).negated();
+    /// let down = e.normal_deg(-16.99, 180.0).negated();
     /// let hit = picker.pick(&Ray::new(from, down)?)?.ok_or("no hit")?;
     /// assert!((hit.t - 1000.0).abs() < 1e-6 && (hit.h - 100.0).abs() < 1e-6);
-    /// assert!((hit.lon.abs() - 180.0).abs() < 1e-9 && hit.cell[1] <= 1);
+    /// assert!((hit.lon_deg.abs() - 180.0).abs() < 1e-9 && hit.cell[1] <= 1);
     /// // Looking up from there: nothing.
     /// assert!(picker.pick(&Ray::new(from, down.negated())?)?.is_none());
     /// # Ok::<(), Box<dyn core::error::Error>>(())
@@ -516,7 +517,14 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         ray: &Ray<T>,
         stats: &mut PickStats,
     ) -> Result<Option<Hit<T>>, TerrainError> {
-        Ok(self.nearest(ray, stats)?.map(|c| self.make_hit(ray, c)))
+        let Some(unit) = unit_sized(ray)? else {
+            return Ok(self.nearest(ray, stats)?.map(|c| self.make_hit(ray, c)));
+        };
+        let Some(c) = self.nearest(&unit, stats)? else {
+            return Ok(None);
+        };
+        let hit = self.make_hit(&unit, c);
+        Ok(t_of_unit_sized(ray, hit.t)?.map(|t| Hit { t, ..hit }))
     }
 
     /// The parameter `t` and the cell of the nearest hit as the traversal finds it, without [`Picker::pick`]'s
@@ -534,7 +542,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// # impl TerrainStorage<f64> for Flat {
     /// #     fn ellipsoid(&self) -> Ellipsoid<f64> { Ellipsoid::wgs84() }
     /// #     fn grid(&self) -> Grid<f64> {
-    /// #         Grid { lat0: -17.0, lon0: 179.99, dlat: 0.01, dlon: 0.01, rows: 3, cols: 3 }
+    /// #         Grid { lat0_deg: -17.0, lon0_deg: 179.99, dlat_deg: 0.01, dlon_deg: 0.01, rows: 3, cols: 3 }
     /// #     }
     /// #     fn zone_count(&self) -> usize { 1 }
     /// #     fn zone(&self, k: usize) -> Option<NodeId> { (k == 0).then_some(NodeId(0)) }
@@ -547,7 +555,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// let picker: Picker<'_, f64, Flat> = Picker::new(&Flat)?;
     /// let e = Ellipsoid::<f64>::wgs84();
     /// let from = e.geodetic_deg_to_ecef(-16.99, 180.0, 1100.0);
-    /// let ray = Ray::new(from, e.normal((-16.99_f64).to_radians(), 180.0_f64.to_radians()).negated())?;
+    /// let ray = Ray::new(from, e.normal_deg(-16.99, 180.0).negated())?;
     /// let (t, cell) = picker.pick_t(&ray)?.ok_or("no hit")?;
     /// let hit = picker.pick(&ray)?.ok_or("no hit")?;
     /// assert!((t - 1000.0).abs() < 1e-6 && cell == hit.cell);
@@ -555,7 +563,13 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     /// ```
     pub fn pick_t(&self, ray: &Ray<T>) -> Result<Option<(T, [u32; 2])>, TerrainError> {
         let mut stats = PickStats::default();
-        Ok(self.nearest(ray, &mut stats)?.map(|c| (c.t, c.cell)))
+        let Some(unit) = unit_sized(ray)? else {
+            return Ok(self.nearest(ray, &mut stats)?.map(|c| (c.t, c.cell)));
+        };
+        let Some(c) = self.nearest(&unit, &mut stats)? else {
+            return Ok(None);
+        };
+        Ok(t_of_unit_sized(ray, c.t)?.map(|t| (t, c.cell)))
     }
 
     /// Line of sight from `a` to `b` (ECEF): `true` when no terrain triangle meets the closed segment.
@@ -567,7 +581,42 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let seg = Ray::segment(a, b)?;
         // Only whether a triangle meets the segment matters: no hit point, so no refinement.
         let mut stats = PickStats::default();
-        Ok(self.nearest(&seg, &mut stats)?.is_none())
+        let Some(unit) = unit_sized(&seg)? else {
+            return Ok(self.nearest(&seg, &mut stats)?.is_none());
+        };
+        Ok(match self.nearest(&unit, &mut stats)? {
+            Some(c) => t_of_unit_sized(&seg, c.t)?.is_none(),
+            None => true,
+        })
+    }
+}
+
+/// The same line as `ray` with the direction [`Ray::scaled_dir`] (exactly `ray`'s times a power of two, its
+/// largest component in `[1, 2)`) when `ray`'s own direction is far from unit size (a component beyond 2^±32),
+/// `None` otherwise. The traversal multiplies the direction with Earth-sized coordinates and with `t`; a
+/// subnormal direction (seen down to the smallest, 5e-324) or a huge one would lose bits there or overflow,
+/// while at unit size every product is ordinary and `t` converts back exactly ([`t_of_unit_sized`]).
+fn unit_sized<T: Real>(ray: &Ray<T>) -> Result<Option<Ray<T>>, TerrainError> {
+    if ray.scale_exponent().unsigned_abs() <= 32 {
+        return Ok(None);
+    }
+    // The interval scales exactly too (unless `t_min` overflows: then no `t` of the ray is representable).
+    let unit = Ray::new(ray.origin(), ray.scaled_dir())?
+        .with_interval(ray.t_to_scaled(ray.t_min()), ray.t_to_scaled(ray.t_max()))
+        .map_err(|_| TerrainError::Unrepresentable)?;
+    Ok(Some(unit))
+}
+
+/// The caller's `t` of a hit at `s` on [`unit_sized`]'s ray: `None` beyond `ray`'s `t_max` (the scaled bound
+/// may have overflowed), [`TerrainError::Unrepresentable`] when `t` itself overflows.
+fn t_of_unit_sized<T: Real>(ray: &Ray<T>, s: T) -> Result<Option<T>, TerrainError> {
+    let t = ray.t_from_scaled(s);
+    if t > ray.t_max() {
+        Ok(None)
+    } else if t == T::INFINITY {
+        Err(TerrainError::Unrepresentable)
+    } else {
+        Ok(Some(t))
     }
 }
 
@@ -622,7 +671,7 @@ pub fn quad_bounds<T: Real>(
     let lon_w = g.lon_deg(n.cols[0]);
     let lon_e = g.lon_deg(n.cols[1]);
     Ok(Some(HeightQuadBounds::new(
-        e, lat_s, lat_n, lon_w, lon_e, lo, hi, g.dlat, g.dlon,
+        e, lat_s, lat_n, lon_w, lon_e, lo, hi, g.dlat_deg, g.dlon_deg,
     )?))
 }
 
@@ -641,8 +690,8 @@ fn node_trig<T: Real, S: TerrainStorage<T>>(
     // A side is outer when the parent has the same side.
     let outer = |side: fn(&Node<T>) -> u32| parent.is_some_and(|p| side(p) == side(n));
     let (first_row, last_row) = (!outer(|m| m.rows[0]), !outer(|m| m.rows[1]));
-    // Rows may run southwards (dlat < 0): the southern wall is the one of smaller latitude.
-    let (south, north, south_inner, north_inner) = if g.dlat > T::ZERO {
+    // Rows may run southwards (dlat_deg < 0): the southern wall is the one of smaller latitude.
+    let (south, north, south_inner, north_inner) = if g.dlat_deg > T::ZERO {
         (ra, rb, first_row, last_row)
     } else {
         (rb, ra, last_row, first_row)

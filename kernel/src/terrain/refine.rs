@@ -2,7 +2,7 @@
 //!
 //! # Why
 //!
-//! The traversal tests triangles whose vertices are computed in the scalar type: `lat0 + i·dlat` rounded, degrees
+//! The traversal tests triangles whose vertices are computed in the scalar type: `lat0_deg + i·dlat_deg` rounded, degrees
 //! to radians rounded, `sin`/`cos` (an ulp), `N = a/√(1 − e² sin²φ)` and the ECEF products. Each vertex is off
 //! by a few ulps of its coordinates (about 1e-9 m at Earth scale in `f64`). The triangle test itself is far more
 //! accurate relative to *those* vertices, but a vertex error δ moves the hit along a ray of elevation ε over the
@@ -12,7 +12,7 @@
 //! # What
 //!
 //! For the hit triangle only (the traversal's choice of triangle is kept), its three vertices are recomputed in
-//! double-double ([`crate::dd`]): the latitude `lat0 + i·dlat` and longitude `lon0 + j·dlon` as exact pairs,
+//! double-double ([`crate::dd`]): the latitude `lat0_deg + i·dlat_deg` and longitude `lon0_deg + j·dlon_deg` as exact pairs,
 //! `sin`/`cos` and the ECEF conversion to a few `ε²` relative. The hit parameter then comes from the triangle's
 //! plane (next section).
 //!
@@ -67,10 +67,10 @@ use crate::ray::Ray;
 use crate::real::Real;
 use crate::vec3::V3;
 
-/// The latitude of vertex row `i` as a pair: `lat0 + i·dlat` exactly (up to pair rounding), clamped to ±90° like
+/// The latitude of vertex row `i` as a pair: `lat0_deg + i·dlat_deg` exactly (up to pair rounding), clamped to ±90° like
 /// [`Grid::lat_deg`].
 fn lat_dd<T: Real>(g: &Grid<T>, i: u32) -> Dd<T> {
-    let lat = Dd::from(g.lat0).plus(two_prod(T::from_f64(f64::from(i)), g.dlat));
+    let lat = Dd::from(g.lat0_deg).plus(two_prod(T::from_f64(f64::from(i)), g.dlat_deg));
     let ninety = T::from_f64(90.0);
     if lat.hi > ninety || (lat.hi == ninety && lat.lo > T::ZERO) {
         Dd::from(ninety)
@@ -81,19 +81,19 @@ fn lat_dd<T: Real>(g: &Grid<T>, i: u32) -> Dd<T> {
     }
 }
 
-/// The longitude of vertex column `j` as a pair: `lon0 + j·dlon`; the last column of a grid that spans 360°
-/// (within 1e-9°) is exactly `lon0 + 360°`, so that the seam's two sides share their vertices exactly (a global
+/// The longitude of vertex column `j` as a pair: `lon0_deg + j·dlon_deg`; the last column of a grid that spans 360°
+/// (within 1e-9°) is exactly `lon0_deg + 360°`, so that the seam's two sides share their vertices exactly (a global
 /// grid whose last column repeats the first).
 fn lon_dd<T: Real>(g: &Grid<T>, j: u32) -> Dd<T> {
     let last = g.cols.saturating_sub(1);
     let full = T::from_f64(360.0);
     if j == last {
-        let span = two_prod(T::from_f64(f64::from(last)), g.dlon).plus_t(-full);
+        let span = two_prod(T::from_f64(f64::from(last)), g.dlon_deg).plus_t(-full);
         if span.value().abs() <= T::from_f64(1e-9) {
-            return Dd::from(g.lon0).plus_t(full);
+            return Dd::from(g.lon0_deg).plus_t(full);
         }
     }
-    Dd::from(g.lon0).plus(two_prod(T::from_f64(f64::from(j)), g.dlon))
+    Dd::from(g.lon0_deg).plus(two_prod(T::from_f64(f64::from(j)), g.dlon_deg))
 }
 
 /// Which triangle of a cell: [`Tri::First`] is `(V(i,j), V(i,j+1), V(i+1,j+1))`, [`Tri::Second`] is
@@ -173,7 +173,7 @@ impl<T: Real> Parallel<T> {
     }
 }
 
-/// The parallel of vertex row `i` in pairs ([`TerrainStorage::row_parallel`]): latitude `lat0 + i·dlat` as an
+/// The parallel of vertex row `i` in pairs ([`TerrainStorage::row_parallel`]): latitude `lat0_deg + i·dlat_deg` as an
 /// exact pair, its sine and cosine and the ECEF factors to a few `ε²`.
 pub fn row_parallel<T: Real>(e: &Ellipsoid<T>, g: &Grid<T>, i: u32) -> Parallel<T> {
     Parallel::new(e, lat_dd(g, i))
@@ -498,10 +498,10 @@ mod tests {
     #[test]
     fn the_triangle_across_each_edge_shares_exactly_that_edge() {
         let g = Grid {
-            lat0: 10.0,
-            lon0: 20.0,
-            dlat: -0.5,
-            dlon: 0.5,
+            lat0_deg: 10.0,
+            lon0_deg: 20.0,
+            dlat_deg: -0.5,
+            dlon_deg: 0.5,
             rows: 4,
             cols: 5,
         };
@@ -536,26 +536,26 @@ mod tests {
 
     #[test]
     fn grid_angles_as_exact_pairs_and_the_closing_column() {
-        // 1/3° spacing: 1080 columns span 360° only up to the rounding of 1/3; the last column is lon0 + 360°.
+        // 1/3° spacing: 1080 columns span 360° only up to the rounding of 1/3; the last column is lon0_deg + 360°.
         let g = Grid {
-            lat0: 89.5,
-            lon0: 20.0 + 1.0 / 6.0,
-            dlat: -1.0 / 3.0,
-            dlon: 1.0 / 3.0,
+            lat0_deg: 89.5,
+            lon0_deg: 20.0 + 1.0 / 6.0,
+            dlat_deg: -1.0 / 3.0,
+            dlon_deg: 1.0 / 3.0,
             rows: 540,
             cols: 1081,
         };
         let last = lon_dd(&g, 1080);
-        assert_eq!(last, Dd::from(g.lon0).plus_t(360.0));
-        // Other columns: lon0 + j·dlon exactly (the product's rounding error is kept in the low part).
+        assert_eq!(last, Dd::from(g.lon0_deg).plus_t(360.0));
+        // Other columns: lon0_deg + j·dlon_deg exactly (the product's rounding error is kept in the low part).
         let l7 = lon_dd(&g, 7);
         let exact = two_prod(7.0, 1.0 / 3.0);
-        assert_eq!(l7.minus(Dd::from(g.lon0)).minus(exact).value(), 0.0);
+        assert_eq!(l7.minus(Dd::from(g.lon0_deg)).minus(exact).value(), 0.0);
         assert!(l7.lo != 0.0);
         // Rows clamp at the poles like `Grid::lat_deg`.
         let g = Grid {
-            lat0: 80.0,
-            dlat: 10.000_000_000_000_002,
+            lat0_deg: 80.0,
+            dlat_deg: 10.000_000_000_000_002,
             ..g
         };
         assert_eq!(lat_dd(&g, 1), Dd::from(90.0));

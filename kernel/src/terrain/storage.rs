@@ -7,20 +7,20 @@ use crate::geodesy::{Ellipsoid, HeightQuadBounds, sin_cos_deg};
 use crate::real::Real;
 
 /// The regular geodetic grid of a DEM (`pick` in the CLI contract): vertex `V(i, j)` is at latitude
-/// `lat0 + i·dlat`, longitude `lon0 + j·dlon` (degrees), `0 ≤ i < rows`, `0 ≤ j < cols`. Cell `(i, j)`
+/// `lat0_deg + i·dlat_deg`, longitude `lon0_deg + j·dlon_deg` (degrees), `0 ≤ i < rows`, `0 ≤ j < cols`. Cell `(i, j)`
 /// (`i < rows − 1`, `j < cols − 1`) is the two triangles `(V(i,j), V(i,j+1), V(i+1,j+1))` and
-/// `(V(i,j), V(i+1,j+1), V(i+1,j))`. `dlat` may be negative; `dlon` must be in `(0°, 180°)`; longitudes may run
+/// `(V(i,j), V(i+1,j+1), V(i+1,j))`. `dlat_deg` may be negative; `dlon_deg` must be in `(0°, 180°)`; longitudes may run
 /// past ±180°; latitudes stay within [−90°, 90°] (a row at ±90° is a pole).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Grid<T> {
     /// Latitude of row 0, degrees.
-    pub lat0: T,
+    pub lat0_deg: T,
     /// Longitude of column 0, degrees.
-    pub lon0: T,
+    pub lon0_deg: T,
     /// Row spacing, degrees (non-zero, either sign).
-    pub dlat: T,
-    /// Column spacing, degrees (`0 < dlon < 180`).
-    pub dlon: T,
+    pub dlat_deg: T,
+    /// Column spacing, degrees (`0 < dlon_deg < 180`).
+    pub dlon_deg: T,
     /// Number of vertex rows (≥ 2).
     pub rows: u32,
     /// Number of vertex columns (≥ 2).
@@ -32,14 +32,14 @@ impl<T: Real> Grid<T> {
     #[inline]
     pub fn lat_deg(&self, i: u32) -> T {
         let ninety = T::from_f64(90.0);
-        (self.lat0 + T::from_f64(f64::from(i)) * self.dlat)
+        (self.lat0_deg + T::from_f64(f64::from(i)) * self.dlat_deg)
             .max(-ninety)
             .min(ninety)
     }
     /// Longitude of vertex column `j`, degrees (not wrapped).
     #[inline]
     pub fn lon_deg(&self, j: u32) -> T {
-        self.lon0 + T::from_f64(f64::from(j)) * self.dlon
+        self.lon0_deg + T::from_f64(f64::from(j)) * self.dlon_deg
     }
     /// Number of cell rows (`rows − 1`).
     #[inline]
@@ -51,22 +51,25 @@ impl<T: Real> Grid<T> {
     pub fn cell_cols(&self) -> u32 {
         self.cols.saturating_sub(1)
     }
-    /// Checks the grid: finite, `dlat ≠ 0`, `0 < dlon < 180`, at least 2×2 vertices, latitudes within ±90°
+    /// Checks the grid: finite, `dlat_deg ≠ 0`, `0 < dlon_deg < 180`, at least 2×2 vertices, latitudes within ±90°
     /// (a rounding excess up to 1e-9° is accepted and clamped).
     pub fn validate(&self) -> bool {
-        let finite = self.lat0.is_finite()
-            && self.lon0.is_finite()
-            && self.dlat.is_finite()
-            && self.dlon.is_finite();
+        let finite = self.lat0_deg.is_finite()
+            && self.lon0_deg.is_finite()
+            && self.dlat_deg.is_finite()
+            && self.dlon_deg.is_finite();
         if !finite || self.rows < 2 || self.cols < 2 {
             return false;
         }
-        if self.dlat == T::ZERO || !(self.dlon > T::ZERO && self.dlon < T::from_f64(180.0)) {
+        if self.dlat_deg == T::ZERO
+            || !(self.dlon_deg > T::ZERO && self.dlon_deg < T::from_f64(180.0))
+        {
             return false;
         }
         let lim = T::from_f64(90.0 + 1e-9);
-        let last = self.lat0 + T::from_f64(f64::from(self.rows.saturating_sub(1))) * self.dlat;
-        self.lat0.abs() <= lim && last.abs() <= lim && self.lon_deg(self.cols).is_finite()
+        let last =
+            self.lat0_deg + T::from_f64(f64::from(self.rows.saturating_sub(1))) * self.dlat_deg;
+        self.lat0_deg.abs() <= lim && last.abs() <= lim && self.lon_deg(self.cols).is_finite()
     }
 }
 

@@ -65,7 +65,7 @@ pub const MAX_LEVELS: u32 = 64;
 ///
 /// `x_high` is true when the node covers the second (higher-index) half of its parent's cell **columns**,
 /// `y_high` when it covers the second half of its parent's cell **rows**. In a grid whose columns run eastwards
-/// and rows northwards (a [`super::Grid`] with `dlon > 0`, `dlat > 0`) these are the paper's east and north
+/// and rows northwards (a [`super::Grid`] with `dlon_deg > 0`, `dlat_deg > 0`) these are the paper's east and north
 /// children; in a grid whose rows run southwards, `y_high` is the southern half. The indexing only ever uses
 /// "first half / second half", never geography.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

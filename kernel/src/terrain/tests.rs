@@ -223,12 +223,19 @@ impl TerrainStorage<f64> for CachedBounds<'_> {
     }
 }
 
-fn grid(lat0: f64, lon0: f64, dlat: f64, dlon: f64, rows: u32, cols: u32) -> Grid<f64> {
+fn grid(
+    lat0_deg: f64,
+    lon0_deg: f64,
+    dlat_deg: f64,
+    dlon_deg: f64,
+    rows: u32,
+    cols: u32,
+) -> Grid<f64> {
     Grid {
-        lat0,
-        lon0,
-        dlat,
-        dlon,
+        lat0_deg,
+        lon0_deg,
+        dlat_deg,
+        dlon_deg,
         rows,
         cols,
     }
@@ -248,7 +255,7 @@ impl Lcg {
 
 fn radial_ray(e: &Ellipsoid<f64>, lat: f64, lon: f64, h0: f64) -> Ray<f64> {
     let top = e.geodetic_deg_to_ecef(lat, lon, h0);
-    let n = e.normal(lat.to_radians(), lon.to_radians());
+    let n = e.normal_rad(lat.to_radians(), lon.to_radians());
     Ray::new(top, n.negated()).unwrap()
 }
 
@@ -278,7 +285,9 @@ fn flat_terrain_at_h0_hit_by_radial_rays_at_vertices() {
             // A vertex at h = 0 lies 1000 m down the normal.
             assert!((hit.t - 1000.0).abs() < 1e-6, "{i},{j}: {}", hit.t);
             assert!(
-                hit.h.abs() < 1e-6 && (hit.lat - lat).abs() < 1e-9 && (hit.lon - lon).abs() < 1e-9
+                hit.h.abs() < 1e-6
+                    && (hit.lat_deg - lat).abs() < 1e-9
+                    && (hit.lon_deg - lon).abs() < 1e-9
             );
         }
     }
@@ -344,7 +353,7 @@ fn ray_through_the_pole_row() {
     let ray = Ray::new([0.0, 0.0, e.b() + 10_000.0], [0.0, 0.0, -1.0]).unwrap();
     let hit = p.pick(&ray).unwrap().unwrap();
     assert!((hit.t - (10_000.0 - 250.0)).abs() < 1e-6, "{}", hit.t);
-    assert!((hit.lat - 90.0).abs() < 1e-9);
+    assert!((hit.lat_deg - 90.0).abs() < 1e-9);
     // Rays across the pole, horizontally and obliquely, agree with the brute force.
     for k in 0..40 {
         let az = k as f64 * 0.157;
@@ -385,7 +394,7 @@ fn steep_ray_across_a_latitude_border_at_80_degrees_finds_the_bulging_triangle()
         .plus(c.scaled(0.0001));
     let geo = e.ecef_to_geodetic(target);
     assert!(
-        geo.lat.to_degrees() > 80.0,
+        geo.lat_rad.to_degrees() > 80.0,
         "the target is north of the 80° cone"
     );
     // A steep ray coming from the north-east, above the northern cells.
@@ -559,7 +568,7 @@ fn ray_missing_everything_and_ray_starting_below_ground() {
     assert_eq!(p.pick(&away).unwrap(), None);
     // From 10 m below the surface, straight up: hits the terrain from underneath at t = 10.
     let below = e.geodetic_deg_to_ecef(0.02, 0.02, 90.0);
-    let n = e.normal(0.02_f64.to_radians(), 0.02_f64.to_radians());
+    let n = e.normal_rad(0.02_f64.to_radians(), 0.02_f64.to_radians());
     let hit = p.pick(&Ray::new(below, n).unwrap()).unwrap().unwrap();
     assert!((hit.t - 10.0).abs() < 1e-6);
 }
@@ -572,8 +581,10 @@ const HITS_ROUGH: usize = 200;
 #[cfg_attr(miri, ignore)]
 fn random_rays_agree_with_brute_force_on_rough_terrain() {
     let mut r = Lcg(42);
-    for (lat0, dlat, lon0) in [(-30.0, 0.5, 170.0), (60.0, 1.0, -20.0), (-88.0, 1.0, 0.0)] {
-        let g = grid(lat0, lon0, dlat, 0.5, 12, 14);
+    for (lat0_deg, dlat_deg, lon0_deg) in
+        [(-30.0, 0.5, 170.0), (60.0, 1.0, -20.0), (-88.0, 1.0, 0.0)]
+    {
+        let g = grid(lat0_deg, lon0_deg, dlat_deg, 0.5, 12, 14);
         let hs: Vec<f64> = (0..12 * 14)
             .map(|_| {
                 let u = r.next();
@@ -600,8 +611,8 @@ fn random_rays_agree_with_brute_force_on_rough_terrain() {
         let e = plain.surface.e;
         let rays: Vec<Ray<f64>> = (0..300)
             .map(|_| {
-                let lat = lat0 + dlat * 11.0 * r.next();
-                let lon = lon0 + 0.5 * 13.0 * r.next();
+                let lat = lat0_deg + dlat_deg * 11.0 * r.next();
+                let lon = lon0_deg + 0.5 * 13.0 * r.next();
                 let target = e.geodetic_deg_to_ecef(lat, lon, 3000.0 * r.next());
                 let dir = V3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5);
                 let dist = 100.0 + 3.0e5 * r.next() * r.next();
@@ -619,14 +630,14 @@ fn random_rays_agree_with_brute_force_on_rough_terrain() {
             let mut hits = 0;
             for (k, ray) in rays.iter().enumerate() {
                 let got = p.pick(ray).unwrap().map(|h| (h.t, h.cell));
-                let what = std::format!("grid at {lat0}, {name}, ray {k}");
+                let what = std::format!("grid at {lat0_deg}, {name}, ray {k}");
                 same_hit(ray, got, dem.surface.brute(ray), &what);
                 hits += usize::from(got.is_some());
             }
             // Agreeing on misses alone proves nothing: most rays must hit.
             assert!(
                 hits >= HITS_ROUGH,
-                "grid at {lat0}, {name}: {hits} hits of 300"
+                "grid at {lat0_deg}, {name}: {hits} hits of 300"
             );
         }
     }
@@ -683,14 +694,14 @@ fn steep_rays_aimed_at_latitude_borders_from_60_to_89_degrees() {
     // Coarse 1° × 2° cells, one cell per leaf, so every row border is a quad border with a cone wall; rays aimed
     // at points just beside the border edges' midpoints (where the chords bulge across the cone), steeply.
     let mut r = Lcg(99);
-    for (lat0, dlat) in [
+    for (lat0_deg, dlat_deg) in [
         (60.0, 1.0),
         (80.0, 1.0),
         (89.0, -1.0),
         (-61.0, -1.0),
         (-85.0, 1.0),
     ] {
-        let g = grid(lat0, 30.0, dlat, 2.0, 6, 6);
+        let g = grid(lat0_deg, 30.0, dlat_deg, 2.0, 6, 6);
         let rows = g.rows;
         let hs: Vec<f64> = (0..36).map(|_| 2000.0 * r.next()).collect();
         let dem = TestDem::new(g, hs, 1);
@@ -713,7 +724,7 @@ fn steep_rays_aimed_at_latitude_borders_from_60_to_89_degrees() {
                 &ray,
                 got,
                 dem.surface.brute(&ray),
-                &std::format!("lat0 {lat0}, ray {k}"),
+                &std::format!("lat0_deg {lat0_deg}, ray {k}"),
             );
             tried += 1;
             hits += usize::from(got.is_some());
@@ -721,7 +732,7 @@ fn steep_rays_aimed_at_latitude_borders_from_60_to_89_degrees() {
         // Agreeing on misses alone proves nothing: most rays must hit.
         assert!(
             tried >= 150 && hits >= HITS_STEEP,
-            "lat0 {lat0}: {hits} hits of {tried}"
+            "lat0_deg {lat0_deg}: {hits} hits of {tried}"
         );
     }
 }
@@ -820,10 +831,10 @@ struct PeakF32 {
 impl PeakF32 {
     fn grid() -> Grid<f32> {
         Grid {
-            lat0: 47.0,
-            lon0: 8.0,
-            dlat: 0.01,
-            dlon: 0.01,
+            lat0_deg: 47.0,
+            lon0_deg: 8.0,
+            dlat_deg: 0.01,
+            dlon_deg: 0.01,
             rows: 3,
             cols: 3,
         }
@@ -875,7 +886,7 @@ const PEAK: [f64; 9] = [
 fn pick_down_on_the_peak<S: TerrainStorage<f32>>(p: &Picker<'_, f32, S>) -> Hit<f32> {
     let e = Ellipsoid::<f32>::wgs84();
     let top = e.geodetic_deg_to_ecef(47.01, 8.01, 10_000.0);
-    let n = e.normal(47.01_f32.to_radians(), 8.01_f32.to_radians());
+    let n = e.normal_rad(47.01_f32.to_radians(), 8.01_f32.to_radians());
     p.pick(&Ray::new(top, n.negated()).unwrap())
         .unwrap()
         .unwrap()
@@ -897,7 +908,7 @@ fn f32_picker_with_a_box_built_in_f64_still_finds_the_peak() {
     let e = Ellipsoid::<f32>::wgs84();
     for (lat, lon) in [(47.0001, 8.0001), (47.0199, 8.0199), (47.0001, 8.0199)] {
         let top = e.geodetic_deg_to_ecef(lat, lon, 5_000.0);
-        let n = e.normal(lat.to_radians(), lon.to_radians());
+        let n = e.normal_rad(lat.to_radians(), lon.to_radians());
         let ray = Ray::new(top, n.negated()).unwrap();
         let (got, want) = (p.pick(&ray).unwrap(), plain.pick(&ray).unwrap());
         assert!(
@@ -1323,7 +1334,7 @@ fn assert_hits_down_through(dem: &TestDem, vertices: &[(u32, u32)], what: &str) 
     vertices.len()
 }
 
-/// The grids of the border-vertex tests: `(lat0, lon0, spacing, height)`, 9 × 9 vertices, rows southwards for
+/// The grids of the border-vertex tests: `(lat0_deg, lon0_deg, spacing, height)`, 9 × 9 vertices, rows southwards for
 /// one of them.
 const BORDER_GRIDS: [(f64, f64, f64, f64); 5] = [
     (45.0, 7.0, 0.01, 0.0),
@@ -1337,13 +1348,21 @@ const BORDER_GRIDS: [(f64, f64, f64, f64); 5] = [
 #[cfg_attr(miri, ignore)] // 160 picks: minutes under Miri; the corner and hole tests cover the same code
 fn rays_down_through_vertices_on_the_outer_edge_of_grids_hit() {
     let mut n = 0;
-    for (lat0, lon0, d, h) in BORDER_GRIDS {
-        let dem = TestDem::new(grid(lat0, lon0, d, d.abs(), 9, 9), std::vec![h; 81], 2);
+    for (lat0_deg, lon0_deg, d, h) in BORDER_GRIDS {
+        let dem = TestDem::new(
+            grid(lat0_deg, lon0_deg, d, d.abs(), 9, 9),
+            std::vec![h; 81],
+            2,
+        );
         let edge: Vec<(u32, u32)> = (0..9)
             .flat_map(|i| (0..9).map(move |j| (i, j)))
             .filter(|&(i, j)| i == 0 || j == 0 || i == 8 || j == 8)
             .collect();
-        n += assert_hits_down_through(&dem, &edge, &std::format!("grid at {lat0}°, {lon0}°"));
+        n += assert_hits_down_through(
+            &dem,
+            &edge,
+            &std::format!("grid at {lat0_deg}°, {lon0_deg}°"),
+        );
     }
     assert_eq!(n, 160);
 }
@@ -1351,10 +1370,18 @@ fn rays_down_through_vertices_on_the_outer_edge_of_grids_hit() {
 #[test]
 #[cfg_attr(miri, ignore)] // 20 picks: over a minute under Miri; triangle.rs tests the border rule itself
 fn rays_down_through_the_four_corner_vertices_of_grids_hit() {
-    for (lat0, lon0, d, h) in BORDER_GRIDS {
-        let dem = TestDem::new(grid(lat0, lon0, d, d.abs(), 9, 9), std::vec![h; 81], 2);
+    for (lat0_deg, lon0_deg, d, h) in BORDER_GRIDS {
+        let dem = TestDem::new(
+            grid(lat0_deg, lon0_deg, d, d.abs(), 9, 9),
+            std::vec![h; 81],
+            2,
+        );
         let corners = [(0, 0), (0, 8), (8, 0), (8, 8)];
-        assert_hits_down_through(&dem, &corners, &std::format!("corners at {lat0}°, {lon0}°"));
+        assert_hits_down_through(
+            &dem,
+            &corners,
+            &std::format!("corners at {lat0_deg}°, {lon0_deg}°"),
+        );
     }
 }
 
@@ -1363,12 +1390,16 @@ fn rays_down_through_the_four_corner_vertices_of_grids_hit() {
 fn rays_down_through_the_edge_vertices_of_a_one_vertex_nodata_hole_hit() {
     // Nodata at V(4, 4) removes its six triangles; the hole's edge is the hexagon of its neighbours (each a
     // corner of the hole's outline).
-    for (lat0, lon0, d, h) in BORDER_GRIDS {
+    for (lat0_deg, lon0_deg, d, h) in BORDER_GRIDS {
         let mut hs = std::vec![h; 81];
         hs[4 * 9 + 4] = f64::NAN;
-        let dem = TestDem::new(grid(lat0, lon0, d, d.abs(), 9, 9), hs, 2);
+        let dem = TestDem::new(grid(lat0_deg, lon0_deg, d, d.abs(), 9, 9), hs, 2);
         let ring = [(3, 3), (3, 4), (4, 5), (5, 5), (5, 4), (4, 3)];
-        assert_hits_down_through(&dem, &ring, &std::format!("hole at {lat0}°, {lon0}°"));
+        assert_hits_down_through(
+            &dem,
+            &ring,
+            &std::format!("hole at {lat0_deg}°, {lon0_deg}°"),
+        );
         // Straight down through the missing vertex: no triangle there.
         let ray = radial_ray(
             &dem.surface.e,
@@ -1388,14 +1419,14 @@ fn rays_down_through_the_edges_and_corners_of_a_square_nodata_hole_hit() {
     // Nodata at the 3 × 3 vertices V(3..=5, 3..=5): the hole's outline runs along rows 2 and 6 and columns 2
     // and 6 (straight edges, with corners at V(2, 2), V(2, 6), V(6, 2), V(6, 6)) and steps inwards along the
     // diagonals at V(2, 3) ... (the cells' diagonals keep some triangles).
-    for (lat0, lon0, d, h) in BORDER_GRIDS {
+    for (lat0_deg, lon0_deg, d, h) in BORDER_GRIDS {
         let mut hs = std::vec![h; 81];
         for i in 3..=5 {
             for j in 3..=5 {
                 hs[i * 9 + j] = f64::NAN;
             }
         }
-        let dem = TestDem::new(grid(lat0, lon0, d, d.abs(), 9, 9), hs, 2);
+        let dem = TestDem::new(grid(lat0_deg, lon0_deg, d, d.abs(), 9, 9), hs, 2);
         let outline: Vec<(u32, u32)> = (2..=6)
             .flat_map(|i| (2..=6).map(move |j| (i, j)))
             .filter(|&(i, j)| i == 2 || j == 2 || i == 6 || j == 6)
@@ -1404,7 +1435,7 @@ fn rays_down_through_the_edges_and_corners_of_a_square_nodata_hole_hit() {
         assert_hits_down_through(
             &dem,
             &outline,
-            &std::format!("square hole at {lat0}°, {lon0}°"),
+            &std::format!("square hole at {lat0_deg}°, {lon0_deg}°"),
         );
     }
 }
@@ -1500,8 +1531,10 @@ fn builder_tree_is_well_formed_with_nodata_rows_and_odd_sizes() {
 #[cfg_attr(miri, ignore)] // 600 picks with a brute force each
 fn builder_storage_picks_agree_with_brute_force() {
     let mut r = Lcg(77);
-    for (lat0, dlat, lon0, block) in [(-30.0, 0.5, 170.0, 2), (46.0, -1.0 / 1200.0, 8.0, 4)] {
-        let g = grid(lat0, lon0, dlat, dlat.abs(), 17, 23);
+    for (lat0_deg, dlat_deg, lon0_deg, block) in
+        [(-30.0, 0.5, 170.0, 2), (46.0, -1.0 / 1200.0, 8.0, 4)]
+    {
+        let g = grid(lat0_deg, lon0_deg, dlat_deg, dlat_deg.abs(), 17, 23);
         let hs: Vec<f64> = (0..17 * 23)
             .map(|_| {
                 if r.next() < 0.03 {
@@ -1516,8 +1549,8 @@ fn builder_storage_picks_agree_with_brute_force() {
         let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
         let e = dem.surface.e;
         for _ in 0..300 {
-            let lat = lat0 + dlat * 16.0 * r.next();
-            let lon = lon0 + dlat.abs() * 22.0 * r.next();
+            let lat = lat0_deg + dlat_deg * 16.0 * r.next();
+            let lon = lon0_deg + dlat_deg.abs() * 22.0 * r.next();
             let target = e.geodetic_deg_to_ecef(lat, lon, 3000.0 * r.next());
             let dir = V3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5);
             let ray = Ray::new(target.add_scaled(-(100.0 + 3.0e4 * r.next()), dir), dir).unwrap();
@@ -1545,7 +1578,7 @@ fn builder_rejects_bad_input_with_typed_errors() {
     );
     assert_eq!(err(&hs, &g, 0, &mut nodes), BuildError::InvalidBlock);
     assert_eq!(
-        err(&hs, &Grid { dlon: 0.0, ..g }, 2, &mut nodes),
+        err(&hs, &Grid { dlon_deg: 0.0, ..g }, 2, &mut nodes),
         BuildError::InvalidGrid
     );
     let wide = grid(0.0, 0.0, 10.0, 100.0, 3, 3);

@@ -360,8 +360,8 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
             ),
             lo,
             hi,
-            self.grid.dlat * self.scale(vol),
-            self.grid.dlon * self.scale(vol),
+            self.grid.dlat_deg * self.scale(vol),
+            self.grid.dlon_deg * self.scale(vol),
             sub,
         )?)
     }

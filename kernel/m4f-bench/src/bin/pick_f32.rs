@@ -41,10 +41,10 @@ fn main() -> ! {
     let mut ok = loop_check(&mut timer, &mut out);
     // The tree built by the kernel's builder (what a user on the target does).
     let grid = Grid {
-        lat0: 45.0,
-        lon0: 7.0,
-        dlat: 0.01,
-        dlon: 0.01,
+        lat0_deg: 45.0,
+        lon0_deg: 7.0,
+        dlat_deg: 0.01,
+        dlon_deg: 0.01,
         rows: N,
         cols: N,
     };

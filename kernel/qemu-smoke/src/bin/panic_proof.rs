@@ -58,10 +58,10 @@ fn surfaces_and_geodesy<T: Real>() {
     if let Ok(s) = Spheroid::new(o(2.0), o(1.5)) {
         black_box(s.crossings(&ray));
     }
-    if let Ok(c) = AxialCone::from_zenith(o(0.3), o(1.1)) {
+    if let Ok(c) = AxialCone::from_zenith_rad(o(0.3), o(1.1)) {
         black_box(c.crossings(&ray));
     }
-    if let Ok(h) = HalfPlane::from_azimuth(o(0.7)) {
+    if let Ok(h) = HalfPlane::from_azimuth_rad(o(0.7)) {
         black_box(h.crossings(&ray));
     }
     if let Ok(p) = PlaneZ::new(o(0.25)) {
@@ -72,8 +72,8 @@ fn surfaces_and_geodesy<T: Real>() {
     };
     let p = e.geodetic_deg_to_ecef(o(36.0), o(-118.0), o(1000.0));
     black_box(e.ecef_to_geodetic(p));
-    black_box(e.geodetic_to_ecef(o(0.6), o(-2.0), o(10.0)));
-    black_box(e.normal(o(0.6), o(-2.0)));
+    black_box(e.geodetic_rad_to_ecef(o(0.6), o(-2.0), o(10.0)));
+    black_box(e.normal_rad(o(0.6), o(-2.0)));
     black_box(HeightQuadBounds::new(
         &e,
         o(36.0),
@@ -158,10 +158,10 @@ impl<T: Real> TerrainStorage<T> for Opaque {
     }
     fn grid(&self) -> Grid<T> {
         Grid {
-            lat0: o(10.0),
-            lon0: o(20.0),
-            dlat: o(0.01),
-            dlon: o(0.01),
+            lat0_deg: o(10.0),
+            lon0_deg: o(20.0),
+            dlat_deg: o(0.01),
+            dlon_deg: o(0.01),
             rows: black_box(N),
             cols: black_box(N),
         }

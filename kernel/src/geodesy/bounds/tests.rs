@@ -62,7 +62,7 @@ fn bulging_triangle_at_80_degrees_is_inside_the_inflated_wall() {
     let mid = v0.plus(v1).scaled(0.5);
     let g = e.ecef_to_geodetic(mid);
     assert!(
-        g.lat.to_degrees() > 80.0,
+        g.lat_rad.to_degrees() > 80.0,
         "the chord bulges north of the wall"
     );
     assert!(q.contains(mid));
@@ -76,7 +76,7 @@ fn bulging_triangle_at_80_degrees_is_inside_the_inflated_wall() {
 fn radial_ray_interval_matches_heights() {
     let e = Ellipsoid::<f64>::wgs84();
     let q = HeightQuadBounds::new(&e, 10.0, 11.0, 20.0, 21.0, -100.0, 500.0, 0.01, 0.01).unwrap();
-    let n = e.normal(10.5_f64.to_radians(), 20.5_f64.to_radians());
+    let n = e.normal_rad(10.5_f64.to_radians(), 20.5_f64.to_radians());
     let top = e.geodetic_deg_to_ecef(10.5, 20.5, 10_000.0);
     let ray = Ray::new(top, n.negated())
         .unwrap()
@@ -113,7 +113,7 @@ fn volume_entered_twice_yields_one_hull_over_both_visits() {
     // The gap between the two visits is the latitude wall's doing: the middle is above ground, north of 80°.
     let mid = e.ecef_to_geodetic(V3::from(ray.at(0.5)));
     assert!(
-        mid.lat.to_degrees() > 80.0 && mid.h > 0.0 && mid.h < 4.0e5,
+        mid.lat_rad.to_degrees() > 80.0 && mid.h > 0.0 && mid.h < 4.0e5,
         "{mid:?}"
     );
 }

@@ -282,10 +282,10 @@ fn level_slots_of(levels: &Levels, l: usize) -> u64 {
 /// A grid in `f64` (exact from `f32`).
 fn grid_f64<T: Real>(g: &Grid<T>) -> Grid<f64> {
     Grid {
-        lat0: g.lat0.to_f64(),
-        lon0: g.lon0.to_f64(),
-        dlat: g.dlat.to_f64(),
-        dlon: g.dlon.to_f64(),
+        lat0_deg: g.lat0_deg.to_f64(),
+        lon0_deg: g.lon0_deg.to_f64(),
+        dlat_deg: g.dlat_deg.to_f64(),
+        dlon_deg: g.dlon_deg.to_f64(),
         rows: g.rows,
         cols: g.cols,
     }

@@ -35,7 +35,7 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         if !(ordered && lo.is_finite() && hi.is_finite()) {
             return (r0, r1);
         }
-        let north_up = self.grid.dlat > T::ZERO;
+        let north_up = self.grid.dlat_deg > T::ZERO;
         // The end on the column's western meridian first: it is shared with the previous column, whose eastern
         // end is the hint (longitude grows along the ray when (o × d)_z > 0).
         let east_at_hi = az_rate > T::ZERO;
@@ -66,7 +66,7 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         let n = div_ceil_pow2(c1.saturating_sub(c0), u.stride);
         let all = (0, n);
         let span = T::from_f64(f64::from(c1.saturating_sub(c0).saturating_add(u.stride)));
-        if !(span * self.grid.dlon < T::from_f64(180.0)) {
+        if !(span * self.grid.dlon_deg < T::from_f64(180.0)) {
             return all;
         }
         let meridian = |k: u32| {
