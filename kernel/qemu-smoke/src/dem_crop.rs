@@ -8,7 +8,7 @@ pub const ROWS: u32 = 48;
 pub const COLS: u32 = 64;
 /// Leaf block size of the tree built on the target.
 pub const BLOCK: u32 = 8;
-/// `[lat0_deg, lon0_deg, dlat_deg, dlon_deg]` of the crop's grid, degrees.
+/// `[lat0, lon0, dlat, dlon]` of the crop's grid, degrees.
 pub const GRID: [f64; 4] = [
     37.6,
     -105.5125,
