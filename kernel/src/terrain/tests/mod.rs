@@ -1,0 +1,267 @@
+//! Terrain kernel tests: closed-form geometry, the traversal against a brute force over every triangle (same
+//! triangle test on the same `f64` vertices, so the two must pick the same triangle; the kernel's hit parameter
+//! is then refined in double-double, so `t` agrees to the size of the `f64` vertices' rounding, see
+//! [`same_hit`]), and typed errors. The independent arbitrary-precision oracle lives in the host crate.
+
+use super::*;
+use std::vec::Vec;
+
+/// The kernel's hit `got` and the brute force's `want` (both `(t, cell)`) are the same triangle, and their hit
+/// points agree within 1 µm: the brute force's `t` comes from the `f64`-rounded vertices, the kernel's from the
+/// refinement (`refine.rs`), which differ by the vertices' rounding (~1e-9 m) amplified at grazing incidence.
+#[track_caller]
+fn same_hit(
+    ray: &Ray<f64>,
+    got: Option<(f64, [u32; 2])>,
+    want: Option<(f64, [u32; 2])>,
+    what: &str,
+) {
+    let same = match (got, want) {
+        (None, None) => true,
+        (Some((tg, cg)), Some((tw, cw))) => {
+            cg == cw && (tg - tw).abs() * ray.dir().length() <= 1e-6
+        }
+        _ => false,
+    };
+    assert!(same, "{what}: kernel {got:?} vs brute {want:?}");
+}
+
+/// A DEM as the brute force reads it: the ellipsoid, the grid and the heights (NaN: nodata).
+struct Surface {
+    e: Ellipsoid<f64>,
+    grid: Grid<f64>,
+    heights: Vec<f64>,
+}
+
+impl Surface {
+    fn h(&self, i: u32, j: u32) -> Option<f64> {
+        let v = *self
+            .heights
+            .get((i * self.grid.cols + j) as usize)
+            .filter(|_| i < self.grid.rows && j < self.grid.cols)?;
+        (!v.is_nan()).then_some(v)
+    }
+
+    fn vertex(&self, i: u32, j: u32) -> Option<V3<f64>> {
+        let h = self.h(i, j)?;
+        let (sl, cl) = sin_cos_deg(self.grid.lat_deg(i));
+        let (so, co) = sin_cos_deg(self.grid.lon_deg(j));
+        Some(self.e.ecef_from_sin_cos(sl, cl, so, co, h))
+    }
+
+    /// Brute force over every triangle with the same watertight test: the nearest `t` and its cell.
+    fn brute(&self, ray: &Ray<f64>) -> Option<(f64, [u32; 2])> {
+        let w = WatertightRay::new(ray.origin(), ray.dir()).unwrap();
+        let mut best: Option<(f64, [u32; 2])> = None;
+        for i in 0..self.grid.rows - 1 {
+            for j in 0..self.grid.cols - 1 {
+                let v = [
+                    self.vertex(i, j),
+                    self.vertex(i, j + 1),
+                    self.vertex(i + 1, j + 1),
+                    self.vertex(i + 1, j),
+                ];
+                // The third vertex of the triangle across each edge (`None` off the grid): an edge without
+                // one is on the border of the surface.
+                let (lr, lc) = (self.grid.rows - 1, self.grid.cols - 1);
+                let at = |ok: bool, i: u32, j: u32| if ok { self.vertex(i, j) } else { None };
+                let across = [
+                    [
+                        at(j + 1 < lc, i + 1, j + 2),
+                        v[3],
+                        at(i > 0, i.wrapping_sub(1), j),
+                    ],
+                    [
+                        at(i + 1 < lr, i + 2, j + 1),
+                        at(j > 0, i, j.wrapping_sub(1)),
+                        v[1],
+                    ],
+                ];
+                for (tri, across) in [[v[0], v[1], v[2]], [v[0], v[2], v[3]]]
+                    .into_iter()
+                    .zip(across)
+                {
+                    let [Some(a), Some(b), Some(c)] = tri else {
+                        continue;
+                    };
+                    let hi = best.map_or(ray.t_max(), |x| x.0);
+                    let border = || across.map(|x| x.is_none());
+                    if let Some((t, _)) = w.intersect_with_border(a, b, c, ray.t_min(), hi, border)
+                    {
+                        if best.is_none_or(|x| t < x.0) {
+                            best = Some((t, [i, j]));
+                        }
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
+/// The storage the tests pick on: the kernel's builder's ([`build::SliceStorage`]).
+type Storage<'a> = build::SliceStorage<'a, f64, f64, Option<boxes::NodeBox>>;
+
+/// A [`Surface`] and the kernel's builder's buffers over it, which [`TestDem::storage`] serves: the node
+/// records of [`build::build_tree`] (leaves of `block × block` cells under the builder's zones) and, if asked
+/// for, node boxes.
+struct TestDem {
+    surface: Surface,
+    nodes: Vec<build::NodeRecord<f64, Option<boxes::NodeBox>>>,
+    tree: build::Tree,
+}
+
+impl TestDem {
+    /// A DEM without node boxes.
+    fn new(grid: Grid<f64>, heights: Vec<f64>, block: u32) -> Self {
+        Self::build(grid, heights, block, None)
+    }
+
+    /// A DEM whose every node has its box ([`build::build_boxes_sharing`]): a child's box in the frame of its
+    /// parent's box when `share(its id)`, else in its parent's own frame (a zone's in the grid's).
+    fn with_boxes(grid: Grid<f64>, heights: Vec<f64>, block: u32, share: fn(u32) -> bool) -> Self {
+        Self::build(grid, heights, block, Some(share))
+    }
+
+    /// The one place the tests build a tree and boxes with the kernel's builder.
+    fn build(
+        grid: Grid<f64>,
+        heights: Vec<f64>,
+        block: u32,
+        share: Option<fn(u32) -> bool>,
+    ) -> Self {
+        let surface = Surface {
+            e: Ellipsoid::wgs84(),
+            grid,
+            heights,
+        };
+        let mut nodes =
+            std::vec![build::NodeRecord::EMPTY; build::node_slots(grid.rows, grid.cols, block)];
+        let tree = build::build_tree(&surface.heights, &grid, block, &mut nodes).unwrap();
+        if let Some(share) = share {
+            let (e, hs) = (&surface.e, &surface.heights);
+            build::build_boxes_sharing(e, &grid, hs, tree, None, &mut nodes, |id, _| share(id.0))
+                .unwrap();
+        }
+        TestDem {
+            surface,
+            nodes,
+            tree,
+        }
+    }
+
+    /// The storage over the buffers.
+    fn storage(&self) -> Storage<'_> {
+        let s = &self.surface;
+        build::SliceStorage::new(s.e, s.grid, &s.heights, &self.nodes, self.tree).unwrap()
+    }
+}
+
+/// A storage of a grid alone, without zones: the builder refuses an invalid grid
+/// ([`build::BuildError::InvalidGrid`]), so the picker's own check of the grid is tested over this.
+struct GridOnly(Grid<f64>);
+
+impl TerrainStorage<f64> for GridOnly {
+    fn ellipsoid(&self) -> Ellipsoid<f64> {
+        Ellipsoid::wgs84()
+    }
+    fn grid(&self) -> Grid<f64> {
+        self.0
+    }
+    fn zone_count(&self) -> usize {
+        0
+    }
+    fn zone(&self, _: usize) -> Option<NodeId> {
+        None
+    }
+    fn node(&self, _: NodeId) -> Option<Node<f64>> {
+        None
+    }
+    fn height(&self, _: u32, _: u32) -> Option<f64> {
+        None
+    }
+}
+
+/// The builder's storage with [`TerrainStorage::cached_bounds`], which the builder does not provide (its
+/// node boxes stand in for it): every node's [`quad_bounds`], by node id.
+struct CachedBounds<'a> {
+    inner: Storage<'a>,
+    cache: Vec<Option<HeightQuadBounds<f64>>>,
+}
+
+impl<'a> CachedBounds<'a> {
+    fn new(inner: Storage<'a>) -> Self {
+        let (e, g) = (inner.ellipsoid(), inner.grid());
+        let cache = (0..inner.tree().slots() as u32)
+            .map(|k| quad_bounds(&e, &g, &inner.node(NodeId(k)).unwrap()).unwrap())
+            .collect();
+        CachedBounds { inner, cache }
+    }
+}
+
+impl TerrainStorage<f64> for CachedBounds<'_> {
+    fn ellipsoid(&self) -> Ellipsoid<f64> {
+        self.inner.ellipsoid()
+    }
+    fn grid(&self) -> Grid<f64> {
+        self.inner.grid()
+    }
+    fn zone_count(&self) -> usize {
+        self.inner.zone_count()
+    }
+    fn zone(&self, k: usize) -> Option<NodeId> {
+        self.inner.zone(k)
+    }
+    fn node(&self, id: NodeId) -> Option<Node<f64>> {
+        self.inner.node(id)
+    }
+    fn height(&self, i: u32, j: u32) -> Option<f64> {
+        self.inner.height(i, j)
+    }
+    fn cached_bounds(&self, id: NodeId) -> Option<HeightQuadBounds<f64>> {
+        self.cache.get(id.0 as usize).copied().flatten()
+    }
+}
+
+fn grid(
+    lat0_deg: f64,
+    lon0_deg: f64,
+    dlat_deg: f64,
+    dlon_deg: f64,
+    rows: u32,
+    cols: u32,
+) -> Grid<f64> {
+    Grid {
+        lat0_deg,
+        lon0_deg,
+        dlat_deg,
+        dlon_deg,
+        rows,
+        cols,
+    }
+}
+
+/// A small deterministic generator (no external crates in the kernel's tests).
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+fn radial_ray(e: &Ellipsoid<f64>, lat: f64, lon: f64, h0: f64) -> Ray<f64> {
+    let top = e.geodetic_deg_to_ecef(lat, lon, h0);
+    let n = e.normal_rad(lat.to_radians(), lon.to_radians());
+    Ray::new(top, n.negated()).unwrap()
+}
+
+mod border;
+mod builder;
+mod global;
+mod multires;
+mod picks;
+mod rough;

@@ -1,0 +1,318 @@
+//! Picks on small grids with closed-form answers (flat terrain, a peak, the pole row, a latitude border,
+//! nodata, line of sight), the work counters, and typed errors.
+
+use super::*;
+
+#[test]
+#[cfg_attr(miri, ignore)] // many picks: minutes under Miri; the light tests below cover the same code
+fn flat_terrain_at_h0_hit_by_radial_rays_at_vertices() {
+    let g = grid(45.0, 7.0, 0.01, 0.01, 9, 9);
+    let dem = TestDem::new(g, std::vec![0.0; 81], 2);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    for i in 0..9 {
+        for j in 0..9 {
+            let (lat, lon) = (g.lat_deg(i), g.lon_deg(j));
+            let hit = p
+                .pick(&radial_ray(&dem.surface.e, lat, lon, 1000.0))
+                .unwrap();
+            let ray = radial_ray(&dem.surface.e, lat, lon, 1000.0);
+            let what = std::format!("{i},{j}");
+            same_hit(
+                &ray,
+                hit.map(|h| (h.t, h.cell)),
+                dem.surface.brute(&ray),
+                &what,
+            );
+            assert!(hit.is_some(), "{i},{j} missed");
+            let hit = hit.unwrap();
+            // A vertex at h = 0 lies 1000 m down the normal.
+            assert!((hit.t - 1000.0).abs() < 1e-6, "{i},{j}: {}", hit.t);
+            assert!(
+                hit.h.abs() < 1e-6
+                    && (hit.lat_deg - lat).abs() < 1e-9
+                    && (hit.lon_deg - lon).abs() < 1e-9
+            );
+        }
+    }
+    // Cell centres: the chord plane dips below the ellipsoid by less than the sagitta (≈ D²/(8R) ≈ 0.02 m).
+    let hit = p
+        .pick(&radial_ray(&dem.surface.e, 45.035, 7.045, 1000.0))
+        .unwrap()
+        .unwrap();
+    assert!(hit.h < 0.0 && hit.h > -0.05, "{}", hit.h);
+    assert_eq!(hit.cell, [3, 4]);
+}
+
+#[test]
+fn single_raised_vertex_peak_and_its_slopes() {
+    let g = grid(-33.0, 151.0, -0.001, 0.001, 5, 5);
+    let mut hs = std::vec![0.0; 25];
+    hs[2 * 5 + 2] = 300.0;
+    let dem = TestDem::new(g, hs, 1);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let (lat, lon) = (g.lat_deg(2), g.lon_deg(2));
+    let hit = p
+        .pick(&radial_ray(&dem.surface.e, lat, lon, 2000.0))
+        .unwrap()
+        .unwrap();
+    assert!((hit.t - 1700.0).abs() < 1e-6 && (hit.h - 300.0).abs() < 1e-6);
+    // Halfway to a neighbouring vertex along a grid line (an edge of the triangulation), the edge is straight:
+    // the hit height is close to 150 m (the chord of the peak's edge, less the tiny curvature term).
+    let hit = p
+        .pick(&radial_ray(&dem.surface.e, lat, lon + 0.0005, 2000.0))
+        .unwrap()
+        .unwrap();
+    assert!((hit.h - 150.0).abs() < 0.5, "{}", hit.h);
+    let ray = radial_ray(&dem.surface.e, lat, lon + 0.0005, 2000.0);
+    same_hit(
+        &ray,
+        Some((hit.t, hit.cell)),
+        dem.surface.brute(&ray),
+        "peak slope",
+    );
+}
+
+#[test]
+#[cfg_attr(miri, ignore)] // many picks: minutes under Miri; the light tests below cover the same code
+fn ray_through_the_pole_row() {
+    // A polar cap 80°..90° with 10° × 30° cells: the last row is the pole, where all vertices coincide.
+    let g = grid(80.0, -180.0, 5.0, 30.0, 3, 13);
+    let mut r = Lcg(7);
+    let hs: Vec<f64> = (0..39)
+        .map(|k| {
+            if k >= 26 {
+                250.0
+            } else {
+                100.0 + 900.0 * r.next()
+            }
+        })
+        .collect();
+    let dem = TestDem::new(g, hs, 2);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    // Straight down the z axis onto the pole vertex.
+    let e = dem.surface.e;
+    let ray = Ray::new([0.0, 0.0, e.b() + 10_000.0], [0.0, 0.0, -1.0]).unwrap();
+    let hit = p.pick(&ray).unwrap().unwrap();
+    assert!((hit.t - (10_000.0 - 250.0)).abs() < 1e-6, "{}", hit.t);
+    assert!((hit.lat_deg - 90.0).abs() < 1e-9);
+    // Rays across the pole, horizontally and obliquely, agree with the brute force.
+    for k in 0..40 {
+        let az = k as f64 * 0.157;
+        let o = [
+            -700_000.0 * az.cos(),
+            -700_000.0 * az.sin(),
+            e.b() - 20_000.0 + 1000.0 * k as f64,
+        ];
+        let d = [az.cos(), az.sin(), -0.02 + 0.001 * k as f64];
+        let ray = Ray::new(o, d).unwrap();
+        let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
+        same_hit(
+            &ray,
+            got,
+            dem.surface.brute(&ray),
+            &std::format!("azimuth {az}"),
+        );
+    }
+}
+
+#[test]
+fn steep_ray_across_a_latitude_border_at_80_degrees_finds_the_bulging_triangle() {
+    // 1° cells, one cell per leaf: the quad border at 80° is a cone, the triangles below it are chords that
+    // bulge north of it (the containment problem). A steep ray from the north aims at the bulge.
+    let g = grid(78.0, 10.0, 1.0, 1.0, 5, 4);
+    let dem = TestDem::new(g, std::vec![0.0; 20], 1);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = dem.surface.e;
+    // The midpoint of the border edge V(2,1)–V(2,2) (lat 80°, lon 11°..12°) and a point just south of it on the
+    // southern cell's triangle.
+    let a = dem.surface.vertex(2, 1).unwrap();
+    let b = dem.surface.vertex(2, 2).unwrap();
+    let c = dem.surface.vertex(1, 2).unwrap();
+    let target = a
+        .scaled(0.49995)
+        .plus(b.scaled(0.49995))
+        .plus(c.scaled(0.0001));
+    let geo = e.ecef_to_geodetic(target);
+    assert!(
+        geo.lat_rad.to_degrees() > 80.0,
+        "the target is north of the 80° cone"
+    );
+    // A steep ray coming from the north-east, above the northern cells.
+    let dir = V3::new(-0.3, 0.05, -1.0);
+    let origin = target.add_scaled(-20_000.0, dir);
+    let ray = Ray::new(origin, dir).unwrap();
+    let hit = p.pick(&ray).unwrap().unwrap();
+    same_hit(
+        &ray,
+        Some((hit.t, hit.cell)),
+        dem.surface.brute(&ray),
+        "steep ray",
+    );
+    assert_eq!(
+        hit.cell[0], 1,
+        "the triangle belongs to the southern row of cells"
+    );
+    assert!((hit.t - 20_000.0).abs() < 1e-6);
+}
+
+#[test]
+fn nodata_vertex_removes_its_triangles() {
+    let g = grid(0.0, 0.0, 0.01, 0.01, 3, 3);
+    let mut hs = std::vec![0.0; 9];
+    hs[4] = f64::NAN;
+    let dem = TestDem::new(g, hs, 2);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    // Every triangle touches the centre vertex: nothing to hit.
+    assert_eq!(
+        p.pick(&radial_ray(&dem.surface.e, 0.005, 0.005, 100.0))
+            .unwrap(),
+        None
+    );
+}
+
+#[test]
+#[cfg_attr(miri, ignore)] // many picks: minutes under Miri; the light tests below cover the same code
+fn line_of_sight_over_and_through_a_ridge() {
+    let g = grid(10.0, 10.0, 0.001, 0.001, 3, 5);
+    let hs = std::vec![
+        0.0, 0.0, 800.0, 0.0, 0.0, 0.0, 0.0, 800.0, 0.0, 0.0, 0.0, 0.0, 800.0, 0.0, 0.0
+    ];
+    let dem = TestDem::new(g, hs, 1);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = dem.surface.e;
+    let west = e.geodetic_deg_to_ecef(10.001, 10.0, 100.0);
+    let east = e.geodetic_deg_to_ecef(10.001, 10.004, 100.0);
+    assert!(!p.line_of_sight(west, east).unwrap());
+    let w_hi = e.geodetic_deg_to_ecef(10.001, 10.0, 1000.0);
+    let e_hi = e.geodetic_deg_to_ecef(10.001, 10.004, 1000.0);
+    assert!(p.line_of_sight(w_hi, e_hi).unwrap());
+}
+
+#[test]
+fn pick_statistics_count_the_work() {
+    // One-cell leaves two levels below the builder's zones (16 × 16 cells: 8 × 8, then 4 × 4 zones).
+    let g = grid(0.0, 0.0, 0.01, 0.01, 17, 17);
+    let dem = TestDem::new(g, std::vec![0.0; 289], 1);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let mut st = PickStats::default();
+    let hit = p
+        .pick_with_stats(&radial_ray(&dem.surface.e, 0.035, 0.045, 100.0), &mut st)
+        .unwrap();
+    assert!(hit.is_some());
+    assert!(st.quads_visited >= 3, "{st:?}");
+    assert!(
+        st.triangle_pairs_visited >= 1 && st.triangle_pairs_visited <= 4,
+        "{st:?}"
+    );
+    assert!(
+        st.triangles_tested >= 1 && st.triangles_tested <= 8,
+        "{st:?}"
+    );
+}
+
+#[test]
+fn typed_errors() {
+    let bad = GridOnly(grid(0.0, 0.0, 0.0, 0.01, 3, 3));
+    assert_eq!(
+        Picker::<'_, f64, GridOnly>::new(&bad).err(),
+        Some(TerrainError::InvalidGrid)
+    );
+    let deep = TestDem::new(grid(0.0, 0.0, 0.01, 0.01, 3, 3), std::vec![-7.0e6; 9], 2);
+    assert_eq!(
+        Picker::<'_, f64, Storage<'_>>::new(&deep.storage()).err(),
+        Some(TerrainError::Geodesy(GeodesyError::HeightTooLow))
+    );
+    // The builder's records with one broken by hand: a child as large as its parent, under the ray's zone.
+    let mut malformed = TestDem::new(grid(0.0, 0.0, 0.01, 0.01, 9, 9), std::vec![0.0; 81], 1);
+    let zone = malformed
+        .nodes
+        .iter()
+        .copied()
+        .find(|n| {
+            n.level == 0 && n.rows[0] <= 3 && 3 < n.rows[1] && n.cols[0] <= 3 && 3 < n.cols[1]
+        })
+        .unwrap();
+    let child = &mut malformed.nodes[zone.kids[0] as usize];
+    (child.rows, child.cols) = (zone.rows, zone.cols);
+    let s = malformed.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    assert_eq!(
+        p.pick(&radial_ray(&malformed.surface.e, 0.03, 0.03, 100.0)),
+        Err(TerrainError::MalformedTree)
+    );
+    let ok = TestDem::new(grid(0.0, 0.0, 0.01, 0.01, 17, 17), std::vec![0.0; 289], 1);
+    let s = ok.storage();
+    let tiny: Picker<'_, f64, Storage<'_>, 2> = Picker::new(&s).unwrap();
+    assert_eq!(
+        tiny.pick(&radial_ray(&ok.surface.e, 0.03, 0.03, 100.0)),
+        Err(TerrainError::StackFull)
+    );
+    let zones = TestDem::new(grid(0.0, 0.0, 0.01, 0.01, 9, 9), std::vec![0.0; 81], 2);
+    assert_eq!(
+        Picker::<'_, f64, Storage<'_>, 64, 8>::new(&zones.storage()).err(),
+        Some(TerrainError::TooManyZones)
+    );
+}
+
+#[test]
+fn grid_of_80_degree_cells_is_triangle_too_large_not_height_too_low() {
+    // 3 × 3 vertices 10° × 80° apart at the equator, flat at 0 m: the cells' diagonals (about 8 800 km) are
+    // beyond the chord bound, and the heights are fine.
+    let dem = TestDem::new(grid(-10.0, 0.0, 10.0, 80.0, 3, 3), std::vec![0.0; 9], 1);
+    let e = dem.surface.e;
+    let got = Picker::<'_, f64, Storage<'_>>::new(&dem.storage())
+        .and_then(|p| p.pick(&radial_ray(&e, 0.0, 40.0, 1000.0)))
+        .err();
+    assert_eq!(
+        got,
+        Some(TerrainError::Geodesy(GeodesyError::TriangleTooLarge))
+    );
+    let text = std::format!("{}", got.unwrap());
+    assert!(
+        text.contains("70 degrees") && !text.contains("b^2/a (no"),
+        "{text}"
+    );
+    // 60° cells are within the bound.
+    let ok = TestDem::new(grid(-10.0, 0.0, 10.0, 60.0, 3, 3), std::vec![0.0; 9], 1);
+    let s = ok.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    assert!(
+        p.pick(&radial_ray(&e, 0.0, 40.0, 1000.0))
+            .unwrap()
+            .is_some()
+    );
+}
+
+#[test]
+fn grid_with_dlon_180_is_an_invalid_grid_whose_message_states_the_rules() {
+    // The builder refuses the grid too (BuildError::InvalidGrid): the picker checks it over a bare grid.
+    let dem = GridOnly(grid(-10.0, 0.0, 10.0, 180.0, 3, 2));
+    let err = Picker::<'_, f64, GridOnly>::new(&dem).err();
+    assert_eq!(err, Some(TerrainError::InvalidGrid));
+    let text = std::format!("{}", err.unwrap());
+    assert!(text.contains("0 < dlon < 180"), "{text}");
+}
+
+#[test]
+fn ray_missing_everything_and_ray_starting_below_ground() {
+    let g = grid(0.0, 0.0, 0.01, 0.01, 5, 5);
+    let dem = TestDem::new(g, std::vec![100.0; 25], 2);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = dem.surface.e;
+    let up = radial_ray(&e, 0.02, 0.02, 1000.0);
+    let away = Ray::new(up.origin(), up.dir().negated()).unwrap();
+    assert_eq!(p.pick(&away).unwrap(), None);
+    // From 10 m below the surface, straight up: hits the terrain from underneath at t = 10.
+    let below = e.geodetic_deg_to_ecef(0.02, 0.02, 90.0);
+    let n = e.normal_rad(0.02_f64.to_radians(), 0.02_f64.to_radians());
+    let hit = p.pick(&Ray::new(below, n).unwrap()).unwrap().unwrap();
+    assert!((hit.t - 10.0).abs() < 1e-6);
+}
