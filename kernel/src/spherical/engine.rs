@@ -48,10 +48,12 @@ pub(crate) struct CellRule {
 impl CellRule {
     /// The cell index of `band` in `slot`, or `None` when that band is outside the domain (band 0 and the top
     /// band of a banded coordinate, the outside sector of a wedge). One subtraction and one comparison.
-    #[inline]
+    #[inline(always)]
     fn index(&self, slot: usize, band: u32) -> Option<u32> {
-        let (Some(&first), Some(&count)) = (self.first.get(slot), self.count.get(slot)) else {
-            return Some(0);
+        let (first, count) = match slot {
+            0 => (self.first[0], self.count[0]),
+            1 => (self.first[1], self.count[1]),
+            _ => (self.first[2], self.count[2]),
         };
         let i = band.wrapping_sub(first);
         (i < count).then_some(i)
@@ -290,13 +292,15 @@ impl<T: Real> Emitter<T> {
     }
 
     /// Slot `slot` enters `band`.
-    #[inline]
+    #[inline(always)]
     fn set(&mut self, slot: usize, band: u32) {
         let bit = 1u8 << (slot & 7);
         match self.rule.index(slot, band) {
             Some(i) => {
-                if let Some(c) = self.cell.get_mut(slot) {
-                    *c = i;
+                match slot {
+                    0 => self.cell[0] = i,
+                    1 => self.cell[1] = i,
+                    _ => self.cell[2] = i,
                 }
                 self.outside &= !bit;
             }
@@ -380,9 +384,10 @@ pub struct SerialMarch<'g, T> {
     /// Each coordinate's stream, at its next event while it is live.
     streams: [Stream<T>; 3],
     em: Emitter<T>,
-    steps: u32,
-    /// The iteration bound (`Axes::max_events`).
-    bound: u32,
+    /// Bit `s` is set while stream `s` is live.
+    live: u8,
+    /// Events left before the iteration bound (`Axes::max_events`) is exceeded.
+    steps_left: u32,
     finished: bool,
     error: Option<MarchError>,
 }
@@ -399,8 +404,8 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             },
             streams: [Stream::fixed(0); 3],
             em: Emitter::new(axes.rule(), [0; 3], T::ZERO, ray.t_max()),
-            steps: 0,
-            bound: axes.max_events(),
+            live: 0,
+            steps_left: axes.max_events(),
             finished: true,
             error: None,
         };
@@ -408,7 +413,10 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             Ok(Some(t0)) => {
                 m.em = Emitter::new(axes.rule(), m.streams.map(|s| s.band), t0, ray.t_max());
                 for slot in 0..3 {
-                    next_event(axes, &m.rays, &mut m.streams, slot); // its first event, or it ends
+                    // its first event, or it ends
+                    if next_event(axes, &m.rays, &mut m.streams, slot) {
+                        m.live |= 1u8 << slot;
+                    }
                 }
                 m.finished = false;
             }
@@ -430,40 +438,46 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
     type Item = CellCrossing<T>;
 
     fn next(&mut self) -> Option<CellCrossing<T>> {
-        let em = &mut self.em;
-        let rays = &self.rays;
         loop {
             if self.finished {
-                return em.pending.take();
+                return self.em.pending.take();
             }
             // the earliest of the live streams' next events; the first slot on a tie
-            let mut best: Option<(T, u32, usize)> = None;
-            for (slot, s) in self.streams.iter().enumerate() {
-                if s.live() && best.is_none_or(|(bt, _, _)| s.t < bt) {
-                    best = Some((s.t, s.band, slot));
-                }
+            let [s0, s1, s2] = &self.streams;
+            let (mut slot, mut t, mut band) = (3usize, s0.t, s0.band);
+            if self.live & 1 != 0 {
+                slot = 0;
             }
-            let Some((t, band, slot)) = best else {
+            if self.live & 2 != 0 && (slot == 3 || s1.t < t) {
+                (slot, t, band) = (1, s1.t, s1.band);
+            }
+            if self.live & 4 != 0 && (slot == 3 || s2.t < t) {
+                (slot, t, band) = (2, s2.t, s2.band);
+            }
+            if slot == 3 {
                 self.finished = true;
-                if let Some(c) = em.finish(em.t_max) {
+                if let Some(c) = self.em.finish(self.em.t_max) {
                     return Some(c);
                 }
                 continue;
-            };
-            self.steps = self.steps.saturating_add(1);
-            if self.steps > self.bound {
+            }
+            if self.steps_left == 0 {
                 self.error = Some(MarchError::IterationBound);
                 self.finished = true;
                 continue;
             }
-            let ended = !next_event(self.axes, rays, &mut self.streams, slot);
-            let out = em.on(t, slot, band);
-            if em.unrepresentable {
+            self.steps_left = self.steps_left.wrapping_sub(1);
+            let ended = !next_event(self.axes, &self.rays, &mut self.streams, slot);
+            if ended {
+                self.live &= !(1u8 << slot);
+            }
+            let out = self.em.on(t, slot, band);
+            if self.em.unrepresentable {
                 self.error = Some(MarchError::Unrepresentable);
                 self.finished = true;
                 continue;
             }
-            if slot == 0 && ended && em.beyond_outer_radius(band) {
+            if slot == 0 && ended && self.em.beyond_outer_radius(band) {
                 self.finished = true; // left the outer radius for good
             }
             if out.is_some() {

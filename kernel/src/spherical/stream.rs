@@ -408,6 +408,7 @@ impl<T: Real> Stream<T> {
 
     /// Advances to the next radius event (at most one square root); false when there is none up to the ray's
     /// `t_max`.
+    #[inline(always)]
     pub(crate) fn next_radial(&mut self, axis: &RadialAxis<'_, T>, ray: &Ray<T>, t_max: T) -> bool {
         let Kind::Radial { descending, cache } = &mut self.kind else {
             return false;
@@ -584,6 +585,7 @@ impl<T: Real> Stream<T> {
     }
 
     /// The next azimuth event (one division); false when there is none.
+    #[inline(always)]
     pub(crate) fn next_azimuth(
         &mut self,
         axis: &AzimuthAxis<'_, T>,
