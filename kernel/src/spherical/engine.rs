@@ -395,35 +395,41 @@ pub struct SerialMarch<'g, T> {
 impl<'g, T: Real> SerialMarch<'g, T> {
     pub(crate) fn new(axes: &'g Axes<'g, T>, ray: &Ray<T>) -> Self {
         // (a march that does not start keeps the caller's ray and an empty emitter; `finished` is set)
-        let mut m = SerialMarch {
-            axes,
-            rays: Rays {
-                rel: *ray,
-                flat: None,
-                t_max: ray.t_max(),
-            },
-            streams: [Stream::fixed(0); 3],
-            em: Emitter::new(axes.rule(), [0; 3], T::ZERO, ray.t_max()),
-            live: 0,
-            steps_left: axes.max_events(),
-            finished: true,
-            error: None,
+        let mut rays = Rays {
+            rel: *ray,
+            flat: None,
+            t_max: ray.t_max(),
         };
-        match setup(axes, ray, &mut m.rays, &mut m.streams) {
-            Ok(Some(t0)) => {
-                m.em = Emitter::new(axes.rule(), m.streams.map(|s| s.band), t0, ray.t_max());
-                for slot in 0..3 {
-                    // its first event, or it ends
-                    if next_event(axes, &m.rays, &mut m.streams, slot) {
-                        m.live |= 1u8 << slot;
-                    }
+        let mut streams = [Stream::fixed(0); 3];
+        let (t0, error) = match setup(axes, ray, &mut rays, &mut streams) {
+            Ok(t0) => (t0, None),
+            Err(e) => (None, Some(e)),
+        };
+        let em = Emitter::new(
+            axes.rule(),
+            streams.map(|s| s.band),
+            t0.unwrap_or(T::ZERO),
+            ray.t_max(),
+        );
+        let mut live = 0u8;
+        if t0.is_some() {
+            for slot in 0..3 {
+                // its first event, or it ends
+                if next_event(axes, &rays, &mut streams, slot) {
+                    live |= 1u8 << slot;
                 }
-                m.finished = false;
             }
-            Ok(None) => {}
-            Err(e) => m.error = Some(e),
         }
-        m
+        SerialMarch {
+            axes,
+            rays,
+            streams,
+            em,
+            live,
+            steps_left: axes.max_events(),
+            finished: t0.is_none(),
+            error,
+        }
     }
 
     /// Why the march stopped early, if it did: the ray could not be put into the grid's frame

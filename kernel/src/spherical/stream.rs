@@ -28,7 +28,7 @@
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
 use crate::ray::Ray;
 use crate::real::Real;
-use crate::surface::{PlaneZ, Side, Surface, sphere_scaled_roots};
+use crate::surface::{PlaneZ, Side, sphere_scaled_roots};
 use crate::vec3::V3;
 
 /// One event: the crossing's parameter `t` and the band (or sector) entered.
@@ -204,12 +204,6 @@ impl<T: Real> Stream<T> {
             t: T::ZERO,
             kind: Kind::Fixed,
         }
-    }
-
-    /// True while the stream may have events: it has not ended (its `band` and `t` are its last event).
-    #[inline]
-    pub(crate) fn live(&self) -> bool {
-        !matches!(self.kind, Kind::Fixed)
     }
 
     /// The radius stream for a ray starting at `t0` (finite, or −∞).
@@ -514,16 +508,17 @@ impl<T: Real> Stream<T> {
                     }
                     _ => {
                         if let Some(cone) = axis.cone(j) {
-                            let cs = cone.crossings(ray);
-                            let mut it = cs.iter();
-                            for c in it.by_ref() {
-                                if c.into == want && c.t >= *t_own {
-                                    found = Some((c.t, None));
-                                    break;
+                            // the first root entering `want` at or after the stream's last event, and the
+                            // root after it (cached: the line may cross the same cone back next)
+                            let ([r0, r1], n) = cone.scaled_crossings(ray);
+                            let t0 = ray.t_from_scaled(r0.0);
+                            if n >= 1 && r0.1 == want && t0 >= *t_own {
+                                found = Some((t0, (n == 2).then(|| (ray.t_from_scaled(r1.0), r1.1))));
+                            } else if n == 2 && r1.1 == want {
+                                let t1 = ray.t_from_scaled(r1.0);
+                                if t1 >= *t_own {
+                                    found = Some((t1, None));
                                 }
-                            }
-                            if let (Some(f), Some(next)) = (found.as_mut(), it.next()) {
-                                f.1 = Some((next.t, next.into));
                             }
                         }
                     }

@@ -156,8 +156,14 @@ impl<T: Real> AxialCone<T> {
     }
 }
 
-impl<T: Real> Surface<T> for AxialCone<T> {
-    fn crossings(&self, ray: &Ray<T>) -> Crossings<T> {
+impl<T: Real> AxialCone<T> {
+    /// The crossings of `ray` with the cone in the ray's *scaled* parameter (see [`Ray::t_from_scaled`]), in
+    /// increasing order, with the side each enters: the first `n` of the pair. All of them, whatever the ray's
+    /// interval (the caller cuts). [`Surface::crossings`] is this, cut to the ray's interval; the spherical
+    /// marcher takes the one crossing it needs from here without building a [`Crossings`].
+    #[inline]
+    pub(crate) fn scaled_crossings(&self, ray: &Ray<T>) -> ([(T, Side); 2], usize) {
+        let no_roots = ([(T::ZERO, Side::Negative); 2], 0);
         let (c2, s2) = (self.cos2, self.sin2);
         let d = ray.scaled_dir();
         let (q, w) = if self.apex_z == T::ZERO {
@@ -168,7 +174,7 @@ impl<T: Real> Surface<T> for AxialCone<T> {
             (q, q.cross(d))
         };
         if self.sin == T::ZERO {
-            return Crossings::NONE; // a half-axis: a line can touch it but never changes side
+            return no_roots; // a half-axis: a line can touch it but never changes side
         }
         if w == V3::ZERO {
             // The line passes through the apex (or starts there): Q = A (s − s_apex)², no simple root. It changes
@@ -178,27 +184,25 @@ impl<T: Real> Surface<T> for AxialCone<T> {
             return match (before, after) {
                 (Some(b), Some(a)) if a != b => {
                     let s_apex = -q.dot(d) / ray.dd();
-                    Crossings::from_scaled_roots(ray, &[(s_apex, a)])
+                    ([(s_apex, a), (s_apex, a)], 1)
                 }
-                _ => Crossings::NONE,
+                _ => no_roots,
             };
         }
         if self.cos == T::ZERO {
             // θ = π/2: the plane z = k, with the larger θ below it.
             if d.z == T::ZERO {
-                return Crossings::NONE;
+                return no_roots;
             }
-            return Crossings::from_scaled_roots(
-                ray,
-                &[(-q.z / d.z, Side::from_bool(d.z < T::ZERO))],
-            );
+            let root = (-q.z / d.z, Side::from_bool(d.z < T::ZERO));
+            return ([root, root], 1);
         }
         let a = c2 * (d.x * d.x + d.y * d.y) - s2 * d.z * d.z;
         let b = c2 * (q.x * d.x + q.y * d.y) - s2 * q.z * d.z;
         let cc = c2 * (q.x * q.x + q.y * q.y) - s2 * q.z * q.z;
         let disc = s2 * (w.x * w.x + w.y * w.y) - c2 * w.z * w.z;
         if !(disc >= T::ZERO) {
-            return Crossings::NONE;
+            return no_roots;
         }
         let root_d = self.cos.abs() * disc.sqrt();
         let (s_dec, s_inc) = stable_quadratic(a, b, cc, root_d);
@@ -241,7 +245,7 @@ impl<T: Real> Surface<T> for AxialCone<T> {
             // no crossing, not a touch at the meaningless root of a noise-sized A.
             let a_scale = c2 * (d.x * d.x + d.y * d.y) + s2 * d.z * d.z;
             if a.abs() <= T::from_f64(8.0) * T::EPSILON * a_scale {
-                return Crossings::NONE;
+                return no_roots;
             }
             // Tangent along a generator: a touch, from the side the line is on (the sign of A) and back. The double
             // root is taken as −B/A: the other form, C/q, divides C (whose two terms cancel on a tangent line) by
@@ -311,6 +315,13 @@ impl<T: Real> Surface<T> for AxialCone<T> {
                 }
             }
         }
+        (roots, n)
+    }
+}
+
+impl<T: Real> Surface<T> for AxialCone<T> {
+    fn crossings(&self, ray: &Ray<T>) -> Crossings<T> {
+        let (roots, n) = self.scaled_crossings(ray);
         Crossings::from_scaled_roots(ray, roots.get(..n).unwrap_or(&[]))
     }
 
