@@ -125,7 +125,21 @@ impl<T: Real> Rays<T> {
     }
 }
 
-/// Advances slot `slot`'s stream to its next event (then its `t` and `band`); false when it has none.
+/// As [`next_event`], kept out of line: for the set-up (each stream's first event), so that the streams' code is
+/// inlined only into the engines' loops, not a second time into the set-up (on a Cortex-M4F each inlined copy of
+/// the radius and azimuth steps costs about 1.7 KB of code).
+#[inline(never)]
+fn next_event_outlined<T: Real>(
+    axes: &Axes<'_, T>,
+    rays: &Rays<T>,
+    streams: &mut [Stream<T>; 3],
+    slot: usize,
+) -> bool {
+    next_event(axes, rays, streams, slot)
+}
+
+/// Advances slot `slot`'s stream to its next event (then its `t` and `band`); false when it has none. Inlined
+/// into the engines' loops, with the radius and azimuth steps (serial: 344 → 327 instructions per crossing).
 #[inline(always)]
 fn next_event<T: Real>(
     axes: &Axes<'_, T>,
@@ -218,9 +232,13 @@ fn setup<T: Real>(
     };
     let mut t0 = t_min;
     if rband >= axes.radial.len {
-        if !rs.next_radial(&axes.radial, rays.radial(), rays.t_max) {
+        let [s0, ..] = streams;
+        *s0 = rs;
+        if !next_event_outlined(axes, rays, streams, 0) {
             return Ok(None);
         }
+        let [s0, ..] = streams;
+        rs = *s0;
         t0 = rs.t;
         rband = rs.band;
         if !t0.is_finite() {
@@ -415,7 +433,7 @@ impl<'g, T: Real> SerialMarch<'g, T> {
         if t0.is_some() {
             for slot in 0..3 {
                 // its first event, or it ends
-                if next_event(axes, &rays, &mut streams, slot) {
+                if next_event_outlined(axes, &rays, &mut streams, slot) {
                     live |= 1u8 << slot;
                 }
             }

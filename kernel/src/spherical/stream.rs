@@ -513,7 +513,8 @@ impl<T: Real> Stream<T> {
                             let ([r0, r1], n) = cone.scaled_crossings(ray);
                             let t0 = ray.t_from_scaled(r0.0);
                             if n >= 1 && r0.1 == want && t0 >= *t_own {
-                                found = Some((t0, (n == 2).then(|| (ray.t_from_scaled(r1.0), r1.1))));
+                                found =
+                                    Some((t0, (n == 2).then(|| (ray.t_from_scaled(r1.0), r1.1))));
                             } else if n == 2 && r1.1 == want {
                                 let t1 = ray.t_from_scaled(r1.0);
                                 if t1 >= *t_own {
