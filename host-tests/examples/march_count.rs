@@ -11,7 +11,8 @@
 //! The difference of the two totals, divided by `(3 − 1) ·` the crossings printed, is the instructions per
 //! crossing with the per-ray set-up amortised in (the grid and ray construction cancel out).
 //!
-//! Arguments: `PRECISION` (`f64`, `f32`, `f32-fast`), `ENGINE` (`serial`; `separable`: one march filled in
+//! Arguments: `PRECISION` (`f64`, `f32`, `f32-fast`), `ENGINE` (`serial`: a `for` loop over the serial
+//! march; `serial-fold`: the same march consumed by `Iterator::fold`, its internal iteration; `separable`: one march filled in
 //! place for each ray; `batch`: the serial engine through `curvicast_host::batch::march_batch`, on
 //! `RAYON_NUM_THREADS` threads), `GRID` (`uniform`: the report's grid; `nonuniform`: random breakpoints; `partial`: a
 //! shell r ∈ [0.3, 1], θ ∈ [0.4, 2.6], φ ∈ [−1, 4]), `M` (rays per side) and `PASSES`.
@@ -53,6 +54,16 @@ fn run<T: Real>(engine: &str, kind: GridKind, m: usize, passes: usize) {
                         crossings += 1;
                     }
                 }
+                "serial-fold" => {
+                    // internal iteration: the march's own loop (`Iterator::fold`) calls back per crossing
+                    let (a, n) = grid
+                        .march(black_box(ray))
+                        .fold((T::ZERO, 0usize), |(a, n), c| {
+                            (a + (c.t_exit - c.t_enter), n + 1)
+                        });
+                    acc += a;
+                    crossings += n;
+                }
                 "separable" => {
                     grid.march_separable_into(black_box(ray), &mut separable)
                         .expect("fits 512");
@@ -61,7 +72,7 @@ fn run<T: Real>(engine: &str, kind: GridKind, m: usize, passes: usize) {
                         crossings += 1;
                     }
                 }
-                _ => panic!("ENGINE is serial, separable or batch"),
+                _ => panic!("ENGINE is serial, serial-fold, separable or batch"),
             }
         }
     }
@@ -79,7 +90,7 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let [_, precision, engine, kind, m, passes] = args.as_slice() else {
         eprintln!(
-            "usage: march_count f64|f32|f32-fast serial|separable|batch uniform|nonuniform|partial M PASSES"
+            "usage: march_count f64|f32|f32-fast serial|serial-fold|separable|batch uniform|nonuniform|partial M PASSES"
         );
         std::process::exit(2);
     };

@@ -462,6 +462,27 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
     type Item = CellCrossing<T>;
 
     fn next(&mut self) -> Option<CellCrossing<T>> {
+        self.step()
+    }
+
+    /// Internal iteration (what `for_each`, `sum`, `fold` and `count` use): the whole march runs in one loop,
+    /// without handing each crossing out through `next`.
+    fn fold<B, F>(mut self, init: B, mut f: F) -> B
+    where
+        F: FnMut(B, CellCrossing<T>) -> B,
+    {
+        let mut acc = init;
+        while let Some(c) = self.step() {
+            acc = f(acc, c);
+        }
+        acc
+    }
+}
+
+impl<T: Real> SerialMarch<'_, T> {
+    /// The next crossing (the body of `next`, inlined into `fold` as well).
+    #[inline(always)]
+    fn step(&mut self) -> Option<CellCrossing<T>> {
         loop {
             if self.finished {
                 return self.em.pending.take();

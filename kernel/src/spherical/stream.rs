@@ -51,6 +51,13 @@ fn plane_t<T: Real>(num: T, den: T, ray: &Ray<T>) -> T {
     }
 }
 
+/// The later of a crossing's `t` and the stream's previous event `t_own` (never NaN): the clamp that keeps a
+/// stream's events nondecreasing. A NaN `t` gives `t_own` (as `max` would), in one comparison.
+#[inline(always)]
+fn later<T: Real>(t: T, t_own: T) -> T {
+    if t >= t_own { t } else { t_own }
+}
+
 /// A run of band steps all at one `t` (a jump through the center or the z axis).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Walk<T> {
@@ -423,7 +430,7 @@ impl<T: Real> Stream<T> {
             };
             match hit {
                 Some((j, (t_in, t_out))) => {
-                    let t = t_in.max(*t_own);
+                    let t = later(t_in, *t_own);
                     if t > t_max {
                         self.kind = Kind::Fixed;
                         return false;
@@ -451,7 +458,7 @@ impl<T: Real> Stream<T> {
                 .map_or(*t_own, |(_, t_out)| t_out),
         };
         *cache = None;
-        let t = t_out.max(*t_own);
+        let t = later(t_out, *t_own);
         if t > t_max {
             self.kind = Kind::Fixed;
             return false;
@@ -486,7 +493,7 @@ impl<T: Real> Stream<T> {
             } else {
                 band.saturating_sub(1)
             };
-            let t = w.t.max(*t_own);
+            let t = later(w.t, *t_own);
             *t_own = t;
             return true;
         }
@@ -560,7 +567,7 @@ impl<T: Real> Stream<T> {
             // One band toward the limit, then the ordinary search resumes in that direction only (so the
             // remaining cones are still crossed where the solver sees them). Each repair moves toward the
             // limit band, so there are at most as many repairs as bands.
-            let t = ray.t_closest().max(*t_own);
+            let t = later(ray.t_closest(), *t_own);
             if !(t <= t_max) {
                 self.kind = Kind::Fixed;
                 return false;
@@ -613,7 +620,7 @@ impl<T: Real> Stream<T> {
             }
             w.remaining = w.remaining.saturating_sub(1);
             *sector = step(*sector, w.up);
-            let t = w.t.max(*t_own);
+            let t = later(w.t, *t_own);
             *t_own = t;
             return true;
         }
@@ -636,7 +643,7 @@ impl<T: Real> Stream<T> {
         let root = axis.plane(j).and_then(|h| h.scaled_root_fraction(ray));
         match root {
             Some((num, den, _)) => {
-                let t = plane_t(num, den, ray).max(*t_own);
+                let t = later(plane_t(num, den, ray), *t_own);
                 if t > t_max || num.is_nan() {
                     self.kind = Kind::Fixed;
                     return false;
@@ -708,7 +715,7 @@ impl<T: Real> Stream<T> {
         });
         match (j, root) {
             (Some(j), Some((num, den, _))) => {
-                let t = plane_t(num, den, ray).max(*t_own);
+                let t = later(plane_t(num, den, ray), *t_own);
                 if t > t_max || num.is_nan() {
                     self.kind = Kind::Fixed;
                     return false;

@@ -161,7 +161,7 @@ impl<T: Real> AxialCone<T> {
     /// increasing order, with the side each enters: the first `n` of the pair. All of them, whatever the ray's
     /// interval (the caller cuts). [`Surface::crossings`] is this, cut to the ray's interval; the spherical
     /// marcher takes the one crossing it needs from here without building a [`Crossings`].
-    #[inline]
+    #[inline(never)]
     pub(crate) fn scaled_crossings(&self, ray: &Ray<T>) -> ([(T, Side); 2], usize) {
         let no_roots = ([(T::ZERO, Side::Negative); 2], 0);
         let (c2, s2) = (self.cos2, self.sin2);

@@ -204,7 +204,8 @@ pub(crate) fn side_of_sign<T: Real>(x: T) -> Option<Side> {
 /// two operations (relative 2ε), the sqrt being correctly rounded; no difference of nearly equal terms is formed.
 #[inline]
 pub(crate) fn stable_quadratic<T: Real>(a: T, b: T, c: T, root_d: T) -> (T, T) {
-    let q = -(b + root_d.with_sign_of(b));
+    // root_d >= 0: its sign is b's by one comparison (a zero b counts as positive, as in `with_sign_of`)
+    let q = -(b + if b < T::ZERO { -root_d } else { root_d });
     let nan = T::NAN;
     if q == T::ZERO {
         // b = 0 and root_d = 0: then a·c = 0, and the double root is s = 0 (or, if a = 0 as well, every s or none).
