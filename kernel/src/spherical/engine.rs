@@ -465,21 +465,43 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
         self.step()
     }
 
-    /// Internal iteration (what `for_each`, `sum`, `fold` and `count` use): the whole march runs in one loop,
-    /// without handing each crossing out through `next`.
-    fn fold<B, F>(mut self, init: B, mut f: F) -> B
+    /// Internal iteration (what `for_each`, `sum`, `count` and adapters such as `map(..).sum()` use): see
+    /// [`SerialMarch::fold_in_place`].
+    fn fold<B, F>(mut self, init: B, f: F) -> B
     where
         F: FnMut(B, CellCrossing<T>) -> B,
     {
+        self.fold_in_place(init, f)
+    }
+}
+
+impl<T: Real> SerialMarch<'_, T> {
+    /// Folds the remaining crossings in order, like [`Iterator::fold`], but borrowing the march, so that
+    /// [`SerialMarch::error`] can be read afterwards. This is internal iteration: the whole march runs in one
+    /// loop instead of handing each crossing out through `next` (on the report's scene about 12 % fewer
+    /// instructions per crossing than a `for` loop; the answers are the same).
+    ///
+    /// ```
+    /// use curvicast::{ray::Ray, spherical::SphericalGrid};
+    /// use core::f64::consts::PI;
+    /// let (r, theta, phi) = ([0.0, 0.5, 1.0], [0.0, PI / 2.0, PI], [0.0, PI, 2.0 * PI]);
+    /// let mut ws = [0.0; SphericalGrid::<f64>::workspace_len(3, 3, 3)];
+    /// let grid = SphericalGrid::new(&r, &theta, &phi, &mut ws)?;
+    /// let ray = Ray::new([-2.0, 0.0, 0.3], [1.0, 0.0, 0.0])?;
+    /// let mut march = grid.march(&ray);
+    /// let length = march.fold_in_place(0.0, |sum, c| sum + (c.t_exit - c.t_enter));
+    /// assert_eq!(march.error(), None);
+    /// assert!((length - 2.0 * (1.0f64 - 0.09).sqrt()).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn fold_in_place<B>(&mut self, init: B, mut f: impl FnMut(B, CellCrossing<T>) -> B) -> B {
         let mut acc = init;
         while let Some(c) = self.step() {
             acc = f(acc, c);
         }
         acc
     }
-}
 
-impl<T: Real> SerialMarch<'_, T> {
     /// The next crossing (the body of `next`, inlined into `fold` as well).
     #[inline(always)]
     fn step(&mut self) -> Option<CellCrossing<T>> {
