@@ -78,6 +78,9 @@ pub(crate) struct Stream<T> {
     kind: Kind<T>,
 }
 
+/// A cache index that matches no sphere or cone.
+const NO_CACHE: u32 = u32::MAX;
+
 /// What a stream of each kind keeps besides its band and `t`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Kind<T> {
@@ -86,14 +89,17 @@ enum Kind<T> {
     Fixed,
     Radial {
         descending: bool,
-        /// The leaving root of the sphere last entered: `(sphere index, t)`.
-        cache: Option<(u32, T)>,
+        /// The leaving root of the sphere last entered: its index (`NO_CACHE` when none) and `t`.
+        cache_j: u32,
+        cache_t: T,
     },
     Zenith {
         up: bool,
         switched: bool,
-        /// The other root of the cone last crossed: `(cone index, t, side entered)`.
-        cache: Option<(u32, T, Side)>,
+        /// The other root of the cone last crossed: its cone (`NO_CACHE` when none), `t` and side entered.
+        cache_j: u32,
+        cache_t: T,
+        cache_side: Side,
         walk: Option<Walk<T>>,
     },
     Azimuth {
@@ -232,7 +238,8 @@ impl<T: Real> Stream<T> {
                 t: t0,
                 kind: Kind::Radial {
                     descending: before_hinge(ray, t0),
-                    cache: None,
+                    cache_j: NO_CACHE,
+                    cache_t: T::ZERO,
                 },
             },
             band,
@@ -268,7 +275,9 @@ impl<T: Real> Stream<T> {
                     kind: Kind::Zenith {
                         up: after > before,
                         switched: true,
-                        cache: None,
+                        cache_j: NO_CACHE,
+                        cache_t: T::ZERO,
+                        cache_side: Side::Negative,
                         walk: Some(Walk {
                             t: t_c,
                             remaining: after.abs_diff(before),
@@ -304,7 +313,9 @@ impl<T: Real> Stream<T> {
                 kind: Kind::Zenith {
                     up,
                     switched: false,
-                    cache: None,
+                    cache_j: NO_CACHE,
+                    cache_t: T::ZERO,
+                    cache_side: Side::Negative,
                     walk: None,
                 },
             },
@@ -411,7 +422,12 @@ impl<T: Real> Stream<T> {
     /// `t_max`.
     #[inline(always)]
     pub(crate) fn next_radial(&mut self, axis: &RadialAxis<'_, T>, ray: &Ray<T>, t_max: T) -> bool {
-        let Kind::Radial { descending, cache } = &mut self.kind else {
+        let Kind::Radial {
+            descending,
+            cache_j,
+            cache_t,
+        } = &mut self.kind
+        else {
             return false;
         };
         let (band, t_own) = (&mut self.band, &mut self.t);
@@ -437,7 +453,7 @@ impl<T: Real> Stream<T> {
                     }
                     *band = j;
                     *t_own = t;
-                    *cache = Some((j, t_out));
+                    (*cache_j, *cache_t) = (j, t_out);
                     return true;
                 }
                 None => *descending = false,
@@ -449,15 +465,15 @@ impl<T: Real> Stream<T> {
             self.kind = Kind::Fixed;
             return false;
         }
-        let t_out = match *cache {
-            Some((k, t)) if k == j => t,
-            _ => axis
-                .r2
+        let t_out = if *cache_j == j {
+            *cache_t
+        } else {
+            axis.r2
                 .get(j as usize)
                 .and_then(|&r2| sphere_roots(r2, ray))
-                .map_or(*t_own, |(_, t_out)| t_out),
+                .map_or(*t_own, |(_, t_out)| t_out)
         };
-        *cache = None;
+        *cache_j = NO_CACHE;
         let t = later(t_out, *t_own);
         if t > t_max {
             self.kind = Kind::Fixed;
@@ -475,7 +491,9 @@ impl<T: Real> Stream<T> {
         let Kind::Zenith {
             up,
             switched,
-            cache,
+            cache_j,
+            cache_t,
+            cache_side,
             walk,
         } = &mut self.kind
         else {
@@ -498,45 +516,41 @@ impl<T: Real> Stream<T> {
             return true;
         }
         for _ in 0..2 {
-            // the cone to cross and the side to enter
-            let (cone_j, want) = if *up {
-                (
-                    if *band < axis.len { Some(*band) } else { None },
-                    Side::Positive,
-                )
+            // the cone to cross and the side to enter (band 0 has no cone below it, band `len` none above)
+            let (j, want) = if *up {
+                (*band, Side::Positive)
             } else {
-                (band.checked_sub(1), Side::Negative)
+                (band.wrapping_sub(1), Side::Negative)
             };
-            let mut found: Option<(T, Option<(T, Side)>)> = None;
-            if let Some(j) = cone_j {
-                match *cache {
-                    Some((k, t, s)) if k == j && s == want && t >= *t_own => {
-                        found = Some((t, None))
-                    }
-                    _ => {
-                        if let Some(cone) = axis.cone(j) {
-                            // the first root entering `want` at or after the stream's last event, and the
-                            // root after it (cached: the line may cross the same cone back next)
-                            let ([r0, r1], n) = cone.scaled_crossings(ray);
-                            let t0 = ray.t_from_scaled(r0.0);
-                            if n >= 1 && r0.1 == want && t0 >= *t_own {
-                                found =
-                                    Some((t0, (n == 2).then(|| (ray.t_from_scaled(r1.0), r1.1))));
-                            } else if n == 2 && r1.1 == want {
-                                let t1 = ray.t_from_scaled(r1.0);
-                                if t1 >= *t_own {
-                                    found = Some((t1, None));
-                                }
-                            }
+            if j < axis.len {
+                // the other root of this cone, cached when it was solved, or a solve: the first root entering
+                // `want` at or after the stream's last event, and the root after it (cached: the line may
+                // cross the same cone back next)
+                let mut hit = None;
+                let mut next_cache = NO_CACHE;
+                if *cache_j == j && *cache_side == want && *cache_t >= *t_own {
+                    hit = Some(*cache_t);
+                } else if let Some(cone) = axis.cone(j) {
+                    let ([r0, r1], n) = cone.scaled_crossings(ray);
+                    let t0 = ray.t_from_scaled(r0.0);
+                    if n >= 1 && r0.1 == want && t0 >= *t_own {
+                        hit = Some(t0);
+                        if n == 2 {
+                            (next_cache, *cache_t, *cache_side) = (j, ray.t_from_scaled(r1.0), r1.1);
+                        }
+                    } else if n == 2 && r1.1 == want {
+                        let t1 = ray.t_from_scaled(r1.0);
+                        if t1 >= *t_own {
+                            hit = Some(t1);
                         }
                     }
                 }
-                if let (Some((t, other)), Some(j)) = (found, cone_j) {
+                if let Some(t) = hit {
                     if t > t_max {
                         self.kind = Kind::Fixed;
                         return false;
                     }
-                    *cache = other.map(|(t2, s2)| (j, t2, s2));
+                    *cache_j = next_cache;
                     *band = if *up { j.saturating_add(1) } else { j };
                     *t_own = t;
                     return true;
@@ -574,7 +588,7 @@ impl<T: Real> Stream<T> {
             }
             *up = target > b;
             *switched = true;
-            *cache = None;
+            *cache_j = NO_CACHE;
             *band = if *up {
                 b.saturating_add(1)
             } else {
