@@ -61,19 +61,47 @@ pub struct Ray<T> {
     t_max: T,
     /// `dir * 2^-e`, largest component in `[1, 2)`.
     d: V3<T>,
-    /// The exponent `e` of the exact rescaling: `t = t_scaled * 2^-e`.
-    e: i32,
+    /// The exact rescaling between `t` and the scaled parameter.
+    scale: Scale<T>,
     /// `‖d‖²` of the scaled direction, in `[1, 12)`.
     dd: T,
     /// `⟨p|d⟩` with the scaled direction.
     pd: T,
     /// `p × d` with the scaled direction.
     w: V3<T>,
+}
+
+/// The exact rescaling between a ray's `t` and the parameter `s = t·2^e` of its scaled direction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Scale<T> {
+    /// The exponent `e`: `t = s · 2^-e`.
+    e: i32,
     /// `2^-e` and `2^e` when both are normal numbers (then a multiplication by them is the exact rescaling,
     /// bit for bit what `scalbn` gives, without its call); `0` when either is not (a direction of subnormal or
     /// near-maximal size), where the conversions fall back to `scalbn`.
     to_t: T,
     to_s: T,
+}
+
+impl<T: Real> Scale<T> {
+    /// `s · 2^-e` (exact unless it under- or overflows).
+    #[inline]
+    pub(crate) fn t_from_scaled(&self, s: T) -> T {
+        if self.to_t == T::ZERO {
+            s.scalbn(self.e.saturating_neg())
+        } else {
+            s * self.to_t
+        }
+    }
+    /// `t · 2^e` (exact unless it under- or overflows).
+    #[inline]
+    pub(crate) fn t_to_scaled(&self, t: T) -> T {
+        if self.to_s == T::ZERO {
+            t.scalbn(self.e)
+        } else {
+            t * self.to_s
+        }
+    }
 }
 
 /// `(2^k, 2^-k)` when both are normal numbers of `T`, else `(0, 0)`.
@@ -112,12 +140,12 @@ impl<T: Real> Ray<T> {
         } else {
             dir.scaled(to_t)
         };
-        Ok(Self::with_scaled(origin, dir, d, e, to_t, to_s))
+        Ok(Self::with_scaled(origin, dir, d, Scale { e, to_t, to_s }))
     }
 
     /// The ray from its origin, its direction as given and the exactly rescaled one.
     #[inline]
-    fn with_scaled(origin: V3<T>, dir: V3<T>, d: V3<T>, e: i32, to_t: T, to_s: T) -> Self {
+    fn with_scaled(origin: V3<T>, dir: V3<T>, d: V3<T>, scale: Scale<T>) -> Self {
         let dd = d.length_squared();
         let pd = origin.dot(d);
         let w = origin.cross(d);
@@ -127,12 +155,10 @@ impl<T: Real> Ray<T> {
             t_min: T::ZERO,
             t_max: T::INFINITY,
             d,
-            e,
+            scale,
             dd,
             pd,
             w,
-            to_t,
-            to_s,
         }
     }
 
@@ -168,7 +194,7 @@ impl<T: Real> Ray<T> {
             return Err(RayError::NonFiniteOrigin);
         }
         // the direction and its rescaling are unchanged: only the origin's invariants are formed again
-        let mut r = Self::with_scaled(origin, self.dir, self.d, self.e, self.to_t, self.to_s);
+        let mut r = Self::with_scaled(origin, self.dir, self.d, self.scale);
         r.t_min = self.t_min;
         r.t_max = self.t_max;
         Ok(r)
@@ -228,25 +254,22 @@ impl<T: Real> Ray<T> {
     /// Converts a parameter of the scaled direction to the caller's `t` (exact: a multiplication by a power of 2).
     #[inline]
     pub fn t_from_scaled(&self, s: T) -> T {
-        if self.to_t == T::ZERO {
-            s.scalbn(self.e.saturating_neg())
-        } else {
-            s * self.to_t
-        }
+        self.scale.t_from_scaled(s)
     }
     /// The exponent `e` of the exact rescaling: `t = t_scaled · 2^-e` (see [`Ray::t_from_scaled`]).
     #[inline]
     pub(crate) fn scale_exponent(&self) -> i32 {
-        self.e
+        self.scale.e
+    }
+    /// The exact rescaling between `t` and the scaled parameter.
+    #[inline]
+    pub(crate) fn scale(&self) -> Scale<T> {
+        self.scale
     }
     /// Converts the caller's `t` to the parameter of the scaled direction (exact).
     #[inline]
     pub fn t_to_scaled(&self, t: T) -> T {
-        if self.to_s == T::ZERO {
-            t.scalbn(self.e)
-        } else {
-            t * self.to_s
-        }
+        self.scale.t_to_scaled(t)
     }
 
     /// The hinge of `r`: the `t` of the closest approach to the origin, `−⟨p|d⟩/‖d‖²` (seed 001, Lemma 8).

@@ -6,7 +6,7 @@
 //! equal `t` by coordinate (radius first, then the grid's second and third coordinate) — so they agree exactly.
 
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
-use super::stream::{Event, Stream};
+use super::stream::{Event, RadialLine, Stream};
 use super::{Axis, CellCrossing, MarchError};
 use crate::ray::Ray;
 use crate::real::Real;
@@ -107,22 +107,15 @@ impl<T: Real> Axes<'_, T> {
     }
 }
 
-/// The rays in the grid's frame: `rel` (relative to the center) and `flat` (its projection on z = 0, used by
-/// the radius of the cylinder and the polar grid), both open-ended (`t_max = +∞`) so that the surface solvers
-/// report every crossing ahead and the streams can check their topology against the limit at infinity; the
-/// ray's own `t_max` cuts the events.
+/// The ray in the grid's frame, `rel` (relative to the center), open-ended (`t_max = +∞`) so that the surface
+/// solvers report every crossing ahead and the streams can check their topology against the limit at infinity
+/// (the ray's own `t_max` cuts the events); and the line as the radius stream sees it (`rel` itself for the
+/// sphere grid, its projection on z = 0 for the cylinder and the polar grid).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Rays<T> {
     rel: Ray<T>,
-    flat: Option<Ray<T>>,
+    radial: RadialLine<T>,
     t_max: T,
-}
-
-impl<T: Real> Rays<T> {
-    #[inline]
-    fn radial(&self) -> &Ray<T> {
-        self.flat.as_ref().unwrap_or(&self.rel)
-    }
 }
 
 /// As [`next_event`], kept out of line: for the set-up (each stream's first event), so that the streams' code is
@@ -151,7 +144,7 @@ fn next_event<T: Real>(
         return false;
     };
     match axes.slots.get(slot) {
-        Some(SlotKind::Radial) => s.next_radial(&axes.radial, rays.radial(), rays.t_max),
+        Some(SlotKind::Radial) => s.next_radial(&axes.radial, &rays.radial, rays.t_max),
         Some(SlotKind::Zenith) => axes
             .zenith
             .as_ref()
@@ -216,15 +209,16 @@ fn setup<T: Real>(
         None
     };
     let radial_moves = !axes.flat_radius || flat.is_some();
+    let radial_ray = flat.as_ref().unwrap_or(&rel);
     rays.rel = rel;
-    rays.flat = flat;
+    rays.radial = RadialLine::of(radial_ray);
     rays.t_max = ray.t_max();
     let t_min = rel.t_min();
-    if radial_moves && !outer_ball_representable(axes, rays.radial(), t_min, rays.t_max) {
+    if radial_moves && !outer_ball_representable(axes, radial_ray, t_min, rays.t_max) {
         return Err(MarchError::Unrepresentable);
     }
     let (mut rs, mut rband) = if radial_moves {
-        Stream::radial(&axes.radial, rays.radial(), t_min)
+        Stream::radial(&axes.radial, radial_ray, &rays.radial, t_min)
     } else {
         let p = rel.origin();
         let band = axes.radial.band_of_r2(p.x * p.x + p.y * p.y);
@@ -415,7 +409,7 @@ impl<'g, T: Real> SerialMarch<'g, T> {
         // (a march that does not start keeps the caller's ray and an empty emitter; `finished` is set)
         let mut rays = Rays {
             rel: *ray,
-            flat: None,
+            radial: RadialLine::of(ray),
             t_max: ray.t_max(),
         };
         let mut streams = [Stream::fixed(0); 3];
@@ -619,7 +613,7 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
         let m = self;
         let mut rays = Rays {
             rel: *ray,
-            flat: None,
+            radial: RadialLine::of(ray),
             t_max: ray.t_max(),
         };
         let mut streams = [Stream::fixed(0); 3];

@@ -26,9 +26,9 @@
 //! shorter way, counter-clockwise on a tie). A line parallel to the z axis keeps φ constant.
 
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
-use crate::ray::Ray;
+use crate::ray::{Ray, Scale};
 use crate::real::Real;
-use crate::surface::{PlaneZ, Side, sphere_scaled_roots};
+use crate::surface::{PlaneZ, Side, sphere_roots_of};
 use crate::vec3::V3;
 
 /// One event: the crossing's parameter `t` and the band (or sector) entered.
@@ -116,15 +116,54 @@ enum Kind<T> {
     },
 }
 
-/// The two roots of the ray with the sphere of squared radius `r2` centred at the origin, in the caller's `t`
-/// (one square root; `None` when the line misses it or `r2 = 0`).
-#[inline]
-fn sphere_roots<T: Real>(r2: T, ray: &Ray<T>) -> Option<(T, T)> {
-    if !(r2 > T::ZERO) {
-        return None;
+/// The line as the radius stream sees it: the invariants of the sphere quadratic `‖d‖² s² + 2⟨p|d⟩ s + ‖p‖² − r²`
+/// (seed 001 §4.1, Lemma 8) in the ray's scaled parameter, formed once per ray, and the exact rescaling to `t`.
+/// For the cylinder and the polar grid it is the line's projection on z = 0, with its own rescaling.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct RadialLine<T> {
+    /// `‖p‖²`.
+    pp: T,
+    /// `|p × d|²`.
+    ww: T,
+    /// `⟨p|d⟩`.
+    pd: T,
+    /// `‖d‖²`.
+    dd: T,
+    scale: Scale<T>,
+}
+
+impl<T: Real> RadialLine<T> {
+    /// The invariants of `ray` (as the sphere solver forms them, so that the roots are the same bits).
+    pub(crate) fn of(ray: &Ray<T>) -> Self {
+        RadialLine {
+            pp: ray.origin().length_squared(),
+            ww: ray.p_cross_d().length_squared(),
+            pd: ray.pd(),
+            dd: ray.dd(),
+            scale: ray.scale(),
+        }
     }
-    let (a, b) = sphere_scaled_roots(r2, ray)?;
-    Some((ray.t_from_scaled(a), ray.t_from_scaled(b)))
+
+    /// The two roots with the sphere of squared radius `r2` centred at the origin, in the caller's `t` (one
+    /// square root; `None` when the line misses it or `r2 = 0`).
+    #[inline]
+    fn sphere_roots(&self, r2: T) -> Option<(T, T)> {
+        if !(r2 > T::ZERO) {
+            return None;
+        }
+        let (a, b) = sphere_roots_of(r2, self.pp, self.dd, self.pd, self.ww)?;
+        Some((self.scale.t_from_scaled(a), self.scale.t_from_scaled(b)))
+    }
+
+    /// True before the hinge of r (Lemma 8): `⟨p + t d | d⟩ < 0`, decided without a division.
+    #[inline]
+    fn before_hinge(&self, t: T) -> bool {
+        if t.is_finite() {
+            self.pd + self.scale.t_to_scaled(t) * self.dd < T::ZERO
+        } else {
+            t < T::ZERO
+        }
+    }
 }
 
 /// True when a cross product (of largest component `w`) is at the level of its own rounding error for factors
@@ -134,16 +173,6 @@ fn sphere_roots<T: Real>(r2: T, ray: &Ray<T>) -> Option<(T, T)> {
 #[inline]
 fn rounding_level<T: Real>(w: T, a: T, b: T) -> bool {
     w.abs() <= T::EPSILON * T::from_f64(8.0) * a * b
-}
-
-/// True before the hinge of r (Lemma 8): `⟨p + t d | d⟩ < 0`, decided without a division.
-#[inline]
-fn before_hinge<T: Real>(ray: &Ray<T>, t: T) -> bool {
-    if t.is_finite() {
-        ray.pd() + ray.t_to_scaled(t) * ray.dd() < T::ZERO
-    } else {
-        t < T::ZERO
-    }
 }
 
 /// About `sqrt(ε)` of the type (a power of two, computed without a square root).
@@ -219,8 +248,13 @@ impl<T: Real> Stream<T> {
         }
     }
 
-    /// The radius stream for a ray starting at `t0` (finite, or −∞).
-    pub(crate) fn radial(axis: &RadialAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
+    /// The radius stream for a ray starting at `t0` (finite, or −∞); `line` is [`RadialLine::of`] `ray`.
+    pub(crate) fn radial(
+        axis: &RadialAxis<'_, T>,
+        ray: &Ray<T>,
+        line: &RadialLine<T>,
+        t0: T,
+    ) -> (Self, u32) {
         let r2 = if t0.is_finite() {
             point_at(ray, t0).length_squared()
         } else {
@@ -237,7 +271,7 @@ impl<T: Real> Stream<T> {
                 band,
                 t: t0,
                 kind: Kind::Radial {
-                    descending: before_hinge(ray, t0),
+                    descending: line.before_hinge(t0),
                     cache_j: NO_CACHE,
                     cache_t: T::ZERO,
                 },
@@ -421,7 +455,12 @@ impl<T: Real> Stream<T> {
     /// Advances to the next radius event (at most one square root); false when there is none up to the ray's
     /// `t_max`.
     #[inline(always)]
-    pub(crate) fn next_radial(&mut self, axis: &RadialAxis<'_, T>, ray: &Ray<T>, t_max: T) -> bool {
+    pub(crate) fn next_radial(
+        &mut self,
+        axis: &RadialAxis<'_, T>,
+        line: &RadialLine<T>,
+        t_max: T,
+    ) -> bool {
         let Kind::Radial {
             descending,
             cache_j,
@@ -434,10 +473,10 @@ impl<T: Real> Stream<T> {
         if *descending {
             let inner = band.checked_sub(1);
             let hit = match inner {
-                Some(j) if before_hinge(ray, *t_own) => axis
+                Some(j) if line.before_hinge(*t_own) => axis
                     .r2
                     .get(j as usize)
-                    .and_then(|&r2| sphere_roots(r2, ray))
+                    .and_then(|&r2| line.sphere_roots(r2))
                     // a touch (double root) does not enter: the touching point has r = r_j, which belongs
                     // to the outer band (half-open cells)
                     .filter(|&(t_in, t_out)| t_in < t_out)
@@ -470,7 +509,7 @@ impl<T: Real> Stream<T> {
         } else {
             axis.r2
                 .get(j as usize)
-                .and_then(|&r2| sphere_roots(r2, ray))
+                .and_then(|&r2| line.sphere_roots(r2))
                 .map_or(*t_own, |(_, t_out)| t_out)
         };
         *cache_j = NO_CACHE;
@@ -536,7 +575,8 @@ impl<T: Real> Stream<T> {
                     if n >= 1 && r0.1 == want && t0 >= *t_own {
                         hit = Some(t0);
                         if n == 2 {
-                            (next_cache, *cache_t, *cache_side) = (j, ray.t_from_scaled(r1.0), r1.1);
+                            (next_cache, *cache_t, *cache_side) =
+                                (j, ray.t_from_scaled(r1.0), r1.1);
                         }
                     } else if n == 2 && r1.1 == want {
                         let t1 = ray.t_from_scaled(r1.0);

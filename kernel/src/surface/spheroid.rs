@@ -105,12 +105,20 @@ pub(crate) fn sphere_scaled_roots<T: Real>(r2: T, ray: &Ray<T>) -> Option<(T, T)
 /// `‖d‖² s² + 2⟨p|d⟩ s + ‖p‖² − R² = 0` with the discriminant through the closest approach.
 #[inline]
 fn quadratic_roots<T: Real>(a2: T, p: V3<T>, dd: T, pd: T, w: V3<T>) -> Option<(T, T)> {
+    sphere_roots_of(a2, p.length_squared(), dd, pd, w.length_squared())
+}
+
+/// The roots of `‖d‖² s² + 2⟨p|d⟩ s + ‖p‖² − R² = 0` (`R² = a2`) from the line's invariants `pp = ‖p‖²`,
+/// `dd = ‖d‖²`, `pd = ⟨p|d⟩` and `ww = |p × d|²` (a caller that solves many spheres on one line forms them once),
+/// in the order entry, exit; `None` when the line misses the sphere.
+#[inline]
+pub(crate) fn sphere_roots_of<T: Real>(a2: T, pp: T, dd: T, pd: T, ww: T) -> Option<(T, T)> {
     // ⟨p|d⟩² − ‖d‖²(‖p‖² − R²) = ‖d‖² R² − |p × d|²: closest approach from the cross product.
-    let disc = dd * a2 - w.length_squared();
+    let disc = dd * a2 - ww;
     if !(disc >= T::ZERO) {
         return None;
     }
-    let c = p.length_squared() - a2;
+    let c = pp - a2;
     // ‖d‖² grows toward outside ⇒ the root where the quadratic decreases is the entry into the ball.
     let (s_in, s_out) = stable_quadratic(dd, pd, c, disc.sqrt());
     // Near tangency the two roots are equal within rounding, and the two roundings (q/a, c/q) can put them in
