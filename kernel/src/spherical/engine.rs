@@ -34,6 +34,9 @@ pub(crate) struct Axes<'a, T> {
     /// True for the cylinder and the polar grid: the radius is measured from the z axis.
     pub flat_radius: bool,
     pub slots: [SlotKind; 3],
+    /// The cell rule and the iteration bound, formed once with the grid.
+    rule: CellRule,
+    max_events: u32,
 }
 
 /// What decides whether a set of bands is a cell of the domain, and which: per slot, the inside bands are
@@ -60,12 +63,37 @@ impl CellRule {
     }
 }
 
-impl<T: Real> Axes<'_, T> {
-    pub(crate) fn rule(&self) -> CellRule {
-        let mut rule = CellRule {
-            first: [0; 3],
-            count: [u32::MAX; 3],
+impl<'a, T: Real> Axes<'a, T> {
+    /// The tables of a grid centred at the origin.
+    pub(crate) fn new(
+        radial: RadialAxis<'a, T>,
+        zenith: Option<ZenithAxis<'a, T>>,
+        azimuth: AzimuthAxis<'a, T>,
+        height: Option<HeightAxis<'a, T>>,
+        flat_radius: bool,
+        slots: [SlotKind; 3],
+    ) -> Self {
+        let mut axes = Axes {
+            radial,
+            zenith,
+            azimuth,
+            height,
+            center: V3::ZERO,
+            flat_radius,
+            slots,
+            rule: CellRule {
+                first: [0; 3],
+                count: [u32::MAX; 3],
+            },
+            max_events: 0,
         };
+        axes.rule = axes.cell_rule();
+        axes.max_events = axes.event_bound();
+        axes
+    }
+
+    fn cell_rule(&self) -> CellRule {
+        let mut rule = self.rule;
         for ((f, c), k) in rule
             .first
             .iter_mut()
@@ -96,7 +124,7 @@ impl<T: Real> Axes<'_, T> {
 
     /// A bound on the number of events of one ray (each stream is bounded by its breakpoint count; this is
     /// the safety net that turns an unforeseen loop into an error).
-    fn max_events(&self) -> u32 {
+    fn event_bound(&self) -> u32 {
         let n = self
             .radial
             .len
@@ -398,7 +426,7 @@ pub struct SerialMarch<'g, T> {
     em: Emitter<T>,
     /// Bit `s` is set while stream `s` is live.
     live: u8,
-    /// Events left before the iteration bound (`Axes::max_events`) is exceeded.
+    /// Events left before the iteration bound (`Axes::event_bound`) is exceeded.
     steps_left: u32,
     finished: bool,
     error: Option<MarchError>,
@@ -418,7 +446,7 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             Err(e) => (None, Some(e)),
         };
         let em = Emitter::new(
-            axes.rule(),
+            axes.rule,
             streams.map(|s| s.band),
             t0.unwrap_or(T::ZERO),
             ray.t_max(),
@@ -438,7 +466,7 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             streams,
             em,
             live,
-            steps_left: axes.max_events(),
+            steps_left: axes.max_events,
             finished: t0.is_none(),
             error,
         }
@@ -646,7 +674,7 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
                 }
             }
         }
-        m.em = Some(Emitter::new(axes.rule(), bands, t0, ray.t_max()));
+        m.em = Some(Emitter::new(axes.rule, bands, t0, ray.t_max()));
         m.finished = false;
         Ok(())
     }

@@ -83,15 +83,14 @@ impl<'a, T: Real> SphericalGrid<'a, T> {
         zenith.scale = scale;
         azimuth.scale = scale;
         Ok(SphericalGrid {
-            axes: Axes {
+            axes: Axes::new(
                 radial,
-                zenith: Some(zenith),
+                Some(zenith),
                 azimuth,
-                height: None,
-                center: V3::ZERO,
-                flat_radius: false,
-                slots: [SlotKind::Radial, SlotKind::Zenith, SlotKind::Azimuth],
-            },
+                None,
+                false,
+                [SlotKind::Radial, SlotKind::Zenith, SlotKind::Azimuth],
+            ),
         })
     }
 
@@ -206,15 +205,14 @@ impl<'a, T: Real> CylindricalGrid<'a, T> {
         azimuth.scale = rho.last().copied().unwrap_or(T::ZERO);
         let height = HeightAxis::build(z)?;
         Ok(CylindricalGrid {
-            axes: Axes {
+            axes: Axes::new(
                 radial,
-                zenith: None,
+                None,
                 azimuth,
-                height: Some(height),
-                center: V3::ZERO,
-                flat_radius: true,
-                slots: [SlotKind::Radial, SlotKind::Azimuth, SlotKind::Height],
-            },
+                Some(height),
+                true,
+                [SlotKind::Radial, SlotKind::Azimuth, SlotKind::Height],
+            ),
         })
     }
 
@@ -296,15 +294,14 @@ impl<'a, T: Real> PolarGrid<'a, T> {
         let mut azimuth = AzimuthAxis::build(phi, &mut ws)?;
         azimuth.scale = r.last().copied().unwrap_or(T::ZERO);
         Ok(PolarGrid {
-            axes: Axes {
+            axes: Axes::new(
                 radial,
-                zenith: None,
+                None,
                 azimuth,
-                height: None,
-                center: V3::ZERO,
-                flat_radius: true,
-                slots: [SlotKind::Radial, SlotKind::Azimuth, SlotKind::Absent],
-            },
+                None,
+                true,
+                [SlotKind::Radial, SlotKind::Azimuth, SlotKind::Absent],
+            ),
         })
     }
 
