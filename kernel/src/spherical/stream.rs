@@ -529,7 +529,9 @@ impl<T: Real> Stream<T> {
     }
 
     /// The next zenith event (at most one square root in the common case, two at a hinge not reached through a
-    /// cached root), or `None`.
+    /// cached root), or `None`. Inlined into the engines' loops like the radius and azimuth steps (the cone
+    /// solver itself stays out of line).
+    #[inline(always)]
     pub(crate) fn next_zenith(&mut self, axis: &ZenithAxis<'_, T>, ray: &Ray<T>, t_max: T) -> bool {
         let Kind::Zenith {
             up,
