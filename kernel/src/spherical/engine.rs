@@ -705,23 +705,34 @@ impl<T: Real, const N: usize> Iterator for SeparableMarch<T, N> {
             if self.finished {
                 return em.pending.take();
             }
-            let mut best: Option<(T, u32, usize)> = None;
-            for (slot, (list, &p)) in self.lists.iter().zip(self.pos.iter()).enumerate() {
-                if let Some(&(t, b)) = list.get(p) {
-                    if best.is_none_or(|(bt, _, _)| t < bt) {
-                        best = Some((t, b, slot));
-                    }
+            // each list's next event; the earliest, the first slot on a tie
+            let [l0, l1, l2] = &self.lists;
+            let [p0, p1, p2] = self.pos;
+            let (mut slot, mut t, mut band) = (3usize, T::ZERO, 0u32);
+            if let Some(&(t0, b0)) = l0.get(p0) {
+                (slot, t, band) = (0, t0, b0);
+            }
+            if let Some(&(t1, b1)) = l1.get(p1) {
+                if slot == 3 || t1 < t {
+                    (slot, t, band) = (1, t1, b1);
                 }
             }
-            let Some((t, band, slot)) = best else {
-                self.finished = true;
-                if let Some(c) = em.finish(self.t_max) {
-                    return Some(c);
+            if let Some(&(t2, b2)) = l2.get(p2) {
+                if slot == 3 || t2 < t {
+                    (slot, t, band) = (2, t2, b2);
                 }
-                continue;
-            };
-            if let Some(p) = self.pos.get_mut(slot) {
-                *p = p.saturating_add(1);
+            }
+            match slot {
+                0 => self.pos[0] = p0.wrapping_add(1),
+                1 => self.pos[1] = p1.wrapping_add(1),
+                2 => self.pos[2] = p2.wrapping_add(1),
+                _ => {
+                    self.finished = true;
+                    if let Some(c) = em.finish(self.t_max) {
+                        return Some(c);
+                    }
+                    continue;
+                }
             }
             let out = em.on(t, slot, band);
             if em.unrepresentable {
