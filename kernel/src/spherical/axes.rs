@@ -1,5 +1,8 @@
-//! The breakpoint tables of one grid axis, in the pseudospherical form of seed 001 §2 (r², sgnSqrCos θ,
+//! The breakpoint tables of one grid axis, in the pseudospherical form of seed 001 §2 (r², (cos θ, sin θ),
 //! (cos φ, sin φ)), with their validation and the location of a point ("which band is it in", §3.1.3).
+//!
+//! Zenith angles are kept as `(cos θ, sin θ)`, not as §2's `sgnSqrCos θ = cos θ |cos θ|`: within about 1e-8
+//! (f64) of a pole `cos² θ` rounds to 1 and no longer tells the cones apart, while `sin² θ` keeps every digit.
 //!
 //! A *band* is the number of breakpoints at or below the coordinate: band `b` with `1 <= b <= L − 1` (L
 //! breakpoints) is cell `b − 1`; band 0 is below the first breakpoint and band L at or above the last (both
@@ -105,12 +108,10 @@ impl<'a, T: Real> RadialAxis<'a, T> {
     }
 }
 
-/// Zenith breakpoints θ ∈ [0, π] with `sgnSqrCos θ = cos θ |cos θ|` (decreasing in θ, Lemma 3) and the
-/// `(cos θ, sin θ)` pair of each cone.
+/// Zenith breakpoints θ ∈ [0, π] with the `(cos θ, sin θ)` pair of each cone.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct ZenithAxis<'a, T> {
     pub theta: &'a [T],
-    pub sgn_sqr_cos: &'a [T],
     pub cos: &'a [T],
     pub sin: &'a [T],
     pub len: u32,
@@ -123,25 +124,19 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
         let axis = Axis::Theta;
         let len = check_sorted(axis, theta)?;
         let n = theta.len();
-        let ssc = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
         let cos = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
         let sin = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
         for (index, &th) in theta.iter().enumerate() {
             // π/2 and π give exact (0, 1) and (−1, 0): θ = π/2 is exactly the plane z = 0.
             let cone = AxialCone::from_zenith_rad(T::ZERO, th)
                 .map_err(|_| GridError::OutOfRange { axis, index })?;
-            let (c, s) = (cone.cos(), cone.sin());
-            if let (Some(a), Some(b), Some(d)) =
-                (ssc.get_mut(index), cos.get_mut(index), sin.get_mut(index))
-            {
-                *a = c * c.abs();
-                *b = c;
-                *d = s;
+            if let (Some(b), Some(d)) = (cos.get_mut(index), sin.get_mut(index)) {
+                *b = cone.cos();
+                *d = cone.sin();
             }
         }
         Ok(ZenithAxis {
             theta,
-            sgn_sqr_cos: ssc,
             cos,
             sin,
             len,
@@ -160,29 +155,59 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
     }
 
     /// The band of the direction of `q` (from the center), `q ≠ 0`: the number of breakpoints with
-    /// `θ_j <= θ(q)`, i.e. `sgnSqrCos θ_j · |q|² >= q_z |q_z|` (no division, no square root).
+    /// `θ_j <= θ(q)`. With `ρ² = q_x² + q_y²` that is `q_z <= 0 or cos²θ_j ρ² >= sin²θ_j q_z²` for θ_j < π/2,
+    /// `q_z <= 0` for θ_j = π/2 and `q_z < 0 and cos²θ_j ρ² <= sin²θ_j q_z²` for θ_j > π/2 (no division, no
+    /// square root; the same products as the cone's own equation, [`AxialCone`], so both agree near the poles).
     ///
     /// `leave_axis`: the ray leaves the −z axis (its direction has a horizontal part), so a point on that axis
-    /// (or within rounding of it) gets the band just below θ = π (the right limit along the ray), not that of
+    /// (`ρ²` zero or underflowed) gets the band just below θ = π (the right limit along the ray), not that of
     /// θ = π itself.
     #[inline]
     pub(crate) fn band_of(&self, q: V3<T>, leave_axis: bool) -> u32 {
         let q = unit_scaled(q);
-        let r2 = q.length_squared();
-        let s = q.z * q.z.abs();
-        // on the −z axis, or so close to it that θ rounds to π
-        if leave_axis && q.z < T::ZERO && s == -r2 {
+        let rho2 = q.x * q.x + q.y * q.y;
+        let z2 = q.z * q.z;
+        if leave_axis && q.z < T::ZERO && rho2 == T::ZERO {
             return u32::try_from(self.theta.partition_point(|&t| t < T::PI)).unwrap_or(u32::MAX);
         }
-        u32::try_from(self.sgn_sqr_cos.partition_point(|&c| {
+        let n = self.cos.len().min(self.sin.len());
+        // a binary search over the indices (θ_j <= θ(q) holds for a prefix of the breakpoints)
+        let (mut lo, mut hi) = (0, n);
+        while lo < hi {
+            let mid = lo.midpoint(hi);
+            let (c, s) = (
+                self.cos.get(mid).copied().unwrap_or(T::ZERO),
+                self.sin.get(mid).copied().unwrap_or(T::ZERO),
+            );
             // θ = π/2 by the sign of z itself: z² may underflow where z does not
-            if c == T::ZERO {
+            let below = if c == T::ZERO {
                 !(q.z > T::ZERO)
+            } else if c > T::ZERO {
+                !(q.z > T::ZERO) || c * c * rho2 >= s * s * z2
             } else {
-                c * r2 >= s
+                q.z < T::ZERO && c * c * rho2 <= s * s * z2
+            };
+            if below {
+                lo = mid.saturating_add(1);
+            } else {
+                hi = mid;
             }
-        }))
-        .unwrap_or(u32::MAX)
+        }
+        u32::try_from(lo).unwrap_or(u32::MAX)
+    }
+
+    /// Whether the direction `d` lies on cone `k` within the rounding of its equation (`d` parallel to a
+    /// generator, as far as the arithmetic can tell): `|cos²θ_k ρ² − sin²θ_k d_z²| <= 8ε (cos²θ_k ρ² +
+    /// sin²θ_k d_z²)` on the cone's own nappe.
+    pub(crate) fn along_cone(&self, k: u32, d: V3<T>) -> bool {
+        let (Some(&c), Some(&s)) = (self.cos.get(k as usize), self.sin.get(k as usize)) else {
+            return false;
+        };
+        let d = unit_scaled(d);
+        let a = c * c * (d.x * d.x + d.y * d.y);
+        let b = s * s * d.z * d.z;
+        let nappe = c == T::ZERO || (d.z > T::ZERO) == (c > T::ZERO);
+        nappe && (a - b).abs() <= T::EPSILON * T::from_f64(8.0) * (a + b)
     }
 }
 

@@ -31,9 +31,9 @@ fn check_workspace(got: usize, needed: usize) -> Result<(), GridError> {
 /// also across φ = 0 (e.g. `phi = [-0.5, 0.5]`). Points on the z axis have φ = 0 (the `atan2(0, 0)`
 /// convention); a point on the −z axis has θ = π, so it lies outside a grid whose last θ is π.
 ///
-/// **Storage.** The pseudospherical breakpoints of §2 (r², sgnSqrCos θ with cos θ and sin θ, and (cos φ,
-/// sin φ)) are computed once into a caller-provided workspace of
-/// [`SphericalGrid::workspace_len`]`(r.len(), theta.len(), phi.len())` scalars (no allocation):
+/// **Storage.** The pseudospherical breakpoints of §2 (r², (cos θ, sin θ) and (cos φ, sin φ)) are computed once
+/// into a caller-provided workspace of [`SphericalGrid::workspace_len`]`(r.len(), theta.len(), phi.len())`
+/// scalars (no allocation):
 ///
 /// ```
 /// use curvicast::ray::Ray;
@@ -55,9 +55,9 @@ pub struct SphericalGrid<'a, T> {
 }
 
 impl<T> SphericalGrid<'_, T> {
-    /// The workspace length (in scalars) that [`SphericalGrid::new`] needs: `nr + 3 nθ + 2 nφ`.
+    /// The workspace length (in scalars) that [`SphericalGrid::new`] needs: `nr + 2 nθ + 2 nφ`.
     pub const fn workspace_len(nr: usize, ntheta: usize, nphi: usize) -> usize {
-        nr.saturating_add(ntheta.saturating_mul(3))
+        nr.saturating_add(ntheta.saturating_mul(2))
             .saturating_add(nphi.saturating_mul(2))
     }
 }

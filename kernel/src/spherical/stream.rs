@@ -615,14 +615,8 @@ impl<T: Real> Stream<T> {
         // bands: a line parallel to a generator approaches that cone from one side without crossing it.
         let target = axis.band_of(ray.scaled_dir(), true);
         let b = *band;
-        let on_limit_boundary = b.abs_diff(target) == 1 && {
-            let k = b.min(target);
-            let d = ray.scaled_dir();
-            let d2 = d.length_squared();
-            axis.sgn_sqr_cos.get(k as usize).is_some_and(|&c| {
-                (c * d2 - d.z * d.z.abs()).abs() <= T::EPSILON * T::from_f64(8.0) * d2
-            })
-        };
+        let on_limit_boundary =
+            b.abs_diff(target) == 1 && axis.along_cone(b.min(target), ray.scaled_dir());
         if target != b && !on_limit_boundary && walk.is_none() {
             // One band toward the limit, then the ordinary search resumes in that direction only (so the
             // remaining cones are still crossed where the solver sees them). Each repair moves toward the

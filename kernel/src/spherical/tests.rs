@@ -595,3 +595,53 @@ fn subnormal_direction_with_representable_t_marches_exactly_like_a_unit_one() {
         .collect();
     assert_eq!(c, scaled);
 }
+
+#[test]
+fn ray_near_the_minus_z_axis_inside_a_cone_five_nanoradians_from_the_pole() {
+    // cos²(π − 5e-9) rounds to 1: only sin² tells this cone from the −z axis. The ray starts at θ = π − 1e-8,
+    // outside the narrow cone, and enters it where ρ / |z| = tan 5e-9, at z = −1.
+    let th = [0.0, PI / 2.0, PI - 5e-9, PI];
+    let ray = Ray::new([0.5e-8, 0.0, -0.5], [0.0, 0.0, -1.0]).unwrap();
+    let c = march_s(&[0.0, 2.0], &th, &PH, &ray);
+    // the f64 breakpoint is not π − 5e-9 to all digits (π itself rounds): the crossing where ρ / |z| = tan θ_2
+    let z = 0.5e-8 * -th[2].cos() / th[2].sin();
+    let out = (4.0f64 - 0.25e-16).sqrt() - 0.5;
+    expect(
+        &c,
+        &[([0, 1, 0], 0.0, z - 0.5), ([0, 2, 0], z - 0.5, out)],
+        1e-12,
+    );
+}
+
+#[test]
+fn ray_starting_inside_a_cone_five_nanoradians_from_the_plus_z_pole() {
+    // the mirror image at the +z pole: θ = 2e-9 at the start, inside the cone θ = 5e-9 down to z = 0.4, then
+    // across the plane z = 0 and out through the sphere r = 2 below it
+    let th = [0.0, 5e-9, PI / 2.0, PI];
+    let ray = Ray::new([0.2e-8, 0.0, 1.0], [0.0, 0.0, -1.0]).unwrap();
+    let c = march_s(&[0.0, 2.0], &th, &PH, &ray);
+    let z = 0.2e-8 * th[1].cos() / th[1].sin();
+    expect(
+        &c,
+        &[
+            ([0, 0, 0], 0.0, 1.0 - z),
+            ([0, 1, 0], 1.0 - z, 1.0),
+            ([0, 2, 0], 1.0, 3.0),
+        ],
+        1e-12,
+    );
+}
+
+#[test]
+fn ray_entering_the_ball_just_outside_a_cone_five_nanoradians_from_the_minus_z_pole() {
+    // from far below along +z at ρ = 1.02e-8 (direction a hair off the axis): the cone θ = π − 5e-9 meets this
+    // line at |z| ≈ 2.04, outside the ball of radius 2, so the whole chord inside is outside the cone
+    let th = [0.0, PI / 2.0, PI - 5e-9, PI];
+    let ray = Ray::new([1.02e-8, 0.0, -10.0], [1e-19, 0.0, 1.0]).unwrap();
+    let c = march_s(&[0.0, 2.0], &th, &PH, &ray);
+    expect(
+        &c,
+        &[([0, 1, 0], 8.0, 10.0), ([0, 0, 0], 10.0, 12.0)],
+        1e-12,
+    );
+}
