@@ -336,6 +336,10 @@ fn earth_scale_1m_shells_1e6_rad_bands() {
     check_cases(mc::earth_scale());
 }
 #[test]
+fn cones_within_nanoradians_of_the_poles() {
+    check_cases(mc::near_the_poles());
+}
+#[test]
 fn micro_scale_1e6() {
     check_cases(mc::micro_scale());
 }

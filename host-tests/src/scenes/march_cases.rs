@@ -773,6 +773,56 @@ pub fn earth_scale() -> Vec<Case> {
     }]
 }
 
+/// Cones within 1e-12 to 1e-6 of either pole (where `cos² θ` rounds to 1 and only `sin θ` tells them from the
+/// axis), crossed by nearly vertical lines at distances from the axis of the cones' own size, and by horizontal
+/// lines passing the axis just inside and outside them.
+pub fn near_the_poles() -> Vec<Case> {
+    let theta = vec![
+        0.0,
+        1e-12,
+        5e-9,
+        1e-6,
+        FRAC_PI_2,
+        PI - 1e-6,
+        PI - 5e-9,
+        PI - 1e-12,
+        PI,
+    ];
+    let grid = GridSpec::Spherical {
+        center: None,
+        r: vec![0.0, 0.5, 1.0, 2.0],
+        theta,
+        phi: vec![0.0, 2.0, 4.0, TAU],
+    };
+    let mut rays = Vec::new();
+    for &rho in &[1e-12, 1.5e-12, 4e-9, 6e-9, 1e-6, 1.7e-6] {
+        for &slope in &[0.0, 1e-13, 1e-10, 3e-7] {
+            for &dz in &[1.0, -1.0] {
+                // from below (above) the ball along ±z, starting inside the ball and from outside it
+                rays.push(RaySpec::new(
+                    [rho * 0.6, rho * 0.8, -3.0 * dz],
+                    [slope, -0.5 * slope, dz],
+                ));
+                rays.push(RaySpec::new(
+                    [-rho * 0.8, rho * 0.6, 0.3 * dz],
+                    [0.0, slope, dz],
+                ));
+            }
+        }
+    }
+    for &b in &[5e-13, 2e-12, 2e-9, 8e-9, 5e-7, 3e-6] {
+        for &h in &[1.0, -1.0, 0.7, -1.9] {
+            rays.push(RaySpec::new([-3.0, b, h], [1.0, 0.0, 0.0]));
+            rays.push(RaySpec::new([b, -3.0, h], [0.0, 1.0, 1e-9]));
+        }
+    }
+    vec![Case {
+        name: "near_the_poles",
+        grid,
+        rays,
+    }]
+}
+
 /// [`full_grid`] and [`partial_grid`] scaled by 1e-6 (center shifted by 1e-6), with random rays scaled alike.
 pub fn micro_scale() -> Vec<Case> {
     let mut rng = deterministic_rng(5);
