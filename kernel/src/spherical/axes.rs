@@ -162,7 +162,7 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
     /// `leave_axis`: the ray leaves the −z axis (its direction has a horizontal part), so a point on that axis
     /// (`ρ²` zero or underflowed) gets the band just below θ = π (the right limit along the ray), not that of
     /// θ = π itself.
-    #[inline(never)]
+    #[inline]
     pub(crate) fn band_of(&self, q: V3<T>, leave_axis: bool) -> u32 {
         let q = unit_scaled(q);
         let rho2 = q.x * q.x + q.y * q.y;
