@@ -189,15 +189,27 @@ impl<T: Real> Ray<T> {
 
     /// The same ray with its origin moved by `-center` (the ray in coordinates centred at `center`).
     pub fn relative_to(&self, center: impl Into<V3<T>>) -> Result<Self, RayError> {
-        let origin = self.origin.minus(center.into());
+        let mut r = *self;
+        r.recenter(center.into())?;
+        Ok(r)
+    }
+
+    /// [`Ray::relative_to`] in place (the ray is unchanged on error).
+    pub(crate) fn recenter(&mut self, center: V3<T>) -> Result<(), RayError> {
+        let origin = self.origin.minus(center);
         if !origin.is_finite() {
             return Err(RayError::NonFiniteOrigin);
         }
         // the direction and its rescaling are unchanged: only the origin's invariants are formed again
-        let mut r = Self::with_scaled(origin, self.dir, self.d, self.scale);
-        r.t_min = self.t_min;
-        r.t_max = self.t_max;
-        Ok(r)
+        self.origin = origin;
+        self.pd = origin.dot(self.d);
+        self.w = origin.cross(self.d);
+        Ok(())
+    }
+
+    /// The same ray without its upper bound (`t_max = +∞`), in place.
+    pub(crate) fn unbound_above(&mut self) {
+        self.t_max = T::INFINITY;
     }
 
     /// The origin `p`.
