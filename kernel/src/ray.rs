@@ -207,11 +207,6 @@ impl<T: Real> Ray<T> {
         Ok(())
     }
 
-    /// The same ray without its upper bound (`t_max = +∞`), in place.
-    pub(crate) fn unbound_above(&mut self) {
-        self.t_max = T::INFINITY;
-    }
-
     /// The origin `p`.
     #[inline]
     pub fn origin(&self) -> V3<T> {

@@ -42,7 +42,7 @@ pub(crate) struct Axes<'a, T> {
 /// What decides whether a set of bands is a cell of the domain, and which: per slot, the inside bands are
 /// `first .. first + count` and band `b` is cell index `b − first` (a banded coordinate: bands 1 to L − 1 of L
 /// breakpoints; the azimuth: every sector but the outside one of a wedge; an absent slot: its one band 0).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub(crate) struct CellRule {
     first: [u32; 3],
     count: [u32; 3],
@@ -135,15 +135,21 @@ impl<'a, T: Real> Axes<'a, T> {
     }
 }
 
-/// The ray in the grid's frame, `rel` (relative to the center), open-ended (`t_max = +∞`) so that the surface
-/// solvers report every crossing ahead and the streams can check their topology against the limit at infinity
-/// (the ray's own `t_max` cuts the events); and the line as the radius stream sees it (`rel` itself for the
-/// sphere grid, its projection on z = 0 for the cylinder and the polar grid).
+/// The ray in the grid's frame, `rel` (relative to the center; its `t_max` cuts the events, while the solvers
+/// report every crossing of the whole line, so that the streams can check their topology against the limit at
+/// infinity); and the line as the radius stream sees it (`rel` itself for the sphere grid, its projection on
+/// z = 0 for the cylinder and the polar grid).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Rays<T> {
     rel: Ray<T>,
     radial: RadialLine<T>,
-    t_max: T,
+}
+
+impl<T: Real> Rays<T> {
+    #[inline(always)]
+    fn t_max(&self) -> T {
+        self.rel.t_max()
+    }
 }
 
 /// As [`next_event`], kept out of line: for the set-up (each stream's first event), so that the streams' code is
@@ -172,16 +178,16 @@ fn next_event<T: Real>(
         return false;
     };
     match axes.slots.get(slot) {
-        Some(SlotKind::Radial) => s.next_radial(&axes.radial, &rays.radial, rays.t_max),
+        Some(SlotKind::Radial) => s.next_radial(&axes.radial, &rays.radial, rays.t_max()),
         Some(SlotKind::Zenith) => axes
             .zenith
             .as_ref()
-            .is_some_and(|z| s.next_zenith(z, &rays.rel, rays.t_max)),
-        Some(SlotKind::Azimuth) => s.next_azimuth(&axes.azimuth, &rays.rel, rays.t_max),
+            .is_some_and(|z| s.next_zenith(z, &rays.rel, rays.t_max())),
+        Some(SlotKind::Azimuth) => s.next_azimuth(&axes.azimuth, &rays.rel, rays.t_max()),
         Some(SlotKind::Height) => axes
             .height
             .as_ref()
-            .is_some_and(|h| s.next_height(h, &rays.rel, rays.t_max)),
+            .is_some_and(|h| s.next_height(h, &rays.rel, rays.t_max())),
         _ => false,
     }
 }
@@ -240,7 +246,7 @@ fn flat_radial_start<T: Real>(
 ) -> Result<Option<(Stream<T>, u32)>, MarchError> {
     let (p, d) = (rel.origin(), rel.dir());
     let Ok(flat) = Ray::new(V3::new(p.x, p.y, T::ZERO), V3::new(d.x, d.y, T::ZERO))
-        .and_then(|r| r.with_interval(rel.t_min(), rel.t_max()))
+        .and_then(|r| r.with_interval(rel.t_min(), T::INFINITY))
     else {
         return Ok(None);
     };
@@ -266,18 +272,16 @@ fn setup<T: Real>(
     // the ray in the grid's frame, formed in place (no copies of it in this frame)
     rays.rel = *ray;
     rays.rel.recenter(axes.center).map_err(MarchError::Ray)?;
-    rays.rel.unbound_above();
-    rays.t_max = ray.t_max();
-    let t_min = rays.rel.t_min();
+    let (t_min, t_max) = (rays.rel.t_min(), rays.rel.t_max());
     let radial = if axes.flat_radius {
-        flat_radial_start(axes, &rays.rel, &mut rays.radial, t_min, rays.t_max)?
+        flat_radial_start(axes, &rays.rel, &mut rays.radial, t_min, t_max)?
     } else {
         Some(radial_start(
             axes,
             &rays.rel,
             &mut rays.radial,
             t_min,
-            rays.t_max,
+            t_max,
         )?)
     };
     let radial_moves = radial.is_some();
@@ -338,39 +342,37 @@ fn setup<T: Real>(
 /// re-evaluation of the whole cell rule.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Emitter<T> {
-    rule: CellRule,
     cell: [u32; 3],
     outside: u8,
+    /// Where the crossing in progress began (while outside: where the held crossing began).
     seg_start: T,
-    t_max: T,
-    /// The crossing that ended by leaving the domain, while the ray is outside.
-    pending: Option<CellCrossing<T>>,
+    /// The cell and exit of the crossing that ended by leaving the domain, while the ray is outside (its entry
+    /// is `seg_start`).
+    pending: Option<([u32; 3], T)>,
     /// Set when an event inside the domain has a `t` that is not finite (see [`MarchError::Unrepresentable`]).
     unrepresentable: bool,
 }
 
 impl<T: Real> Emitter<T> {
-    fn new(rule: CellRule, bands: [u32; 3], t0: T, t_max: T) -> Self {
+    fn new(rule: &CellRule, bands: [u32; 3], t0: T) -> Self {
         let mut em = Emitter {
-            rule,
             cell: [0; 3],
             outside: 0,
             seg_start: t0,
-            t_max,
             pending: None,
             unrepresentable: false,
         };
         for (slot, &b) in bands.iter().enumerate() {
-            em.set(slot, b);
+            em.set(rule, slot, b);
         }
         em
     }
 
     /// Slot `slot` enters `band`.
     #[inline(always)]
-    fn set(&mut self, slot: usize, band: u32) {
+    fn set(&mut self, rule: &CellRule, slot: usize, band: u32) {
         let bit = 1u8 << (slot & 7);
-        match self.rule.index(slot, band) {
+        match rule.index(slot, band) {
             Some(i) => {
                 match slot {
                     0 => self.cell[0] = i,
@@ -383,14 +385,24 @@ impl<T: Real> Emitter<T> {
         }
     }
 
+    /// The held crossing, if any (taken).
+    #[inline]
+    fn take_pending(&mut self) -> Option<CellCrossing<T>> {
+        self.pending.take().map(|(cell, t_exit)| CellCrossing {
+            cell,
+            t_enter: self.seg_start,
+            t_exit,
+        })
+    }
+
     /// The event of `slot` entering `band` at `t`. The streams' events come in nondecreasing `t`, none
     /// before the start `t0` and none past `t_max` (each stream takes the larger of a solver's root and its own
     /// previous event, and stops past `t_max`), so the crossings need no clamping.
     #[inline(always)]
-    fn on(&mut self, t: T, slot: usize, band: u32) -> Option<CellCrossing<T>> {
+    fn on(&mut self, rule: &CellRule, t: T, slot: usize, band: u32) -> Option<CellCrossing<T>> {
         let was_inside = self.outside == 0;
         let before = self.cell;
-        self.set(slot, band);
+        self.set(rule, slot, band);
         if !was_inside && self.outside != 0 {
             return None;
         }
@@ -400,35 +412,38 @@ impl<T: Real> Emitter<T> {
             return None;
         }
         if was_inside {
+            if self.outside != 0 {
+                // left the domain: held until the ray comes back (it may come back into this cell at this t)
+                self.pending = Some((before, t));
+                return None;
+            }
             let c = CellCrossing {
                 cell: before,
                 t_enter: self.seg_start,
                 t_exit: t,
             };
             self.seg_start = t;
-            if self.outside == 0 {
-                return Some(c); // the cell changes: nothing can merge with it
-            }
-            // left the domain: held until the ray comes back (it may come back into this cell at this t)
-            self.pending = Some(c);
-            return None;
+            return Some(c); // the cell changes: nothing can merge with it
         }
         // back into the domain: the held crossing continues if this is the same cell at the same t (a touch of
         // the boundary from inside), else it is final
-        self.seg_start = t;
-        match self.pending.take() {
-            Some(p) if p.cell == self.cell && p.t_exit == t => {
-                self.seg_start = p.t_enter;
+        match self.pending {
+            Some((cell, t_exit)) if cell == self.cell && t_exit == t => {
+                self.pending = None;
                 None
             }
-            p => p,
+            _ => {
+                let p = self.take_pending();
+                self.seg_start = t;
+                p
+            }
         }
     }
 
     /// The end of the march at `t_end`: the crossing in progress, or the held one.
     fn finish(&mut self, t_end: T) -> Option<CellCrossing<T>> {
         if self.outside != 0 {
-            return self.pending.take();
+            return self.take_pending();
         }
         let t_exit = t_end.max(self.seg_start);
         self.outside = 0xff;
@@ -438,11 +453,13 @@ impl<T: Real> Emitter<T> {
             t_exit,
         })
     }
+}
 
+impl CellRule {
     /// True while the radius band (slot 0) is at or beyond the outer radius.
     #[inline]
     fn beyond_outer_radius(&self, band: u32) -> bool {
-        band >= self.rule.first[0].saturating_add(self.rule.count[0])
+        band >= self.first[0].saturating_add(self.count[0])
     }
 }
 
@@ -473,19 +490,13 @@ impl<'g, T: Real> SerialMarch<'g, T> {
         let mut rays = Rays {
             rel: *ray,
             radial: RadialLine::of(ray),
-            t_max: ray.t_max(),
         };
         let mut streams = [Stream::fixed(0); 3];
         let (t0, error) = match setup(axes, ray, &mut rays, &mut streams) {
             Ok(t0) => (t0, None),
             Err(e) => (None, Some(e)),
         };
-        let em = Emitter::new(
-            axes.rule,
-            streams.map(|s| s.band),
-            t0.unwrap_or(T::ZERO),
-            ray.t_max(),
-        );
+        let em = Emitter::new(&axes.rule, streams.map(|s| s.band), t0.unwrap_or(T::ZERO));
         let mut live = 0u8;
         if t0.is_some() {
             for slot in 0..3 {
@@ -564,7 +575,7 @@ impl<T: Real> SerialMarch<'_, T> {
     fn step(&mut self) -> Option<CellCrossing<T>> {
         loop {
             if self.finished {
-                return self.em.pending.take();
+                return self.em.take_pending();
             }
             // the earliest of the live streams' next events; the first slot on a tie
             let [s0, s1, s2] = &self.streams;
@@ -580,7 +591,7 @@ impl<T: Real> SerialMarch<'_, T> {
             }
             if slot == 3 {
                 self.finished = true;
-                if let Some(c) = self.em.finish(self.em.t_max) {
+                if let Some(c) = self.em.finish(self.rays.t_max()) {
                     return Some(c);
                 }
                 continue;
@@ -595,13 +606,13 @@ impl<T: Real> SerialMarch<'_, T> {
             if ended {
                 self.live &= !(1u8 << slot);
             }
-            let out = self.em.on(t, slot, band);
+            let out = self.em.on(&self.axes.rule, t, slot, band);
             if self.em.unrepresentable {
                 self.error = Some(MarchError::Unrepresentable);
                 self.finished = true;
                 continue;
             }
-            if slot == 0 && ended && self.em.beyond_outer_radius(band) {
+            if slot == 0 && ended && self.axes.rule.beyond_outer_radius(band) {
                 self.finished = true; // left the outer radius for good
             }
             if out.is_some() {
@@ -621,6 +632,7 @@ pub struct SeparableMarch<T, const N: usize> {
     lists: [heapless::Vec<Event<T>, N>; 3],
     pos: [usize; 3],
     em: Option<Emitter<T>>,
+    rule: CellRule,
     t_max: T,
     finished: bool,
     error: Option<MarchError>,
@@ -637,6 +649,7 @@ impl<T: Real, const N: usize> Default for SeparableMarch<T, N> {
             ],
             pos: [0; 3],
             em: None,
+            rule: CellRule::default(),
             t_max: T::ZERO,
             finished: true,
             error: None,
@@ -660,6 +673,7 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
         }
         self.pos = [0; 3];
         self.em = None;
+        self.rule = axes.rule;
         self.t_max = ray.t_max();
         self.finished = true;
         self.error = None;
@@ -677,7 +691,6 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
         let mut rays = Rays {
             rel: *ray,
             radial: RadialLine::of(ray),
-            t_max: ray.t_max(),
         };
         let mut streams = [Stream::fixed(0); 3];
         let Some(t0) = setup(axes, ray, &mut rays, &mut streams)? else {
@@ -709,7 +722,7 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
                 }
             }
         }
-        m.em = Some(Emitter::new(axes.rule, bands, t0, ray.t_max()));
+        m.em = Some(Emitter::new(&axes.rule, bands, t0));
         m.finished = false;
         Ok(())
     }
@@ -738,7 +751,7 @@ impl<T: Real, const N: usize> Iterator for SeparableMarch<T, N> {
         let em = self.em.as_mut()?;
         loop {
             if self.finished {
-                return em.pending.take();
+                return em.take_pending();
             }
             // each list's next event; the earliest, the first slot on a tie
             let [l0, l1, l2] = &self.lists;
@@ -769,7 +782,7 @@ impl<T: Real, const N: usize> Iterator for SeparableMarch<T, N> {
                     continue;
                 }
             }
-            let out = em.on(t, slot, band);
+            let out = em.on(&self.rule, t, slot, band);
             if em.unrepresentable {
                 self.error = Some(MarchError::Unrepresentable);
                 self.finished = true;
