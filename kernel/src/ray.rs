@@ -55,10 +55,19 @@ impl core::error::Error for RayError {}
 /// `t` is in the caller's units of `d` (`d` need not be unit length).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ray<T> {
-    origin: V3<T>,
+    /// The line with its invariants (what the surface solvers read).
+    line: Line<T>,
     dir: V3<T>,
     t_min: T,
     t_max: T,
+}
+
+/// The line of a ray, `p + s d` in the scaled parameter `s`, with the invariants the surface solvers read and
+/// the exact rescaling to the ray's `t`; without the ray's interval or its direction as given (the marcher
+/// keeps this much of a ray for the whole march).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Line<T> {
+    origin: V3<T>,
     /// `dir * 2^-e`, largest component in `[1, 2)`.
     d: V3<T>,
     /// The exact rescaling between `t` and the scaled parameter.
@@ -146,19 +155,18 @@ impl<T: Real> Ray<T> {
     /// The ray from its origin, its direction as given and the exactly rescaled one.
     #[inline]
     fn with_scaled(origin: V3<T>, dir: V3<T>, d: V3<T>, scale: Scale<T>) -> Self {
-        let dd = d.length_squared();
-        let pd = origin.dot(d);
-        let w = origin.cross(d);
         Ray {
-            origin,
+            line: Line {
+                origin,
+                d,
+                scale,
+                dd: d.length_squared(),
+                pd: origin.dot(d),
+                w: origin.cross(d),
+            },
             dir,
             t_min: T::ZERO,
             t_max: T::INFINITY,
-            d,
-            scale,
-            dd,
-            pd,
-            w,
         }
     }
 
@@ -190,27 +198,19 @@ impl<T: Real> Ray<T> {
     /// The same ray with its origin moved by `-center` (the ray in coordinates centred at `center`).
     pub fn relative_to(&self, center: impl Into<V3<T>>) -> Result<Self, RayError> {
         let mut r = *self;
-        r.recenter(center.into())?;
+        r.line.recenter(center.into())?;
         Ok(r)
     }
 
-    /// [`Ray::relative_to`] in place (the ray is unchanged on error).
-    pub(crate) fn recenter(&mut self, center: V3<T>) -> Result<(), RayError> {
-        let origin = self.origin.minus(center);
-        if !origin.is_finite() {
-            return Err(RayError::NonFiniteOrigin);
-        }
-        // the direction and its rescaling are unchanged: only the origin's invariants are formed again
-        self.origin = origin;
-        self.pd = origin.dot(self.d);
-        self.w = origin.cross(self.d);
-        Ok(())
+    /// The line with its invariants, as the surface solvers read it.
+    #[inline]
+    pub(crate) fn line(&self) -> &Line<T> {
+        &self.line
     }
-
     /// The origin `p`.
     #[inline]
     pub fn origin(&self) -> V3<T> {
-        self.origin
+        self.line.origin
     }
     /// The direction `d`, as given.
     #[inline]
@@ -235,59 +235,120 @@ impl<T: Real> Ray<T> {
     /// The point `p + t d`.
     #[inline]
     pub fn at(&self, t: T) -> [T; 3] {
-        self.origin.add_scaled(t, self.dir).to_array()
+        self.line.origin.add_scaled(t, self.dir).to_array()
     }
 
     /// The direction rescaled exactly so that its largest component is in `[1, 2)`.
     #[inline]
     pub fn scaled_dir(&self) -> V3<T> {
-        self.d
+        self.line.d
     }
     /// `‖d‖²` of the scaled direction (in `[1, 12)`).
     #[inline]
     pub fn dd(&self) -> T {
-        self.dd
+        self.line.dd
     }
     /// `⟨p|d⟩` with the scaled direction.
     #[inline]
     pub fn pd(&self) -> T {
-        self.pd
+        self.line.pd
     }
     /// `p × d` with the scaled direction; `|p × d|² / ‖d‖²` is the squared distance of the line from the origin.
     #[inline]
     pub fn p_cross_d(&self) -> V3<T> {
-        self.w
+        self.line.w
     }
     /// Converts a parameter of the scaled direction to the caller's `t` (exact: a multiplication by a power of 2).
     #[inline]
     pub fn t_from_scaled(&self, s: T) -> T {
-        self.scale.t_from_scaled(s)
+        self.line.scale.t_from_scaled(s)
     }
     /// The exponent `e` of the exact rescaling: `t = t_scaled · 2^-e` (see [`Ray::t_from_scaled`]).
     #[inline]
     pub(crate) fn scale_exponent(&self) -> i32 {
-        self.scale.e
+        self.line.scale_exponent()
+    }
+    /// Converts the caller's `t` to the parameter of the scaled direction (exact).
+    #[inline]
+    pub fn t_to_scaled(&self, t: T) -> T {
+        self.line.scale.t_to_scaled(t)
+    }
+
+    /// The hinge of `r`: the `t` of the closest approach to the origin, `−⟨p|d⟩/‖d‖²` (seed 001, Lemma 8).
+    #[inline]
+    pub fn t_closest(&self) -> T {
+        self.line.t_closest()
+    }
+    /// The squared distance of the line from the origin, `|p × d|²/‖d‖²` (seed 001, Lemma 8, without cancellation).
+    #[inline]
+    pub fn closest_distance_squared(&self) -> T {
+        self.line.w.length_squared() / self.line.dd
+    }
+}
+
+impl<T: Real> Line<T> {
+    /// The line with its origin moved by `-center`, in place (unchanged on error): only the origin's
+    /// invariants are formed again.
+    pub(crate) fn recenter(&mut self, center: V3<T>) -> Result<(), RayError> {
+        let origin = self.origin.minus(center);
+        if !origin.is_finite() {
+            return Err(RayError::NonFiniteOrigin);
+        }
+        self.origin = origin;
+        self.pd = origin.dot(self.d);
+        self.w = origin.cross(self.d);
+        Ok(())
+    }
+
+    /// The origin `p`.
+    #[inline]
+    pub(crate) fn origin(&self) -> V3<T> {
+        self.origin
+    }
+    /// The scaled direction (see [`Ray::scaled_dir`]).
+    #[inline]
+    pub(crate) fn scaled_dir(&self) -> V3<T> {
+        self.d
+    }
+    /// `‖d‖²` of the scaled direction.
+    #[inline]
+    pub(crate) fn dd(&self) -> T {
+        self.dd
+    }
+    /// `⟨p|d⟩` with the scaled direction.
+    #[inline]
+    pub(crate) fn pd(&self) -> T {
+        self.pd
+    }
+    /// `p × d` with the scaled direction.
+    #[inline]
+    pub(crate) fn p_cross_d(&self) -> V3<T> {
+        self.w
+    }
+    /// See [`Ray::t_from_scaled`].
+    #[inline]
+    pub(crate) fn t_from_scaled(&self, s: T) -> T {
+        self.scale.t_from_scaled(s)
+    }
+    /// See [`Ray::t_to_scaled`].
+    #[inline]
+    pub(crate) fn t_to_scaled(&self, t: T) -> T {
+        self.scale.t_to_scaled(t)
     }
     /// The exact rescaling between `t` and the scaled parameter.
     #[inline]
     pub(crate) fn scale(&self) -> Scale<T> {
         self.scale
     }
-    /// Converts the caller's `t` to the parameter of the scaled direction (exact).
+    /// See [`Ray::scale_exponent`].
     #[inline]
-    pub fn t_to_scaled(&self, t: T) -> T {
-        self.scale.t_to_scaled(t)
+    pub(crate) fn scale_exponent(&self) -> i32 {
+        self.scale.e
     }
-
-    /// The hinge of `r`: the `t` of the closest approach to the origin, `−⟨p|d⟩/‖d‖²` (seed 001, Lemma 8).
+    /// See [`Ray::t_closest`].
     #[inline]
-    pub fn t_closest(&self) -> T {
+    pub(crate) fn t_closest(&self) -> T {
         self.t_from_scaled(-self.pd / self.dd)
-    }
-    /// The squared distance of the line from the origin, `|p × d|²/‖d‖²` (seed 001, Lemma 8, without cancellation).
-    #[inline]
-    pub fn closest_distance_squared(&self) -> T {
-        self.w.length_squared() / self.dd
     }
 }
 

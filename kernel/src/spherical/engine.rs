@@ -8,7 +8,7 @@
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
 use super::stream::{Event, RadialLine, Stream};
 use super::{Axis, CellCrossing, MarchError};
-use crate::ray::Ray;
+use crate::ray::{Line, Ray};
 use crate::real::Real;
 use crate::surface::sphere_scaled_roots;
 use crate::vec3::V3;
@@ -135,20 +135,29 @@ impl<'a, T: Real> Axes<'a, T> {
     }
 }
 
-/// The ray in the grid's frame, `rel` (relative to the center; its `t_max` cuts the events, while the solvers
-/// report every crossing of the whole line, so that the streams can check their topology against the limit at
-/// infinity); and the line as the radius stream sees it (`rel` itself for the sphere grid, its projection on
-/// z = 0 for the cylinder and the polar grid).
+/// The ray's line in the grid's frame, `rel` (relative to the center: the solvers report every crossing of the
+/// whole line, so that the streams can check their topology against the limit at infinity), the ray's `t_max`
+/// (which cuts the events), and the line as the radius stream sees it (`rel` itself for the sphere grid, its
+/// projection on z = 0 for the cylinder and the polar grid).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Rays<T> {
-    rel: Ray<T>,
+    rel: Line<T>,
+    t_max: T,
     radial: RadialLine<T>,
 }
 
 impl<T: Real> Rays<T> {
+    /// Before the set-up: the caller's ray as it is (what a march that does not start keeps).
+    fn of(ray: &Ray<T>) -> Self {
+        Rays {
+            rel: *ray.line(),
+            t_max: ray.t_max(),
+            radial: RadialLine::of(ray.line()),
+        }
+    }
     #[inline(always)]
     fn t_max(&self) -> T {
-        self.rel.t_max()
+        self.t_max
     }
 }
 
@@ -196,7 +205,12 @@ fn next_event<T: Real>(
 /// reaches a part of it where `t` is not finite: the scaled roots are finite, but `t = s·2^-e` overflows (a
 /// direction too short for its distance). Every crossing of the domain lies within the outer radius, so
 /// otherwise each `t` an engine reports is finite.
-fn outer_ball_representable<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>, t_min: T, t_max: T) -> bool {
+fn outer_ball_representable<T: Real>(
+    axes: &Axes<'_, T>,
+    ray: &Line<T>,
+    t_min: T,
+    t_max: T,
+) -> bool {
     let Some(&r2) = axes.radial.r2.last() else {
         return true;
     };
@@ -222,7 +236,7 @@ fn outer_ball_representable<T: Real>(axes: &Axes<'_, T>, ray: &Ray<T>, t_min: T,
 #[inline(never)]
 fn radial_start<T: Real>(
     axes: &Axes<'_, T>,
-    radial_ray: &Ray<T>,
+    radial_ray: &Line<T>,
     line: &mut RadialLine<T>,
     t_min: T,
     t_max: T,
@@ -234,23 +248,23 @@ fn radial_start<T: Real>(
     Ok(Stream::radial(&axes.radial, radial_ray, line, t_min))
 }
 
-/// [`radial_start`] on the projection of `rel` on z = 0 (cylinder and polar grids); `Ok(None)` for a vertical
-/// line, whose distance from the axis does not change. Out of line: the projected ray lives in its own frame.
+/// [`radial_start`] on the projection of `ray` on z = 0 (cylinder and polar grids), from `rel`, its line in the
+/// grid's frame; `Ok(None)` for a vertical line, whose distance from the axis does not change. Out of line: the
+/// projected ray lives in its own frame.
 #[inline(never)]
 fn flat_radial_start<T: Real>(
     axes: &Axes<'_, T>,
-    rel: &Ray<T>,
+    ray: &Ray<T>,
+    rel: &Line<T>,
     line: &mut RadialLine<T>,
-    t_min: T,
-    t_max: T,
 ) -> Result<Option<(Stream<T>, u32)>, MarchError> {
-    let (p, d) = (rel.origin(), rel.dir());
+    let (p, d) = (rel.origin(), ray.dir());
     let Ok(flat) = Ray::new(V3::new(p.x, p.y, T::ZERO), V3::new(d.x, d.y, T::ZERO))
-        .and_then(|r| r.with_interval(rel.t_min(), T::INFINITY))
+        .and_then(|r| r.with_interval(ray.t_min(), T::INFINITY))
     else {
         return Ok(None);
     };
-    radial_start(axes, &flat, line, t_min, t_max).map(Some)
+    radial_start(axes, flat.line(), line, ray.t_min(), ray.t_max()).map(Some)
 }
 
 /// Locates the ray, finds where it enters the outer radius, and starts the other coordinates there: fills in
@@ -269,19 +283,20 @@ fn setup<T: Real>(
     rays: &mut Rays<T>,
     streams: &mut [Stream<T>; 3],
 ) -> Result<Option<T>, MarchError> {
-    // the ray in the grid's frame, formed in place (no copies of it in this frame)
-    rays.rel = *ray;
+    // the ray's line in the grid's frame, formed in place (no copies of it in this frame)
+    rays.rel = *ray.line();
     rays.rel.recenter(axes.center).map_err(MarchError::Ray)?;
-    let (t_min, t_max) = (rays.rel.t_min(), rays.rel.t_max());
+    rays.t_max = ray.t_max();
+    let t_min = ray.t_min();
     let radial = if axes.flat_radius {
-        flat_radial_start(axes, &rays.rel, &mut rays.radial, t_min, t_max)?
+        flat_radial_start(axes, ray, &rays.rel, &mut rays.radial)?
     } else {
         Some(radial_start(
             axes,
             &rays.rel,
             &mut rays.radial,
             t_min,
-            t_max,
+            rays.t_max,
         )?)
     };
     let radial_moves = radial.is_some();
@@ -487,10 +502,7 @@ pub struct SerialMarch<'g, T> {
 impl<'g, T: Real> SerialMarch<'g, T> {
     pub(crate) fn new(axes: &'g Axes<'g, T>, ray: &Ray<T>) -> Self {
         // (a march that does not start keeps the caller's ray and an empty emitter; `finished` is set)
-        let mut rays = Rays {
-            rel: *ray,
-            radial: RadialLine::of(ray),
-        };
+        let mut rays = Rays::of(ray);
         let mut streams = [Stream::fixed(0); 3];
         let (t0, error) = match setup(axes, ray, &mut rays, &mut streams) {
             Ok(t0) => (t0, None),
@@ -688,10 +700,7 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
 
     fn fill_lists(&mut self, axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<(), MarchError> {
         let m = self;
-        let mut rays = Rays {
-            rel: *ray,
-            radial: RadialLine::of(ray),
-        };
+        let mut rays = Rays::of(ray);
         let mut streams = [Stream::fixed(0); 3];
         let Some(t0) = setup(axes, ray, &mut rays, &mut streams)? else {
             return Ok(());

@@ -26,7 +26,7 @@
 //! shorter way, counter-clockwise on a tie). A line parallel to the z axis keeps φ constant.
 
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
-use crate::ray::{Ray, Scale};
+use crate::ray::{Line, Scale};
 use crate::real::Real;
 use crate::surface::{PlaneZ, Side, sphere_roots_of};
 use crate::vec3::V3;
@@ -39,7 +39,7 @@ pub(crate) type Event<T> = (T, u32);
 /// stays in the normal range, so the quotient is the correctly rounded `t` with no second rounding; otherwise
 /// the scaled quotient is rescaled exactly.
 #[inline(always)]
-fn plane_t<T: Real>(num: T, den: T, ray: &Ray<T>) -> T {
+fn plane_t<T: Real>(num: T, den: T, ray: &Line<T>) -> T {
     if ray.scale_exponent() == 0 {
         return num / den;
     }
@@ -134,7 +134,7 @@ pub(crate) struct RadialLine<T> {
 
 impl<T: Real> RadialLine<T> {
     /// The invariants of `ray` (as the sphere solver forms them, so that the roots are the same bits).
-    pub(crate) fn of(ray: &Ray<T>) -> Self {
+    pub(crate) fn of(ray: &Line<T>) -> Self {
         RadialLine {
             pp: ray.origin().length_squared(),
             ww: ray.p_cross_d().length_squared(),
@@ -232,7 +232,7 @@ fn walk_way<T: Real>(
 
 /// The point of the ray at `t` (computed in the scaled parameter).
 #[inline]
-pub(crate) fn point_at<T: Real>(ray: &Ray<T>, t: T) -> V3<T> {
+pub(crate) fn point_at<T: Real>(ray: &Line<T>, t: T) -> V3<T> {
     ray.origin()
         .add_scaled(ray.t_to_scaled(t), ray.scaled_dir())
 }
@@ -251,7 +251,7 @@ impl<T: Real> Stream<T> {
     /// The radius stream for a ray starting at `t0` (finite, or −∞); `line` is [`RadialLine::of`] `ray`.
     pub(crate) fn radial(
         axis: &RadialAxis<'_, T>,
-        ray: &Ray<T>,
+        ray: &Line<T>,
         line: &RadialLine<T>,
         t0: T,
     ) -> (Self, u32) {
@@ -284,7 +284,7 @@ impl<T: Real> Stream<T> {
     /// (Kept out of line, as is `azimuth`: their temporaries then live in their own frames, not in the set-up's
     /// for the whole set-up; on a Cortex-M4F one march's stack drops from 1 396 to 1 312 bytes.)
     #[inline(never)]
-    pub(crate) fn zenith(axis: &ZenithAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
+    pub(crate) fn zenith(axis: &ZenithAxis<'_, T>, ray: &Line<T>, t0: T) -> (Self, u32) {
         let w = ray.p_cross_d();
         let d = ray.scaled_dir();
         let p = ray.origin();
@@ -362,7 +362,7 @@ impl<T: Real> Stream<T> {
 
     /// The azimuth stream for a ray starting at the finite `t0`.
     #[inline(never)]
-    pub(crate) fn azimuth(axis: &AzimuthAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
+    pub(crate) fn azimuth(axis: &AzimuthAxis<'_, T>, ray: &Line<T>, t0: T) -> (Self, u32) {
         let d = ray.scaled_dir();
         let p = ray.origin();
         if d.x == T::ZERO && d.y == T::ZERO {
@@ -433,7 +433,7 @@ impl<T: Real> Stream<T> {
     }
 
     /// The height stream for a ray starting at `t0` (finite or −∞).
-    pub(crate) fn height(axis: &HeightAxis<'_, T>, ray: &Ray<T>, t0: T) -> (Self, u32) {
+    pub(crate) fn height(axis: &HeightAxis<'_, T>, ray: &Line<T>, t0: T) -> (Self, u32) {
         let dz = ray.scaled_dir().z;
         let band = if t0.is_finite() {
             axis.band_of(point_at(ray, t0).z)
@@ -532,7 +532,12 @@ impl<T: Real> Stream<T> {
     /// cached root), or `None`. Inlined into the engines' loops like the radius and azimuth steps (the cone
     /// solver itself stays out of line).
     #[inline(always)]
-    pub(crate) fn next_zenith(&mut self, axis: &ZenithAxis<'_, T>, ray: &Ray<T>, t_max: T) -> bool {
+    pub(crate) fn next_zenith(
+        &mut self,
+        axis: &ZenithAxis<'_, T>,
+        ray: &Line<T>,
+        t_max: T,
+    ) -> bool {
         let Kind::Zenith {
             up,
             switched,
@@ -646,7 +651,7 @@ impl<T: Real> Stream<T> {
     pub(crate) fn next_azimuth(
         &mut self,
         axis: &AzimuthAxis<'_, T>,
-        ray: &Ray<T>,
+        ray: &Line<T>,
         t_max: T,
     ) -> bool {
         let Kind::Azimuth {
@@ -716,7 +721,7 @@ impl<T: Real> Stream<T> {
     /// sector must end as the sector of d (unless d lies exactly on a boundary, approached from one side). When
     /// the line passes within rounding of the z axis the half-plane tests cannot order the crossings there; they
     /// are completed here, at the closest approach to the axis, in the turning sense.
-    fn complete_azimuth(&mut self, axis: &AzimuthAxis<'_, T>, ray: &Ray<T>, t_max: T) -> bool {
+    fn complete_azimuth(&mut self, axis: &AzimuthAxis<'_, T>, ray: &Line<T>, t_max: T) -> bool {
         let Kind::Azimuth { ccw, walk, .. } = &mut self.kind else {
             return false;
         };
@@ -753,7 +758,12 @@ impl<T: Real> Stream<T> {
     }
 
     /// The next height event (one division); false when there is none.
-    pub(crate) fn next_height(&mut self, axis: &HeightAxis<'_, T>, ray: &Ray<T>, t_max: T) -> bool {
+    pub(crate) fn next_height(
+        &mut self,
+        axis: &HeightAxis<'_, T>,
+        ray: &Line<T>,
+        t_max: T,
+    ) -> bool {
         let Kind::Height { up } = &mut self.kind else {
             return false;
         };

@@ -28,7 +28,7 @@
 //! sine of the crossing angle: it grows only near tangency, where the problem itself is ill-conditioned.
 
 use super::{Crossings, Side, Surface, SurfaceError, side_of_sign, stable_quadratic};
-use crate::ray::Ray;
+use crate::ray::{Line, Ray};
 use crate::real::Real;
 use crate::vec3::V3;
 
@@ -162,7 +162,7 @@ impl<T: Real> AxialCone<T> {
     /// interval (the caller cuts). [`Surface::crossings`] is this, cut to the ray's interval; the spherical
     /// marcher takes the one crossing it needs from here without building a [`Crossings`].
     #[inline(never)]
-    pub(crate) fn scaled_crossings(&self, ray: &Ray<T>) -> ([(T, Side); 2], usize) {
+    pub(crate) fn scaled_crossings(&self, ray: &Line<T>) -> ([(T, Side); 2], usize) {
         let no_roots = ([(T::ZERO, Side::Negative); 2], 0);
         let (c2, s2) = (self.cos2, self.sin2);
         let d = ray.scaled_dir();
@@ -321,7 +321,7 @@ impl<T: Real> AxialCone<T> {
 
 impl<T: Real> Surface<T> for AxialCone<T> {
     fn crossings(&self, ray: &Ray<T>) -> Crossings<T> {
-        let (roots, n) = self.scaled_crossings(ray);
+        let (roots, n) = self.scaled_crossings(ray.line());
         Crossings::from_scaled_roots(ray, roots.get(..n).unwrap_or(&[]))
     }
 

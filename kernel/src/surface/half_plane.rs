@@ -16,7 +16,7 @@
 //! except when `(p × d)_z` is within rounding of 0, i.e. when the line passes within `~ε·S` of the z axis.
 
 use super::{Crossings, Side, Surface, SurfaceError, side_of_sign};
-use crate::ray::Ray;
+use crate::ray::{Line, Ray};
 use crate::real::Real;
 use crate::vec3::V3;
 
@@ -83,7 +83,7 @@ impl<T: Real> HalfPlane<T> {
     /// The crossing in the ray's scaled parameter (one division), or `None` when the ray is parallel to the
     /// plane, lies in it, or meets the plane on the opposite half.
     #[inline]
-    pub(crate) fn scaled_root(&self, ray: &Ray<T>) -> Option<(T, Side)> {
+    pub(crate) fn scaled_root(&self, ray: &Line<T>) -> Option<(T, Side)> {
         self.scaled_root_fraction(ray)
             .map(|(num, den, side)| (num / den, side))
     }
@@ -93,7 +93,7 @@ impl<T: Real> HalfPlane<T> {
     /// division per azimuth crossing). `num / den` is bit for bit the value [`HalfPlane::scaled_root`] returns
     /// (the sign is moved to the numerator exactly).
     #[inline]
-    pub(crate) fn scaled_root_fraction(&self, ray: &Ray<T>) -> Option<(T, T, Side)> {
+    pub(crate) fn scaled_root_fraction(&self, ray: &Line<T>) -> Option<(T, T, Side)> {
         let nd = self.normal_dot(ray.scaled_dir());
         if nd == T::ZERO || nd.is_nan() {
             return None;
@@ -113,7 +113,7 @@ impl<T: Real> HalfPlane<T> {
 
 impl<T: Real> Surface<T> for HalfPlane<T> {
     fn crossings(&self, ray: &Ray<T>) -> Crossings<T> {
-        match self.scaled_root(ray) {
+        match self.scaled_root(ray.line()) {
             Some(root) => Crossings::from_scaled_roots(ray, &[root]),
             None => Crossings::NONE,
         }

@@ -4,7 +4,7 @@
 //! the plane in z (backward error ≤ 2ε·S), and the crossing side is the sign of `d_z`.
 
 use super::{Crossings, Side, Surface, SurfaceError, side_of_sign};
-use crate::ray::Ray;
+use crate::ray::{Line, Ray};
 use crate::real::Real;
 use crate::vec3::V3;
 
@@ -29,7 +29,7 @@ impl<T: Real> PlaneZ<T> {
     }
     /// The crossing in the ray's scaled parameter, or `None` for a horizontal ray.
     #[inline]
-    pub(crate) fn scaled_root(&self, ray: &Ray<T>) -> Option<(T, Side)> {
+    pub(crate) fn scaled_root(&self, ray: &Line<T>) -> Option<(T, Side)> {
         self.scaled_root_fraction(ray)
             .map(|(num, den, side)| (num / den, side))
     }
@@ -38,7 +38,7 @@ impl<T: Real> PlaneZ<T> {
     /// (the marcher divides it itself, folding in the ray's exact rescaling); `num / den` is bit for bit
     /// [`PlaneZ::scaled_root`]'s value. `None` for a horizontal ray (or a NaN direction component).
     #[inline]
-    pub(crate) fn scaled_root_fraction(&self, ray: &Ray<T>) -> Option<(T, T, Side)> {
+    pub(crate) fn scaled_root_fraction(&self, ray: &Line<T>) -> Option<(T, T, Side)> {
         let dz = ray.scaled_dir().z;
         let num = self.z - ray.origin().z;
         if dz > T::ZERO {
@@ -53,7 +53,7 @@ impl<T: Real> PlaneZ<T> {
 
 impl<T: Real> Surface<T> for PlaneZ<T> {
     fn crossings(&self, ray: &Ray<T>) -> Crossings<T> {
-        match self.scaled_root(ray) {
+        match self.scaled_root(ray.line()) {
             Some(root) => Crossings::from_scaled_roots(ray, &[root]),
             None => Crossings::NONE,
         }

@@ -19,7 +19,7 @@
 //! ill-conditioned. For `a ≠ b` the scaling of z adds one rounding (`ε·S`). The host oracle measures both.
 
 use super::{Crossings, Side, Surface, SurfaceError, side_of_sign, stable_quadratic};
-use crate::ray::Ray;
+use crate::ray::{Line, Ray};
 use crate::real::Real;
 use crate::vec3::V3;
 
@@ -81,7 +81,7 @@ impl<T: Real> Spheroid<T> {
     #[inline]
     pub(crate) fn scaled_roots(&self, ray: &Ray<T>) -> Option<(T, T)> {
         if self.is_sphere() {
-            return sphere_scaled_roots(self.a2, ray);
+            return sphere_scaled_roots(self.a2, ray.line());
         }
         let (p, dd, pd, w) = {
             let mut p = ray.origin();
@@ -98,7 +98,7 @@ impl<T: Real> Spheroid<T> {
 /// parameter: [`Spheroid::scaled_roots`] for a sphere, bit for bit, without building the surface (the spherical
 /// marcher keeps its radii squared, seed 001 §2, and solves one sphere per radius crossing).
 #[inline]
-pub(crate) fn sphere_scaled_roots<T: Real>(r2: T, ray: &Ray<T>) -> Option<(T, T)> {
+pub(crate) fn sphere_scaled_roots<T: Real>(r2: T, ray: &Line<T>) -> Option<(T, T)> {
     quadratic_roots(r2, ray.origin(), ray.dd(), ray.pd(), ray.p_cross_d())
 }
 
