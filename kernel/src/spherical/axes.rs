@@ -157,7 +157,8 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
     /// The band of the direction of `q` (from the center), `q ≠ 0`: the number of breakpoints with
     /// `θ_j <= θ(q)`. With `ρ² = q_x² + q_y²` that is `q_z <= 0 or cos²θ_j ρ² >= sin²θ_j q_z²` for θ_j < π/2,
     /// `q_z <= 0` for θ_j = π/2 and `q_z < 0 and cos²θ_j ρ² <= sin²θ_j q_z²` for θ_j > π/2 (no division, no
-    /// square root; the same products as the cone's own equation, [`AxialCone`], so both agree near the poles).
+    /// square root). This is the form of the cone's own equation ([`AxialCone`]), well conditioned at both poles;
+    /// the two are evaluated separately and agree up to rounding, not bit for bit.
     ///
     /// `leave_axis`: the ray leaves the −z axis (its direction has a horizontal part), so a point on that axis
     /// (`ρ²` zero or underflowed) gets the band just below θ = π (the right limit along the ray), not that of

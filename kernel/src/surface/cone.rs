@@ -157,10 +157,10 @@ impl<T: Real> AxialCone<T> {
 }
 
 impl<T: Real> AxialCone<T> {
-    /// The crossings of `ray` with the cone in the ray's *scaled* parameter (see [`Ray::t_from_scaled`]), in
-    /// increasing order, with the side each enters: the first `n` of the pair. All of them, whatever the ray's
-    /// interval (the caller cuts). [`Surface::crossings`] is this, cut to the ray's interval; the spherical
-    /// marcher takes the one crossing it needs from here without building a [`Crossings`].
+    /// The crossings of the line `ray` (a ray's line, without its interval) with the cone in the *scaled*
+    /// parameter (see [`Ray::t_from_scaled`]), in increasing order, with the side each enters: the first `n` of
+    /// the pair. [`Surface::crossings`] is this, cut to the ray's interval; the spherical marcher takes the one
+    /// crossing it needs from here without building a [`Crossings`].
     #[inline(never)]
     pub(crate) fn scaled_crossings(&self, ray: &Line<T>) -> ([(T, Side); 2], usize) {
         let no_roots = ([(T::ZERO, Side::Negative); 2], 0);
