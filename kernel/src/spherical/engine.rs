@@ -44,18 +44,18 @@ pub(crate) struct Axes<'a, T> {
 /// breakpoints; the azimuth: every sector but the outside one of a wedge; an absent slot: its one band 0).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub(crate) struct CellRule {
-    first: [u32; 4],
-    count: [u32; 4],
+    first: [u32; 3],
+    count: [u32; 3],
 }
 
 impl CellRule {
     /// The cell index of `band` in `slot`, or `None` when that band is outside the domain (band 0 and the top
-    /// band of a banded coordinate, the outside sector of a wedge). One subtraction and one comparison.
+    /// band of a banded coordinate, the outside sector of a wedge). One subtraction and one comparison; the
+    /// slot's two entries are read by index once the slot is known (a `match` on the slot let the separable
+    /// engine hoist all six entries onto its stack on every call).
     #[inline(always)]
     fn index(&self, slot: usize, band: u32) -> Option<u32> {
-        // (four entries and the index masked: one load each once the slot is known; the checks fold away)
-        let k = slot & 3;
-        let (Some(&first), Some(&count)) = (self.first.get(k), self.count.get(k)) else {
+        let (Some(&first), Some(&count)) = (self.first.get(slot), self.count.get(slot)) else {
             return None;
         };
         let i = band.wrapping_sub(first);
@@ -82,8 +82,8 @@ impl<'a, T: Real> Axes<'a, T> {
             flat_radius,
             slots,
             rule: CellRule {
-                first: [0; 4],
-                count: [u32::MAX; 4],
+                first: [0; 3],
+                count: [u32::MAX; 3],
             },
             max_events: 0,
         };
