@@ -28,7 +28,7 @@
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
 use crate::ray::{Line, Scale};
 use crate::real::Real;
-use crate::surface::{PlaneZ, Side, sphere_roots_of};
+use crate::surface::{HalfPlane, PlaneZ, Side, sphere_roots_of};
 use crate::vec3::V3;
 
 /// One event: the crossing's parameter `t` and the band (or sector) entered.
@@ -699,22 +699,18 @@ impl<T: Real> Stream<T> {
         if !ahead || *crossed >= axis.boundaries {
             return self.complete_azimuth(axis, ray, t_max);
         }
-        let root = axis.plane(j).and_then(|h| h.scaled_root_fraction(ray));
-        match root {
-            Some((num, den, _)) => {
-                let t = later(plane_t(num, den, ray), *t_own);
-                if t > t_max || num.is_nan() {
-                    self.kind = Kind::Fixed;
-                    return false;
-                }
-                *sector = step(*sector, *ccw);
-                *t_own = t;
-                *from = (bc, bs);
-                *crossed = crossed.saturating_add(1);
-                true
-            }
-            None => self.complete_azimuth(axis, ray, t_max),
+        // The line meets boundary j's half-plane ahead (the arc test above), going the way `b_d` says.
+        let (num, den) = HalfPlane::from_validated_unit_parts(bc, bs).scaled_root_fraction_ahead(ray, sg);
+        let t = later(plane_t(num, den, ray), *t_own);
+        if t > t_max || num.is_nan() {
+            self.kind = Kind::Fixed;
+            return false;
         }
+        *sector = step(*sector, *ccw);
+        *t_own = t;
+        *from = (bc, bs);
+        *crossed = crossed.saturating_add(1);
+        true
     }
 
     /// No further boundary is ahead. Topology check: far along the ray φ tends to the azimuth of d, so the

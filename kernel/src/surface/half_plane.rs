@@ -111,6 +111,18 @@ impl<T: Real> HalfPlane<T> {
     }
 }
 
+impl<T: Real> HalfPlane<T> {
+    /// [`HalfPlane::scaled_root_fraction`] for a line already known to meet this half-plane (not the opposite
+    /// one) going toward the side `sign` (`+1` positive, `-1` negative) with `sign·⟨n|d⟩ > 0`, as the azimuth
+    /// stream's arc test establishes (seed 001 §4.6, Lemma 6): `(num, den)` with `den > 0`, the same bits.
+    #[inline(always)]
+    pub(crate) fn scaled_root_fraction_ahead(&self, ray: &Line<T>, sign: T) -> (T, T) {
+        let nd = self.normal_dot(ray.scaled_dir());
+        let np = self.normal_dot(ray.origin());
+        (-(np * sign), nd * sign)
+    }
+}
+
 impl<T: Real> Surface<T> for HalfPlane<T> {
     fn crossings(&self, ray: &Ray<T>) -> Crossings<T> {
         match self.scaled_root(ray.line()) {
