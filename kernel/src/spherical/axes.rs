@@ -273,12 +273,9 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
 
     /// The boundary half-plane `j` (cyclic index below `boundaries`).
     #[inline]
-    pub(crate) fn plane(&self, j: u32) -> Option<HalfPlane<T>> {
-        let j = j as usize;
-        Some(HalfPlane::from_validated_unit_parts(
-            *self.cos.get(j)?,
-            *self.sin.get(j)?,
-        ))
+    pub(crate) fn plane(&self, j: u32) -> HalfPlane<T> {
+        let (c, s) = self.dir(j as usize);
+        HalfPlane::from_validated_unit_parts(c, s)
     }
 
     /// `(cos, sin)` of the boundary `j` (cyclic index below `boundaries`).

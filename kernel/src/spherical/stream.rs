@@ -28,7 +28,7 @@
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
 use crate::ray::{Line, Scale};
 use crate::real::Real;
-use crate::surface::{HalfPlane, PlaneZ, Side, sphere_roots_of};
+use crate::surface::{PlaneZ, Side, sphere_roots_of};
 use crate::vec3::V3;
 
 /// One event: the crossing's parameter `t` and the band (or sector) entered.
@@ -690,7 +690,8 @@ impl<T: Real> Stream<T> {
         // within rounding of the z axis), or at the start point's direction.
         let (fx, fy) = *from;
         let d = ray.scaled_dir();
-        let (bc, bs) = axis.dir_of(j);
+        let plane = axis.plane(j);
+        let (bc, bs) = (plane.cos(), plane.sin());
         let sg = if *ccw { T::ONE } else { -T::ONE };
         let f_b = (fx * bs - fy * bc) * sg;
         let b_d = (bc * d.y - bs * d.x) * sg;
@@ -700,7 +701,7 @@ impl<T: Real> Stream<T> {
             return self.complete_azimuth(axis, ray, t_max);
         }
         // The line meets boundary j's half-plane ahead (the arc test above), going the way `b_d` says.
-        let (num, den) = HalfPlane::from_validated_unit_parts(bc, bs).scaled_root_fraction_ahead(ray, sg);
+        let (num, den) = plane.scaled_root_fraction_ahead(ray, sg);
         let t = later(plane_t(num, den, ray), *t_own);
         if t > t_max || num.is_nan() {
             self.kind = Kind::Fixed;
