@@ -28,7 +28,7 @@
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
 use crate::ray::{Line, Scale};
 use crate::real::Real;
-use crate::surface::{PlaneZ, Side, sphere_roots_of};
+use crate::surface::{ConeRoots, PlaneZ, Side, sphere_roots_of};
 use crate::vec3::V3;
 
 /// One event: the crossing's parameter `t` and the band (or sector) entered.
@@ -581,16 +581,19 @@ impl<T: Real> Stream<T> {
                 if *cache_j == j && *cache_side == want && *cache_t >= *t_own {
                     hit = Some(*cache_t);
                 } else if let Some(cone) = axis.cone(j) {
-                    let ([r0, r1], n) = cone.scaled_crossings(ray);
-                    let t0 = ray.t_from_scaled(r0.0);
-                    if n >= 1 && r0.1 == want && t0 >= *t_own {
+                    let ConeRoots {
+                        s: [s0, s1],
+                        into: [into0, into1],
+                        n,
+                    } = cone.scaled_crossings(ray);
+                    let t0 = ray.t_from_scaled(s0);
+                    if n >= 1 && into0 == want && t0 >= *t_own {
                         hit = Some(t0);
                         if n == 2 {
-                            (next_cache, *cache_t, *cache_side) =
-                                (j, ray.t_from_scaled(r1.0), r1.1);
+                            (next_cache, *cache_t, *cache_side) = (j, ray.t_from_scaled(s1), into1);
                         }
-                    } else if n == 2 && r1.1 == want {
-                        let t1 = ray.t_from_scaled(r1.0);
+                    } else if n == 2 && into1 == want {
+                        let t1 = ray.t_from_scaled(s1);
                         if t1 >= *t_own {
                             hit = Some(t1);
                         }

@@ -156,14 +156,40 @@ impl<T: Real> AxialCone<T> {
     }
 }
 
+/// A line's crossings with a cone in the scaled parameter: the first `n` of `s`, with the side each enters
+/// (arrays, not pairs, so that no padding is copied with them).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ConeRoots<T> {
+    pub(crate) s: [T; 2],
+    pub(crate) into: [Side; 2],
+    pub(crate) n: usize,
+}
+
+impl<T: Real> ConeRoots<T> {
+    const NONE: Self = ConeRoots {
+        s: [T::ZERO; 2],
+        into: [Side::Negative; 2],
+        n: 0,
+    };
+    #[inline(always)]
+    fn of(roots: [(T, Side); 2], n: usize) -> Self {
+        let [(s0, i0), (s1, i1)] = roots;
+        ConeRoots {
+            s: [s0, s1],
+            into: [i0, i1],
+            n,
+        }
+    }
+}
+
 impl<T: Real> AxialCone<T> {
     /// The crossings of the line `ray` (a ray's line, without its interval) with the cone in the *scaled*
     /// parameter (see [`Ray::t_from_scaled`]), in increasing order, with the side each enters: the first `n` of
     /// the pair. [`Surface::crossings`] is this, cut to the ray's interval; the spherical marcher takes the one
     /// crossing it needs from here without building a [`Crossings`].
     #[inline(never)]
-    pub(crate) fn scaled_crossings(&self, ray: &Line<T>) -> ([(T, Side); 2], usize) {
-        let no_roots = ([(T::ZERO, Side::Negative); 2], 0);
+    pub(crate) fn scaled_crossings(&self, ray: &Line<T>) -> ConeRoots<T> {
+        let no_roots = ConeRoots::NONE;
         let (c2, s2) = (self.cos2, self.sin2);
         let d = ray.scaled_dir();
         let (q, w) = if self.apex_z == T::ZERO {
@@ -184,7 +210,7 @@ impl<T: Real> AxialCone<T> {
             return match (before, after) {
                 (Some(b), Some(a)) if a != b => {
                     let s_apex = -q.dot(d) / ray.dd();
-                    ([(s_apex, a), (s_apex, a)], 1)
+                    ConeRoots::of([(s_apex, a), (s_apex, a)], 1)
                 }
                 _ => no_roots,
             };
@@ -195,7 +221,7 @@ impl<T: Real> AxialCone<T> {
                 return no_roots;
             }
             let root = (-q.z / d.z, Side::from_bool(d.z < T::ZERO));
-            return ([root, root], 1);
+            return ConeRoots::of([root, root], 1);
         }
         let a = c2 * (d.x * d.x + d.y * d.y) - s2 * d.z * d.z;
         let b = c2 * (q.x * d.x + q.y * d.y) - s2 * q.z * d.z;
@@ -315,14 +341,15 @@ impl<T: Real> AxialCone<T> {
                 }
             }
         }
-        (roots, n)
+        ConeRoots::of(roots, n)
     }
 }
 
 impl<T: Real> Surface<T> for AxialCone<T> {
     fn crossings(&self, ray: &Ray<T>) -> Crossings<T> {
-        let (roots, n) = self.scaled_crossings(ray.line());
-        Crossings::from_scaled_roots(ray, roots.get(..n).unwrap_or(&[]))
+        let r = self.scaled_crossings(ray.line());
+        let roots = [(r.s[0], r.into[0]), (r.s[1], r.into[1])];
+        Crossings::from_scaled_roots(ray, roots.get(..r.n).unwrap_or(&[]))
     }
 
     fn side_of(&self, point: V3<T>) -> Option<Side> {

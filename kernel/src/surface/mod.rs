@@ -45,6 +45,7 @@ pub use cone::AxialCone;
 pub use half_plane::HalfPlane;
 pub use plane_z::PlaneZ;
 pub use spheroid::Spheroid;
+pub(crate) use cone::ConeRoots;
 pub(crate) use spheroid::{sphere_roots_of, sphere_scaled_roots};
 
 use crate::ray::Ray;
