@@ -155,14 +155,12 @@ impl<T: Real> RadialLine<T> {
         Some((self.scale.t_from_scaled(a), self.scale.t_from_scaled(b)))
     }
 
-    /// True before the hinge of r (Lemma 8): `⟨p + t d | d⟩ < 0`, decided without a division.
+    /// True before the hinge of r (Lemma 8): `⟨p + t d | d⟩ < 0`, decided without a division. No branch for
+    /// `t = ±∞` (a line's start): with a finite `⟨p|d⟩` the sum is then `±∞`, which is the test `t < 0`; an
+    /// infinite `⟨p|d⟩` (NaN sum) needs `‖p‖² = ∞`, and then no sphere is entered either way.
     #[inline]
     fn before_hinge(&self, t: T) -> bool {
-        if t.is_finite() {
-            self.pd + self.scale.t_to_scaled(t) * self.dd < T::ZERO
-        } else {
-            t < T::ZERO
-        }
+        self.pd + self.scale.t_to_scaled(t) * self.dd < T::ZERO
     }
 }
 
