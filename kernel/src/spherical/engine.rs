@@ -414,6 +414,21 @@ impl<T: Real> Emitter<T> {
     /// previous event, and stops past `t_max`), so the crossings need no clamping.
     #[inline(always)]
     fn on(&mut self, rule: &CellRule, t: T, slot: usize, band: u32) -> Option<CellCrossing<T>> {
+        // Inside to inside (every event of a ray inside a full grid): the crossing ends here, nothing is held.
+        if self.outside == 0 && t.is_finite() {
+            if let Some(i) = rule.index(slot, band) {
+                let c = CellCrossing {
+                    cell: self.cell,
+                    t_enter: self.seg_start,
+                    t_exit: t,
+                };
+                if let Some(x) = self.cell.get_mut(slot) {
+                    *x = i;
+                }
+                self.seg_start = t;
+                return Some(c);
+            }
+        }
         let was_inside = self.outside == 0;
         let before = self.cell;
         self.set(rule, slot, band);
@@ -426,16 +441,8 @@ impl<T: Real> Emitter<T> {
             return None;
         }
         if was_inside {
-            if self.outside == 0 {
-                let c = CellCrossing {
-                    cell: before,
-                    t_enter: self.seg_start,
-                    t_exit: t,
-                };
-                self.seg_start = t;
-                return Some(c); // the cell changes: nothing can merge with it
-            }
-            // left the domain: held until the ray comes back (it may come back into this cell at this t)
+            // left the domain (an event that stays inside took the fast path above): held until the ray comes
+            // back (it may come back into this cell at this t)
             self.pending = Some((before, t));
             return None;
         }
