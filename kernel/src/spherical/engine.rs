@@ -762,6 +762,8 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
 impl<T: Real, const N: usize> Iterator for SeparableMarch<T, N> {
     type Item = CellCrossing<T>;
 
+    /// Inlined into the caller's loop (the interleave of three lists and the emitter: no stream code).
+    #[inline]
     fn next(&mut self) -> Option<CellCrossing<T>> {
         let em = self.em.as_mut()?;
         loop {
