@@ -44,7 +44,7 @@ fn plane_t<T: Real>(num: T, den: T, ray: &Line<T>) -> T {
         return num / den;
     }
     let folded = ray.t_to_scaled(den); // den · 2^e, exact
-    if folded.is_finite() && folded >= T::MIN_POSITIVE {
+    if folded >= T::MIN_POSITIVE && folded <= T::MAX {
         num / folded
     } else {
         ray.t_from_scaled(num / den)
@@ -708,10 +708,11 @@ impl<T: Real> Stream<T> {
             self.kind = Kind::Fixed;
             return false;
         }
-        *sector = step(*sector, *ccw);
+        // counter-clockwise the sector entered is the one after boundary j, which is j itself
+        *sector = if *ccw { j } else { step(*sector, false) };
         *t_own = t;
         *from = (bc, bs);
-        *crossed = crossed.saturating_add(1);
+        *crossed = crossed.wrapping_add(1); // below `boundaries` (tested above)
         true
     }
 
