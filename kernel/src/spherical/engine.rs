@@ -624,17 +624,16 @@ impl<T: Real> SerialMarch<'_, T> {
             if ended {
                 self.live &= !(1u8 << slot);
             }
-            let out = self.em.on(&self.axes.rule, t, slot, band);
-            if self.em.unrepresentable {
-                self.error = Some(MarchError::Unrepresentable);
-                self.finished = true;
-                continue;
-            }
             if slot == 0 && ended && self.axes.rule.beyond_outer_radius(band) {
                 self.finished = true; // left the outer radius for good
             }
+            let out = self.em.on(&self.axes.rule, t, slot, band);
             if out.is_some() {
-                return out;
+                return out; // (a crossing is never given with `unrepresentable` set)
+            }
+            if self.em.unrepresentable {
+                self.error = Some(MarchError::Unrepresentable);
+                self.finished = true;
             }
         }
     }
@@ -800,13 +799,12 @@ impl<T: Real, const N: usize> Iterator for SeparableMarch<T, N> {
                 }
             }
             let out = em.on(&self.rule, t, slot, band);
+            if out.is_some() {
+                return out; // (a crossing is never given with `unrepresentable` set)
+            }
             if em.unrepresentable {
                 self.error = Some(MarchError::Unrepresentable);
                 self.finished = true;
-                continue;
-            }
-            if out.is_some() {
-                return out;
             }
         }
     }
