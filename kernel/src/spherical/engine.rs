@@ -6,7 +6,7 @@
 //! equal `t` by coordinate (radius first, then the grid's second and third coordinate) — so they agree exactly.
 
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
-use super::stream::{Event, RadialLine, Stream};
+use super::stream::{Event, RadialLine, StepKind, Stream};
 use super::{Axis, CellCrossing, MarchError};
 use crate::ray::{Line, Ray};
 use crate::real::Real;
@@ -186,18 +186,18 @@ fn next_event<T: Real>(
     let Some(s) = streams.get_mut(slot) else {
         return false;
     };
-    match axes.slots.get(slot) {
-        Some(SlotKind::Radial) => s.next_radial(&axes.radial, &rays.radial, rays.t_max()),
-        Some(SlotKind::Zenith) => axes
+    match s.step_kind() {
+        StepKind::Radial => s.next_radial(&axes.radial, &rays.radial, rays.t_max()),
+        StepKind::Zenith => axes
             .zenith
             .as_ref()
             .is_some_and(|z| s.next_zenith(z, &rays.rel, rays.t_max())),
-        Some(SlotKind::Azimuth) => s.next_azimuth(&axes.azimuth, &rays.rel, rays.t_max()),
-        Some(SlotKind::Height) => axes
+        StepKind::Azimuth => s.next_azimuth(&axes.azimuth, &rays.rel, rays.t_max()),
+        StepKind::Height => axes
             .height
             .as_ref()
             .is_some_and(|h| s.next_height(h, &rays.rel, rays.t_max())),
-        _ => false,
+        StepKind::None => false,
     }
 }
 

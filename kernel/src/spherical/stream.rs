@@ -235,7 +235,29 @@ pub(crate) fn point_at<T: Real>(ray: &Line<T>, t: T) -> V3<T> {
         .add_scaled(ray.t_to_scaled(t), ray.scaled_dir())
 }
 
+/// The step a stream takes next: its coordinate's kind, `None` once it has ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum StepKind {
+    Radial,
+    Zenith,
+    Azimuth,
+    Height,
+    None,
+}
+
 impl<T: Real> Stream<T> {
+    /// The step this stream takes next (its own tag: the engines dispatch on it, not on the grid's slots).
+    #[inline(always)]
+    pub(crate) fn step_kind(&self) -> StepKind {
+        match self.kind {
+            Kind::Radial { .. } => StepKind::Radial,
+            Kind::Zenith { .. } => StepKind::Zenith,
+            Kind::Azimuth { .. } => StepKind::Azimuth,
+            Kind::Height { .. } => StepKind::Height,
+            Kind::Fixed => StepKind::None,
+        }
+    }
+
     /// A stream without events, in `band`.
     #[inline]
     pub(crate) fn fixed(band: u32) -> Self {
