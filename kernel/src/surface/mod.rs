@@ -42,10 +42,10 @@ mod plane_z;
 mod spheroid;
 
 pub use cone::AxialCone;
+pub(crate) use cone::ConeRoots;
 pub use half_plane::HalfPlane;
 pub use plane_z::PlaneZ;
 pub use spheroid::Spheroid;
-pub(crate) use cone::ConeRoots;
 pub(crate) use spheroid::{sphere_roots_of, sphere_scaled_roots};
 
 use crate::ray::Ray;
