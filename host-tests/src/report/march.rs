@@ -185,7 +185,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
          perspective view from 3R on the uniform grid. Times are the best of {reps} run(s) on one core, every \
          method (each engine and precision, and the DDA baseline) starting from the same f64 ray records and \
          building its own rays inside the timed region; the serial engine runs its internal iteration \
-         (`fold_in_place`, about 4 % fewer instructions than a `for` loop over `next`); the separable engine \
+         (`fold_in_place`, about 1 % fewer instructions than a `for` loop over `next`); the separable engine \
          (N = {SEPARABLE_N}) lists into one march reused across the rays (`march_separable_into`). A ray an engine rejects fails the report. The \
          oracle columns are measured on {n_acc} rays of the parallel view of the uniform grid (\"same cells\": \
          identical cell sequence after dropping crossings shorter than 1e-7·L; \"max bwd\": largest distance of \

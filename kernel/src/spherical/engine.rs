@@ -564,7 +564,7 @@ impl<T: Real> Iterator for SerialMarch<'_, T> {
 impl<T: Real> SerialMarch<'_, T> {
     /// Folds the remaining crossings in order, like [`Iterator::fold`], but borrowing the march, so that
     /// [`SerialMarch::error`] can be read afterwards. This is internal iteration: the whole march runs in one
-    /// loop instead of handing each crossing out through `next` (on the report's scene about 4 % fewer
+    /// loop instead of handing each crossing out through `next` (on the report's scene about 1 % fewer
     /// instructions per crossing than a `for` loop; the answers are the same).
     ///
     /// ```

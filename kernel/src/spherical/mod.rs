@@ -36,7 +36,7 @@
 //!
 //! A march is an ordinary iterator, so samplers are iterator adapters. Consumers that take the whole march
 //! (`sum`, `fold`, `for_each`, `count`, and adapters such as `map(..).sum()`) run the serial engine's internal
-//! iteration, about 4 % fewer instructions per crossing than a `for` loop over `next`;
+//! iteration, about 1 % fewer instructions per crossing than a `for` loop over `next`;
 //! [`SerialMarch::fold_in_place`] does the same and keeps the march for [`SerialMarch::error`]. A projection
 //! (§6.1: Σ value × length):
 //!
