@@ -52,10 +52,11 @@ fn plane_t<T: Real>(num: T, den: T, ray: &Line<T>) -> T {
 }
 
 /// The later of a crossing's `t` and the stream's previous event `t_own` (never NaN): the clamp that keeps a
-/// stream's events nondecreasing. A NaN `t` gives `t_own` (as `max` would), in one comparison.
+/// stream's events nondecreasing. A NaN `t` gives `t_own` (as `max` would), and so does a `t` equal to it (so
+/// a root at −0 after a start at +0 stays +0): one comparison, the form of x86-64's `maxsd`.
 #[inline(always)]
 fn later<T: Real>(t: T, t_own: T) -> T {
-    if t >= t_own { t } else { t_own }
+    if t > t_own { t } else { t_own }
 }
 
 /// A run of band steps all at one `t` (a jump through the center or the z axis).
