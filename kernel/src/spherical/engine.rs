@@ -598,14 +598,25 @@ impl<T: Real> SerialMarch<'_, T> {
             // the earliest of the live streams' next events; the first slot on a tie
             let [s0, s1, s2] = &self.streams;
             let (mut slot, mut t, mut band) = (3usize, s0.t, s0.band);
-            if self.live & 1 != 0 {
+            if self.live == 7 {
+                // all three live (most events of most rays): two comparisons
                 slot = 0;
-            }
-            if self.live & 2 != 0 && (slot == 3 || s1.t < t) {
-                (slot, t, band) = (1, s1.t, s1.band);
-            }
-            if self.live & 4 != 0 && (slot == 3 || s2.t < t) {
-                (slot, t, band) = (2, s2.t, s2.band);
+                if s1.t < t {
+                    (slot, t, band) = (1, s1.t, s1.band);
+                }
+                if s2.t < t {
+                    (slot, t, band) = (2, s2.t, s2.band);
+                }
+            } else {
+                if self.live & 1 != 0 {
+                    slot = 0;
+                }
+                if self.live & 2 != 0 && (slot == 3 || s1.t < t) {
+                    (slot, t, band) = (1, s1.t, s1.band);
+                }
+                if self.live & 4 != 0 && (slot == 3 || s2.t < t) {
+                    (slot, t, band) = (2, s2.t, s2.band);
+                }
             }
             if slot == 3 {
                 self.finished = true;
