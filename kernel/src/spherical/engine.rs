@@ -592,10 +592,8 @@ impl<T: Real> SerialMarch<'_, T> {
     #[inline(always)]
     fn step(&mut self) -> Option<CellCrossing<T>> {
         loop {
-            if self.finished {
-                return self.em.take_pending();
-            }
-            // the earliest of the live streams' next events; the first slot on a tie
+            // the earliest of the live streams' next events; the first slot on a tie (none is live once the
+            // march is finished: `finished` is read only then)
             let [s0, s1, s2] = &self.streams;
             let (mut slot, mut t, mut band) = (3usize, s0.t, s0.band);
             if self.live == 7 {
@@ -619,6 +617,9 @@ impl<T: Real> SerialMarch<'_, T> {
                 }
             }
             if slot == 3 {
+                if self.finished {
+                    return self.em.take_pending();
+                }
                 self.finished = true;
                 if let Some(c) = self.em.finish(self.rays.t_max()) {
                     return Some(c);
@@ -627,7 +628,7 @@ impl<T: Real> SerialMarch<'_, T> {
             }
             if self.steps_left == 0 {
                 self.error = Some(MarchError::IterationBound);
-                self.finished = true;
+                self.stop();
                 continue;
             }
             self.steps_left = self.steps_left.wrapping_sub(1);
@@ -636,7 +637,9 @@ impl<T: Real> SerialMarch<'_, T> {
                 self.live &= !(1u8 << slot);
             }
             if slot == 0 && ended && self.axes.rule.beyond_outer_radius(band) {
-                self.finished = true; // left the outer radius for good
+                // left the outer radius for good: no stream is followed further (the emitter, outside now,
+                // then gives only its held crossing)
+                self.live = 0;
             }
             let out = self.em.on(&self.axes.rule, t, slot, band);
             if out.is_some() {
@@ -644,9 +647,16 @@ impl<T: Real> SerialMarch<'_, T> {
             }
             if self.em.unrepresentable {
                 self.error = Some(MarchError::Unrepresentable);
-                self.finished = true;
+                self.stop();
             }
         }
+    }
+
+    /// Stops the march after an error: only the held crossing, if any, is still given.
+    #[inline]
+    fn stop(&mut self) {
+        self.finished = true;
+        self.live = 0;
     }
 }
 
