@@ -97,7 +97,7 @@ impl<T: Real> Scale<T> {
     #[inline]
     pub(crate) fn t_from_scaled(&self, s: T) -> T {
         if self.to_t == T::ZERO {
-            scalbn_cold(s, self.e.saturating_neg())
+            s.scalbn(self.e.saturating_neg())
         } else {
             s * self.to_t
         }
@@ -106,19 +106,11 @@ impl<T: Real> Scale<T> {
     #[inline]
     pub(crate) fn t_to_scaled(&self, t: T) -> T {
         if self.to_s == T::ZERO {
-            scalbn_cold(t, self.e)
+            t.scalbn(self.e)
         } else {
             t * self.to_s
         }
     }
-}
-
-/// `x · 2^k` by libm's `scalbn`, for the rare directions whose rescaling is not a normal number: out of line and
-/// cold, so that the marcher's hot loops keep their registers across the (untaken) call.
-#[cold]
-#[inline(never)]
-fn scalbn_cold<T: Real>(x: T, k: i32) -> T {
-    x.scalbn(k)
 }
 
 /// `(2^k, 2^-k)` when both are normal numbers of `T`, else `(0, 0)`.
