@@ -592,34 +592,22 @@ impl<T: Real> SerialMarch<'_, T> {
     #[inline(always)]
     fn step(&mut self) -> Option<CellCrossing<T>> {
         loop {
-            // the earliest of the live streams' next events; the first slot on a tie (none is live once the
-            // march is finished: `finished` is read only then)
+            if self.finished {
+                return self.em.take_pending();
+            }
+            // the earliest of the live streams' next events; the first slot on a tie
             let [s0, s1, s2] = &self.streams;
             let (mut slot, mut t, mut band) = (3usize, s0.t, s0.band);
-            if self.live == 7 {
-                // all three live (most events of most rays): two comparisons
+            if self.live & 1 != 0 {
                 slot = 0;
-                if s1.t < t {
-                    (slot, t, band) = (1, s1.t, s1.band);
-                }
-                if s2.t < t {
-                    (slot, t, band) = (2, s2.t, s2.band);
-                }
-            } else {
-                if self.live & 1 != 0 {
-                    slot = 0;
-                }
-                if self.live & 2 != 0 && (slot == 3 || s1.t < t) {
-                    (slot, t, band) = (1, s1.t, s1.band);
-                }
-                if self.live & 4 != 0 && (slot == 3 || s2.t < t) {
-                    (slot, t, band) = (2, s2.t, s2.band);
-                }
+            }
+            if self.live & 2 != 0 && (slot == 3 || s1.t < t) {
+                (slot, t, band) = (1, s1.t, s1.band);
+            }
+            if self.live & 4 != 0 && (slot == 3 || s2.t < t) {
+                (slot, t, band) = (2, s2.t, s2.band);
             }
             if slot == 3 {
-                if self.finished {
-                    return self.em.take_pending();
-                }
                 self.finished = true;
                 if let Some(c) = self.em.finish(self.rays.t_max()) {
                     return Some(c);
@@ -628,7 +616,7 @@ impl<T: Real> SerialMarch<'_, T> {
             }
             if self.steps_left == 0 {
                 self.error = Some(MarchError::IterationBound);
-                self.stop();
+                self.finished = true;
                 continue;
             }
             self.steps_left = self.steps_left.wrapping_sub(1);
@@ -637,9 +625,7 @@ impl<T: Real> SerialMarch<'_, T> {
                 self.live &= !(1u8 << slot);
             }
             if slot == 0 && ended && self.axes.rule.beyond_outer_radius(band) {
-                // left the outer radius for good: no stream is followed further (the emitter, outside now,
-                // then gives only its held crossing)
-                self.live = 0;
+                self.finished = true; // left the outer radius for good
             }
             let out = self.em.on(&self.axes.rule, t, slot, band);
             if out.is_some() {
@@ -647,16 +633,9 @@ impl<T: Real> SerialMarch<'_, T> {
             }
             if self.em.unrepresentable {
                 self.error = Some(MarchError::Unrepresentable);
-                self.stop();
+                self.finished = true;
             }
         }
-    }
-
-    /// Stops the march after an error: only the held crossing, if any, is still given.
-    #[inline]
-    fn stop(&mut self) {
-        self.finished = true;
-        self.live = 0;
     }
 }
 
