@@ -229,6 +229,10 @@ pub(crate) struct AzimuthAxis<'a, T> {
     pub full: bool,
     /// The grid's outer radius: the length scale below which a line counts as meeting the z axis.
     pub scale: T,
+    /// The boundaries at π or more counter-clockwise from boundary 0 ([`AzimuthAxis::lower_half_excluded`]) as
+    /// an index range: they are `half_from..boundaries` (computed once; `u32::MAX` in the unlikely case that
+    /// rounding makes them no such suffix, and then the search tests each boundary it visits).
+    half_from: u32,
 }
 
 impl<'a, T: Real> AzimuthAxis<'a, T> {
@@ -261,14 +265,34 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
             }
         }
         let sectors = len.saturating_sub(1);
-        Ok(AzimuthAxis {
+        let mut axis = AzimuthAxis {
             cos,
             sin,
             sectors,
             boundaries: if full { sectors } else { len },
             full,
             scale: T::ZERO,
-        })
+            half_from: u32::MAX,
+        };
+        axis.half_from = axis.half_suffix();
+        Ok(axis)
+    }
+
+    /// The first boundary (from 1) that is at π or more counter-clockwise from boundary 0, when all the
+    /// boundaries after it are as well and none before it is (the boundaries are sorted counter-clockwise, so
+    /// this holds unless rounding decides two boundaries within rounding of φ_0 + π the other way round);
+    /// otherwise `u32::MAX`.
+    fn half_suffix(&self) -> u32 {
+        let mut first = None;
+        for j in 1..self.boundaries {
+            let (c, s) = self.dir_of(j);
+            match (self.lower_half_excluded(c, s), first) {
+                (true, None) => first = Some(j),
+                (false, Some(_)) => return u32::MAX,
+                _ => {}
+            }
+        }
+        first.unwrap_or(self.boundaries)
     }
 
     /// The boundary half-plane `j` (cyclic index below `boundaries`).
@@ -282,6 +306,14 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
     #[inline]
     pub(crate) fn dir_of(&self, j: u32) -> (T, T) {
         self.dir(j as usize)
+    }
+
+    /// The same axis with the half-turn split of [`AzimuthAxis::sector_of`] switched off (each boundary that the
+    /// search visits is tested instead), to check that the two agree.
+    #[cfg(test)]
+    pub(crate) fn without_half_split(mut self) -> Self {
+        self.half_from = u32::MAX;
+        self
     }
 
     /// `(cos, sin)` of boundary `j`.
@@ -316,7 +348,11 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
         // v is at or after boundary j (counter-clockwise from boundary 0) — a prefix of the boundaries.
         let at_or_after = |j: usize| -> bool {
             let (c, s) = self.dir(j);
-            let hj = j != 0 && self.lower_half_excluded(c, s);
+            let hj = if self.half_from == u32::MAX {
+                j != 0 && self.lower_half_excluded(c, s)
+            } else {
+                j >= self.half_from as usize
+            };
             if hj != half_v {
                 return half_v;
             }

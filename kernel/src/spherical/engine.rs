@@ -152,7 +152,7 @@ impl<T: Real> Rays<T> {
         Rays {
             rel: *ray.line(),
             t_max: ray.t_max(),
-            radial: RadialLine::of(ray.line()),
+            radial: RadialLine::unset(ray.line()),
         }
     }
     #[inline(always)]

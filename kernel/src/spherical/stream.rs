@@ -156,6 +156,17 @@ impl<T: Real> RadialLine<T> {
         Some((self.scale.t_from_scaled(a), self.scale.t_from_scaled(b)))
     }
 
+    /// A placeholder until the set-up forms the line (no arithmetic).
+    pub(crate) fn unset(ray: &Line<T>) -> Self {
+        RadialLine {
+            pp: T::ZERO,
+            ww: T::ZERO,
+            pd: T::ZERO,
+            dd: T::ZERO,
+            scale: ray.scale(),
+        }
+    }
+
     /// True before the hinge of r (Lemma 8): `⟨p + t d | d⟩ < 0`, decided without a division. No branch for
     /// `t = ±∞` (a line's start): with a finite `⟨p|d⟩` the sum is then `±∞`, which is the test `t < 0`; an
     /// infinite `⟨p|d⟩` (NaN sum) needs `‖p‖² = ∞`, and then no sphere is entered either way.

@@ -645,3 +645,44 @@ fn ray_entering_the_ball_just_outside_a_cone_five_nanoradians_from_the_minus_z_p
         1e-12,
     );
 }
+
+#[test]
+fn sector_lookup_with_the_half_turn_split_matches_testing_each_boundary() {
+    use super::axes::AzimuthAxis;
+    // a full turn, a wedge across φ = 0, and breakpoints within rounding of φ_0 + π (where the split is decided
+    // by the same sign test as each boundary's own)
+    let full: Vec<f64> = (0..=64).map(|i| f64::from(i) * (2.0 * PI / 64.0)).collect();
+    let wedge: Vec<f64> = (0..=64)
+        .map(|i| -1.0 + f64::from(i) * (5.0 / 64.0))
+        .collect();
+    let ulps = |k: i64| f64::from_bits((0.25 + PI).to_bits().wrapping_add_signed(k));
+    let near_pi = [0.25, ulps(-2), ulps(-1), ulps(0), ulps(1), ulps(2), 5.5];
+    for phi in [&full[..], &wedge[..], &near_pi[..]] {
+        let mut buf = [0.0; 2 * 65];
+        let mut ws = &mut buf[..];
+        let axis = AzimuthAxis::build(phi, &mut ws).unwrap();
+        let plain = axis.without_half_split();
+        // directions all round, each boundary's own direction and its neighbours, and the zero vector
+        let mut dirs: Vec<(f64, f64)> = (0..4096)
+            .map(|i| {
+                let a = f64::from(i) * (2.0 * PI / 4096.0);
+                (a.cos(), a.sin())
+            })
+            .collect();
+        for &p in phi.iter().chain([phi[0] + PI].iter()) {
+            for k in -3..=3 {
+                let a = f64::from_bits(p.to_bits().wrapping_add_signed(k));
+                dirs.push((a.cos(), a.sin()));
+                dirs.push((a.cos() * 1e-300, a.sin() * 1e-300));
+            }
+        }
+        dirs.push((0.0, 0.0));
+        for (x, y) in dirs {
+            assert_eq!(
+                axis.sector_of(x, y),
+                plain.sector_of(x, y),
+                "{phi:?} at ({x}, {y})"
+            );
+        }
+    }
+}
