@@ -7,13 +7,17 @@
 # least MIN bytes (default 1), then the totals of the three groups.
 #
 # Usage: text-by-function.sh ELF [MIN] (needs llvm-objdump, as run.sh finds it, and binutils' addr2line).
+#
+# With WEIGHTS=FILE (lines `hex weight`, the address in lower-case hex without `0x` or leading zeros) each
+# address is charged its weight instead of its size: `profile.sh` charges executed instructions this way.
 set -euo pipefail
 elf=$1
 min=${2:-1}
 objdump=${OBJDUMP:-llvm-objdump}
 
-# The instruction (and literal-pool word) addresses of .text, each with its size, as `hex size`.
+# The instruction (and literal-pool word) addresses of .text, each with its size (or weight), as `hex size`.
 end=$(size -A -x "$elf" | awk '$1 == ".text" { print $2, $3 }')
+if [[ -n ${WEIGHTS:-} ]]; then sizes=$(cat "$WEIGHTS"); else
 sizes=$("$objdump" -d --no-show-raw-insn "$elf" | awk -v end="$end" '
     function hex(s,   i, n) { n = 0; s = tolower(s); sub(/^0x/, "", s)
         for (i = 1; i <= length(s); i++) n = n * 16 + index("0123456789abcdef", substr(s, i, 1)) - 1
@@ -21,6 +25,7 @@ sizes=$("$objdump" -d --no-show-raw-insn "$elf" | awk -v end="$end" '
     /^ +[0-9a-f]+:/ { a = $1; sub(/:$/, "", a); addr[n++] = hex(a) }
     END { split(end, e, " "); addr[n] = hex(e[1]) + hex(e[2])
         for (i = 0; i < n; i++) if (addr[i + 1] > addr[i]) printf "%x %d\n", addr[i], addr[i + 1] - addr[i] }')
+fi
 
 awk '{ print "0x" $1 }' <<<"$sizes" | addr2line -a -f -i -C -e "$elf" | awk -v min="$min" -v sizes="$sizes" '
     BEGIN { n = split(sizes, s, "\n"); for (i = 1; i <= n; i++) { split(s[i], p, " "); size["0x" p[1]] = p[2] } }
