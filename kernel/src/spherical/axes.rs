@@ -198,17 +198,16 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
     }
 
     /// Whether the direction `d` lies on cone `k` within the rounding of its equation (`d` parallel to a
-    /// generator, as far as the arithmetic can tell): `|cos²θ_k ρ² − sin²θ_k d_z²| <= 8ε (cos²θ_k ρ² +
-    /// sin²θ_k d_z²)` on the cone's own nappe.
+    /// generator, as far as the arithmetic can tell, by the cone solver's own test
+    /// [`AxialCone::leading_coefficient`]) on the cone's own nappe.
     pub(crate) fn along_cone(&self, k: u32, d: V3<T>) -> bool {
-        let (Some(&c), Some(&s)) = (self.cos.get(k as usize), self.sin.get(k as usize)) else {
+        let Some(cone) = self.cone(k) else {
             return false;
         };
         let d = unit_scaled(d);
-        let a = c * c * (d.x * d.x + d.y * d.y);
-        let b = s * s * d.z * d.z;
+        let c = cone.cos();
         let nappe = c == T::ZERO || (d.z > T::ZERO) == (c > T::ZERO);
-        nappe && (a - b).abs() <= T::EPSILON * T::from_f64(8.0) * (a + b)
+        nappe && !cone.leading_coefficient(d).1
     }
 }
 

@@ -121,6 +121,20 @@ impl<T: Real> AxialCone<T> {
         self.sin
     }
 
+    /// The leading coefficient `A = c²(d_x² + d_y²) − s² d_z²` of the crossing quadratic for the direction `d`
+    /// (seed 001 §4.4), and whether it is clear of its own rounding, `|A| > 8ε (c²(d_x² + d_y²) + s² d_z²)`:
+    /// when it is not, `d` is parallel to a generator of the double cone as far as the arithmetic can tell.
+    #[inline]
+    pub(crate) fn leading_coefficient(&self, d: V3<T>) -> (T, bool) {
+        let horizontal = self.cos2 * (d.x * d.x + d.y * d.y);
+        let vertical = self.sin2 * d.z * d.z;
+        let a = horizontal - vertical;
+        (
+            a,
+            a.abs() > T::from_f64(8.0) * T::EPSILON * (horizontal + vertical),
+        )
+    }
+
     /// The side of a point given relative to the apex.
     fn side_of_relative(&self, q: V3<T>) -> Option<Side> {
         let (c, s) = (self.cos, self.sin);
@@ -223,7 +237,7 @@ impl<T: Real> AxialCone<T> {
             let root = (-q.z / d.z, Side::from_bool(d.z < T::ZERO));
             return ConeRoots::of([root, root], 1);
         }
-        let a = c2 * (d.x * d.x + d.y * d.y) - s2 * d.z * d.z;
+        let (a, a_clear) = self.leading_coefficient(d);
         let b = c2 * (q.x * d.x + q.y * d.y) - s2 * q.z * d.z;
         let cc = c2 * (q.x * q.x + q.y * q.y) - s2 * q.z * q.z;
         let disc = s2 * (w.x * w.x + w.y * w.y) - c2 * w.z * w.z;
@@ -269,8 +283,7 @@ impl<T: Real> AxialCone<T> {
             // A line parallel to a generator (A = 0 up to rounding) with a zero discriminant lies in the tangent
             // plane along that generator and never meets the cone (the line through the apex was handled above):
             // no crossing, not a touch at the meaningless root of a noise-sized A.
-            let a_scale = c2 * (d.x * d.x + d.y * d.y) + s2 * d.z * d.z;
-            if a.abs() <= T::from_f64(8.0) * T::EPSILON * a_scale {
+            if !a_clear {
                 return no_roots;
             }
             // Tangent along a generator: a touch, from the side the line is on (the sign of A) and back. The double
@@ -302,8 +315,6 @@ impl<T: Real> AxialCone<T> {
             //   plane z = k on which the line's closest approach to the apex lies.
             // Only when A is within rounding of 0 (the line nearly parallel to a generator, one root far away) or
             // (d × w)_z is 0 is z evaluated at the roots.
-            let a_scale = c2 * (d.x * d.x + d.y * d.y) + s2 * d.z * d.z;
-            let a_clear = a.abs() > T::from_f64(8.0) * T::EPSILON * a_scale;
             let dxw_z = d.x * w.y - d.y * w.x;
             let dec = (s_dec, into_when_q_rises.flip());
             let inc = (s_inc, into_when_q_rises);
