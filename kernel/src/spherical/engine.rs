@@ -197,6 +197,7 @@ fn next_event<T: Real>(
             .height
             .as_ref()
             .is_some_and(|h| s.next_height(h, &rays.rel, rays.t_max())),
+        StepKind::Walk => s.next_walk(axes.azimuth.boundaries.max(1), rays.t_max()),
         StepKind::None => false,
     }
 }

@@ -59,14 +59,6 @@ fn later<T: Real>(t: T, t_own: T) -> T {
     if t > t_own { t } else { t_own }
 }
 
-/// A run of band steps all at one `t` (a jump through the center or the z axis).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Walk<T> {
-    t: T,
-    remaining: u32,
-    up: bool,
-}
-
 /// The state of one coordinate's stream: the band entered and the `t` of its last event (its start before the
 /// first) — which, once the stream has produced an event, *is* that event: the engines read a coordinate's next
 /// crossing from here, so it is stored once — and what the coordinate's kind needs to find the next one.
@@ -101,11 +93,9 @@ enum Kind<T> {
         cache_j: u32,
         cache_t: T,
         cache_side: Side,
-        walk: Option<Walk<T>>,
     },
     Azimuth {
         ccw: bool,
-        walk: Option<Walk<T>>,
         /// The horizontal direction where the remaining sweep of φ starts (the last boundary crossed).
         from: (T, T),
         /// Boundaries crossed so far: a sweep of less than π crosses each at most once, so never more than
@@ -114,6 +104,15 @@ enum Kind<T> {
     },
     Height {
         up: bool,
+    },
+    /// A run of band steps all at one `t`, the jump of θ through the center or of φ across the z axis (seed 001
+    /// §3.1.4), after which the stream ends: `remaining` steps up or down (`cyclic`: sectors, modulo the
+    /// azimuth's boundary count).
+    Walk {
+        t: T,
+        remaining: u32,
+        up: bool,
+        cyclic: bool,
     },
 }
 
@@ -198,6 +197,16 @@ fn cyc(s: u32, nb: u32) -> u32 {
     s.checked_rem(nb).unwrap_or(0)
 }
 
+/// The sector after (`ccw`) or before sector `s` of `nb`, cyclically.
+#[inline(always)]
+fn cyclic_step(s: u32, ccw: bool, nb: u32) -> u32 {
+    if ccw {
+        cyc(s.wrapping_add(1), nb)
+    } else {
+        cyc(s.wrapping_add(nb).wrapping_sub(1), nb)
+    }
+}
+
 /// The way round from sector `from` to sector `to` for a jump of φ taken in zero length: the one that does not
 /// pass the outside sector of a wedge when there is one (there is when both ends are inside), else `prefer`
 /// (the turning sense) if given, else the shorter (counter-clockwise on a tie). Returns `(ccw, steps)`.
@@ -218,11 +227,7 @@ fn walk_way<T: Real>(
         let passes = |steps: u32, dir_ccw: bool| -> bool {
             let mut s = from;
             for _ in 1..steps {
-                s = if dir_ccw {
-                    cyc(s.wrapping_add(1), nb)
-                } else {
-                    cyc(s.wrapping_add(nb).wrapping_sub(1), nb)
-                };
+                s = cyclic_step(s, dir_ccw, nb);
                 if s == out {
                     return true;
                 }
@@ -254,6 +259,7 @@ pub(crate) enum StepKind {
     Zenith,
     Azimuth,
     Height,
+    Walk,
     None,
 }
 
@@ -266,6 +272,7 @@ impl<T: Real> Stream<T> {
             Kind::Zenith { .. } => StepKind::Zenith,
             Kind::Azimuth { .. } => StepKind::Azimuth,
             Kind::Height { .. } => StepKind::Height,
+            Kind::Walk { .. } => StepKind::Walk,
             Kind::Fixed => StepKind::None,
         }
     }
@@ -341,17 +348,11 @@ impl<T: Real> Stream<T> {
                 Stream {
                     band: before,
                     t: t0,
-                    kind: Kind::Zenith {
+                    kind: Kind::Walk {
+                        t: t_c,
+                        remaining: after.abs_diff(before),
                         up: after > before,
-                        switched: true,
-                        cache_j: NO_CACHE,
-                        cache_t: T::ZERO,
-                        cache_side: Side::Negative,
-                        walk: Some(Walk {
-                            t: t_c,
-                            remaining: after.abs_diff(before),
-                            up: after > before,
-                        }),
+                        cyclic: false,
                     },
                 },
                 before,
@@ -385,7 +386,6 @@ impl<T: Real> Stream<T> {
                     cache_j: NO_CACHE,
                     cache_t: T::ZERO,
                     cache_side: Side::Negative,
-                    walk: None,
                 },
             },
             band,
@@ -425,15 +425,11 @@ impl<T: Real> Stream<T> {
                 Stream {
                     band: before,
                     t: t0,
-                    kind: Kind::Azimuth {
-                        ccw,
-                        from: (-d.x, -d.y),
-                        crossed: 0,
-                        walk: Some(Walk {
-                            t: t_a,
-                            remaining: steps,
-                            up: ccw,
-                        }),
+                    kind: Kind::Walk {
+                        t: t_a,
+                        remaining: steps,
+                        up: ccw,
+                        cyclic: true,
                     },
                 },
                 before,
@@ -455,7 +451,6 @@ impl<T: Real> Stream<T> {
                 t: t0,
                 kind: Kind::Azimuth {
                     ccw: wz > T::ZERO,
-                    walk: None,
                     from,
                     crossed: 0,
                 },
@@ -576,27 +571,11 @@ impl<T: Real> Stream<T> {
             cache_j,
             cache_t,
             cache_side,
-            walk,
         } = &mut self.kind
         else {
             return false;
         };
         let (band, t_own) = (&mut self.band, &mut self.t);
-        if let Some(w) = walk {
-            if w.remaining == 0 || w.t > t_max {
-                self.kind = Kind::Fixed;
-                return false;
-            }
-            w.remaining = w.remaining.saturating_sub(1);
-            *band = if w.up {
-                band.saturating_add(1)
-            } else {
-                band.saturating_sub(1)
-            };
-            let t = later(w.t, *t_own);
-            *t_own = t;
-            return true;
-        }
         for _ in 0..2 {
             // the cone to cross and the side to enter (band 0 has no cone below it, band `len` none above)
             let (j, want) = if *up {
@@ -657,7 +636,7 @@ impl<T: Real> Stream<T> {
         let b = *band;
         let on_limit_boundary =
             b.abs_diff(target) == 1 && axis.along_cone(b.min(target), ray.scaled_dir());
-        if target != b && !on_limit_boundary && walk.is_none() {
+        if target != b && !on_limit_boundary {
             // One band toward the limit, then the ordinary search resumes in that direction only (so the
             // remaining cones are still crossed where the solver sees them). Each repair moves toward the
             // limit band, so there are at most as many repairs as bands.
@@ -689,35 +668,12 @@ impl<T: Real> Stream<T> {
         ray: &Line<T>,
         t_max: T,
     ) -> bool {
-        let Kind::Azimuth {
-            ccw,
-            walk,
-            from,
-            crossed,
-        } = &mut self.kind
-        else {
+        let Kind::Azimuth { ccw, from, crossed } = &mut self.kind else {
             return false;
         };
         let (sector, t_own) = (&mut self.band, &mut self.t);
         let nb = axis.boundaries.max(1);
-        let step = |s: u32, ccw: bool| -> u32 {
-            if ccw {
-                cyc(s.wrapping_add(1), nb)
-            } else {
-                cyc(s.wrapping_add(nb).wrapping_sub(1), nb)
-            }
-        };
-        if let Some(w) = walk {
-            if w.remaining == 0 || w.t > t_max {
-                self.kind = Kind::Fixed;
-                return false;
-            }
-            w.remaining = w.remaining.saturating_sub(1);
-            *sector = step(*sector, w.up);
-            let t = later(w.t, *t_own);
-            *t_own = t;
-            return true;
-        }
+        let step = |s: u32, ccw: bool| cyclic_step(s, ccw, nb);
         let j = if *ccw { step(*sector, true) } else { *sector };
         // Topology first: the boundary is crossed only if its direction lies in the arc that φ still sweeps,
         // from the current point's direction to the direction of d (less than π, Lemma 6). Sign tests only.
@@ -755,10 +711,9 @@ impl<T: Real> Stream<T> {
     /// the line passes within rounding of the z axis the half-plane tests cannot order the crossings there; they
     /// are completed here, at the closest approach to the axis, in the turning sense.
     fn complete_azimuth(&mut self, axis: &AzimuthAxis<'_, T>, ray: &Line<T>, t_max: T) -> bool {
-        let Kind::Azimuth { ccw, walk, .. } = &mut self.kind else {
+        let Kind::Azimuth { ccw, .. } = self.kind else {
             return false;
         };
-        let sector = &mut self.band;
         let d = ray.scaled_dir();
         let p = ray.origin();
         // the cheap tests first: a line that passes the z axis clearly (every ordinary ray) ends here
@@ -767,12 +722,12 @@ impl<T: Real> Stream<T> {
                 * T::from_f64(64.0)
                 * p.x.abs().max(p.y.abs()).max(axis.scale)
                 * d.x.abs().max(d.y.abs());
-        if !near_axis || walk.is_some() {
+        if !near_axis {
             self.kind = Kind::Fixed;
             return false;
         }
         let target = axis.sector_of(d.x, d.y);
-        let (way, steps) = walk_way(axis, *sector, target, Some(*ccw));
+        let (way, steps) = walk_way(axis, self.band, target, Some(ccw));
         let on_boundary = (0..axis.boundaries).any(|k| {
             let (c, s) = axis.dir_of(k);
             c * d.y - s * d.x == T::ZERO && c * d.x + s * d.y > T::ZERO
@@ -782,12 +737,42 @@ impl<T: Real> Stream<T> {
             return false;
         }
         let s_a = -(p.x * d.x + p.y * d.y) / (d.x * d.x + d.y * d.y);
-        *walk = Some(Walk {
+        self.kind = Kind::Walk {
             t: ray.t_from_scaled(s_a),
             remaining: steps,
             up: way,
-        });
-        self.next_azimuth(axis, ray, t_max)
+            cyclic: true,
+        };
+        self.next_walk(axis.boundaries.max(1), t_max)
+    }
+
+    /// The next step of a walk, at the walk's `t` (clamped to the last event); false when the walk is done or
+    /// its `t` lies past `t_max`. `nb` is the azimuth's boundary count (for a cyclic walk).
+    #[inline(always)]
+    pub(crate) fn next_walk(&mut self, nb: u32, t_max: T) -> bool {
+        let Kind::Walk {
+            t,
+            remaining,
+            up,
+            cyclic,
+        } = &mut self.kind
+        else {
+            return false;
+        };
+        if *remaining == 0 || *t > t_max {
+            self.kind = Kind::Fixed;
+            return false;
+        }
+        *remaining = remaining.saturating_sub(1);
+        self.band = if *cyclic {
+            cyclic_step(self.band, *up, nb)
+        } else if *up {
+            self.band.saturating_add(1)
+        } else {
+            self.band.saturating_sub(1)
+        };
+        self.t = later(*t, self.t);
+        true
     }
 
     /// The next height event (one division); false when there is none.

@@ -504,9 +504,9 @@ fn size_of_the_serial_iterator() {
     let s64 = core::mem::size_of::<SerialMarch<'static, f64>>();
     let s32 = core::mem::size_of::<SerialMarch<'static, f32>>();
     std::println!("size_of SerialMarch: f64 {s64} bytes, f32 {s32} bytes");
-    // measured: 432 and 272 (the ray's line in the grid's frame is 112 bytes of it in f64, the radius stream's
-    // line 56, each stream 56); the design goal of 192 and 128 is not reached
-    assert!(s64 <= 432 && s32 <= 272, "{s64} {s32}");
+    // measured: 384 and 232 (the ray's line in the grid's frame is 112 bytes of it in f64, the radius stream's
+    // line 56, each stream 40); the design goal of 192 and 128 is not reached
+    assert!(s64 <= 384 && s32 <= 232, "{s64} {s32}");
 }
 
 #[test]
