@@ -6,7 +6,7 @@
 //! equal `t` by coordinate (radius first, then the grid's second and third coordinate) — so they agree exactly.
 
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
-use super::stream::{Event, RadialLine, StepKind, Stream};
+use super::stream::{Event, RadialLine, SecondRoots, StepKind, Stream};
 use super::{Axis, CellCrossing, MarchError};
 use crate::ray::{Line, Ray};
 use crate::real::Real;
@@ -169,9 +169,10 @@ fn next_event_outlined<T: Real>(
     axes: &Axes<'_, T>,
     rays: &Rays<T>,
     streams: &mut [Stream<T>; 3],
+    roots: &mut SecondRoots<T>,
     slot: usize,
 ) -> bool {
-    next_event(axes, rays, streams, slot)
+    next_event(axes, rays, streams, roots, slot)
 }
 
 /// Advances slot `slot`'s stream to its next event (then its `t` and `band`); false when it has none. Inlined
@@ -181,6 +182,7 @@ fn next_event<T: Real>(
     axes: &Axes<'_, T>,
     rays: &Rays<T>,
     streams: &mut [Stream<T>; 3],
+    roots: &mut SecondRoots<T>,
     slot: usize,
 ) -> bool {
     let Some(s) = streams.get_mut(slot) else {
@@ -191,7 +193,7 @@ fn next_event<T: Real>(
         StepKind::Zenith => axes
             .zenith
             .as_ref()
-            .is_some_and(|z| s.next_zenith(z, &rays.rel, rays.t_max())),
+            .is_some_and(|z| s.next_zenith(z, &rays.rel, rays.t_max(), roots)),
         StepKind::Azimuth => s.next_azimuth(&axes.azimuth, &rays.rel, rays.t_max()),
         StepKind::Height => axes
             .height
@@ -282,6 +284,7 @@ fn setup<T: Real>(
     ray: &Ray<T>,
     rays: &mut Rays<T>,
     streams: &mut [Stream<T>; 3],
+    roots: &mut SecondRoots<T>,
 ) -> Result<Option<T>, MarchError> {
     // the ray's line in the grid's frame, formed in place (no copies of it in this frame)
     rays.rel = *ray.line();
@@ -310,7 +313,7 @@ fn setup<T: Real>(
     if rband >= axes.radial.len {
         let [s0, ..] = streams;
         *s0 = rs;
-        if !next_event_outlined(axes, rays, streams, 0) {
+        if !next_event_outlined(axes, rays, streams, roots, 0) {
             return Ok(None);
         }
         let [s0, ..] = streams;
@@ -497,6 +500,8 @@ pub struct SerialMarch<'g, T> {
     rays: Rays<T>,
     /// Each coordinate's stream, at its next event while it is live.
     streams: [Stream<T>; 3],
+    /// The zenith stream's kept second roots.
+    cones: SecondRoots<T>,
     em: Emitter<T>,
     /// Bit `s` is set while stream `s` is live.
     live: u8,
@@ -511,7 +516,8 @@ impl<'g, T: Real> SerialMarch<'g, T> {
         // (a march that does not start keeps an empty emitter; `finished` is set)
         let mut rays = Rays::of(ray);
         let mut streams = [Stream::fixed(0); 3];
-        let (t0, error) = match setup(axes, ray, &mut rays, &mut streams) {
+        let mut cones = SecondRoots::EMPTY;
+        let (t0, error) = match setup(axes, ray, &mut rays, &mut streams, &mut cones) {
             Ok(t0) => (t0, None),
             Err(e) => (None, Some(e)),
         };
@@ -520,7 +526,7 @@ impl<'g, T: Real> SerialMarch<'g, T> {
         if t0.is_some() {
             for slot in 0..3 {
                 // its first event, or it ends
-                if next_event_outlined(axes, &rays, &mut streams, slot) {
+                if next_event_outlined(axes, &rays, &mut streams, &mut cones, slot) {
                     live |= 1u8 << slot;
                 }
             }
@@ -529,6 +535,7 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             axes,
             rays,
             streams,
+            cones,
             em,
             live,
             steps_left: axes.max_events,
@@ -621,7 +628,13 @@ impl<T: Real> SerialMarch<'_, T> {
                 continue;
             }
             self.steps_left = self.steps_left.wrapping_sub(1);
-            let ended = !next_event(self.axes, &self.rays, &mut self.streams, slot);
+            let ended = !next_event(
+                self.axes,
+                &self.rays,
+                &mut self.streams,
+                &mut self.cones,
+                slot,
+            );
             if ended {
                 self.live &= !(1u8 << slot);
             }
@@ -708,7 +721,8 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
         let m = self;
         let mut rays = Rays::of(ray);
         let mut streams = [Stream::fixed(0); 3];
-        let Some(t0) = setup(axes, ray, &mut rays, &mut streams)? else {
+        let mut cones = SecondRoots::EMPTY;
+        let Some(t0) = setup(axes, ray, &mut rays, &mut streams, &mut cones)? else {
             return Ok(());
         };
         let bands = streams.map(|s| s.band);
@@ -717,7 +731,7 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
             let list = m.lists.get_mut(slot).ok_or(MarchError::IterationBound)?;
             let mut last_band = bands.get(slot).copied().unwrap_or(0);
             let mut last_t = None;
-            while next_event(axes, &rays, &mut streams, slot) {
+            while next_event(axes, &rays, &mut streams, &mut cones, slot) {
                 let Some(&Stream { t, band: b, .. }) = streams.get(slot) else {
                     break;
                 };

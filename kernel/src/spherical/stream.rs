@@ -71,6 +71,89 @@ pub(crate) struct Stream<T> {
     kind: Kind<T>,
 }
 
+/// How many of a zenith stream's second roots are kept (a power of two, at most 8).
+const SECOND_ROOTS: usize = 8;
+
+/// The second roots of the cones a zenith stream has crossed, the latest last: `(cone, t, side entered)`. θ is
+/// ditone along a line (Lemma 4), so the cones crossed before its turn are crossed back after it in the reverse
+/// order, each at the other root of the solve that found its first crossing: a last-in-first-out stack of those
+/// roots saves the second solve. Each kept root is the same bits a new solve of that cone gives (the solve is a
+/// function of the line and the cone alone), so keeping or losing one changes no answer. A ring of
+/// [`SECOND_ROOTS`] entries: when it is full, a push drops the oldest (the one needed last); a cone whose index
+/// does not fit 16 bits is not kept.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct SecondRoots<T> {
+    t: [T; SECOND_ROOTS],
+    cone: [u16; SECOND_ROOTS],
+    /// Bit `k`: entry `k` enters the positive side.
+    positive: u8,
+    /// The ring's oldest entry and its number of entries.
+    start: u8,
+    len: u8,
+}
+
+impl<T: Real> SecondRoots<T> {
+    /// No root kept.
+    pub(crate) const EMPTY: Self = SecondRoots {
+        t: [T::ZERO; SECOND_ROOTS],
+        cone: [0; SECOND_ROOTS],
+        positive: 0,
+        start: 0,
+        len: 0,
+    };
+
+    #[inline(always)]
+    fn slot(&self, k: u8) -> usize {
+        usize::from(self.start.wrapping_add(k)) & (SECOND_ROOTS - 1)
+    }
+
+    /// The latest root kept.
+    #[inline(always)]
+    fn last(&self) -> Option<(u32, T, Side)> {
+        let k = self.slot(self.len.checked_sub(1)?);
+        let side = Side::from_bool(self.positive & (1u8 << (k & 7)) != 0);
+        Some((u32::from(*self.cone.get(k)?), *self.t.get(k)?, side))
+    }
+
+    #[inline(always)]
+    fn pop(&mut self) {
+        self.len = self.len.saturating_sub(1);
+    }
+
+    /// The number of roots kept.
+    #[cfg(test)]
+    pub(crate) fn kept(&self) -> u8 {
+        self.len
+    }
+
+    #[inline(always)]
+    fn clear(&mut self) {
+        self.len = 0;
+    }
+
+    #[inline(always)]
+    fn push(&mut self, cone: u32, t: T, side: Side) {
+        let Ok(cone) = u16::try_from(cone) else {
+            return;
+        };
+        if usize::from(self.len) == SECOND_ROOTS {
+            self.start = self.start.wrapping_add(1);
+            self.len = self.len.saturating_sub(1);
+        }
+        let k = self.slot(self.len);
+        if let (Some(c), Some(x)) = (self.cone.get_mut(k), self.t.get_mut(k)) {
+            (*c, *x) = (cone, t);
+            let bit = 1u8 << (k & 7);
+            self.positive = if side == Side::Positive {
+                self.positive | bit
+            } else {
+                self.positive & !bit
+            };
+            self.len = self.len.saturating_add(1);
+        }
+    }
+}
+
 /// A cache index that matches no sphere or cone.
 const NO_CACHE: u32 = u32::MAX;
 
@@ -89,10 +172,6 @@ enum Kind<T> {
     Zenith {
         up: bool,
         switched: bool,
-        /// The other root of the cone last crossed: its cone (`NO_CACHE` when none), `t` and side entered.
-        cache_j: u32,
-        cache_t: T,
-        cache_side: Side,
     },
     Azimuth {
         ccw: bool,
@@ -383,9 +462,6 @@ impl<T: Real> Stream<T> {
                 kind: Kind::Zenith {
                     up,
                     switched: false,
-                    cache_j: NO_CACHE,
-                    cache_t: T::ZERO,
-                    cache_side: Side::Negative,
                 },
             },
             band,
@@ -564,15 +640,9 @@ impl<T: Real> Stream<T> {
         axis: &ZenithAxis<'_, T>,
         ray: &Line<T>,
         t_max: T,
+        roots: &mut SecondRoots<T>,
     ) -> bool {
-        let Kind::Zenith {
-            up,
-            switched,
-            cache_j,
-            cache_t,
-            cache_side,
-        } = &mut self.kind
-        else {
+        let Kind::Zenith { up, switched } = &mut self.kind else {
             return false;
         };
         let (band, t_own) = (&mut self.band, &mut self.t);
@@ -584,13 +654,17 @@ impl<T: Real> Stream<T> {
                 (band.wrapping_sub(1), Side::Negative)
             };
             if j < axis.len {
-                // the other root of this cone, cached when it was solved, or a solve: the first root entering
-                // `want` at or after the stream's last event, and the root after it (cached: the line may
-                // cross the same cone back next)
+                // the other root of this cone, kept when it was solved (the latest kept root: θ turns once, so
+                // the cones crossed before its turn are crossed back in the reverse order), or a solve: the
+                // first root entering `want` at or after the stream's last event, and the root after it (kept:
+                // the line may cross the same cone back later)
                 let mut hit = None;
-                let mut next_cache = NO_CACHE;
-                if *cache_j == j && *cache_side == want && *cache_t >= *t_own {
-                    hit = Some(*cache_t);
+                let mut keep = None;
+                let kept = roots
+                    .last()
+                    .filter(|&(kj, kt, ks)| kj == j && ks == want && kt >= *t_own);
+                if let Some((_, kt, _)) = kept {
+                    hit = Some(kt);
                 } else if let Some(cone) = axis.cone(j) {
                     let ConeRoots {
                         s: [s0, s1],
@@ -601,7 +675,7 @@ impl<T: Real> Stream<T> {
                     if n >= 1 && into0 == want && t0 >= *t_own {
                         hit = Some(t0);
                         if n == 2 {
-                            (next_cache, *cache_t, *cache_side) = (j, ray.t_from_scaled(s1), into1);
+                            keep = Some((j, ray.t_from_scaled(s1), into1));
                         }
                     } else if n == 2 && into1 == want {
                         let t1 = ray.t_from_scaled(s1);
@@ -615,7 +689,11 @@ impl<T: Real> Stream<T> {
                         self.kind = Kind::Fixed;
                         return false;
                     }
-                    *cache_j = next_cache;
+                    if kept.is_some() {
+                        roots.pop();
+                    } else if let Some((kj, kt, ks)) = keep {
+                        roots.push(kj, kt, ks);
+                    }
                     *band = if *up { j.saturating_add(1) } else { j };
                     *t_own = t;
                     return true;
@@ -647,7 +725,7 @@ impl<T: Real> Stream<T> {
             }
             *up = target > b;
             *switched = true;
-            *cache_j = NO_CACHE;
+            roots.clear();
             *band = if *up {
                 b.saturating_add(1)
             } else {
