@@ -154,7 +154,7 @@ impl<T: Real> SecondRoots<T> {
     }
 }
 
-/// A cache index that matches no sphere or cone.
+/// A cache index that matches no sphere (the radius stream's one-entry cache).
 const NO_CACHE: u32 = u32::MAX;
 
 /// What a stream of each kind keeps besides its band and `t`.
