@@ -68,7 +68,22 @@ pub mod tessellate;
 pub mod vec3;
 
 pub use ray::{Ray, RayError};
+
 #[cfg(feature = "fast-math")]
 pub use real::F32Fast;
 pub use real::Real;
 pub use vec3::V3;
+
+/// Helpers shared by the kernel's unit tests.
+#[cfg(test)]
+pub(crate) mod test_util {
+    /// A xorshift generator of uniform numbers in `[0, 1)` (53 bits), reproducible from `seed` (nonzero).
+    pub(crate) fn xorshift_uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+}

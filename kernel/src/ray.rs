@@ -142,6 +142,17 @@ impl<T: Real> Ray<T> {
             return Err(RayError::ZeroDirection);
         }
         // m = 2^ilogb(m) * [1, 2): dividing by 2^ilogb(m) is exact.
+        if let Some((e, to_t)) = m.binade() {
+            if let Some((_, to_s)) = to_t.binade() {
+                // both powers of two normal: the scaling is a multiplication (no libm call)
+                return Ok(Self::with_scaled(
+                    origin,
+                    dir,
+                    dir.scaled(to_t),
+                    Scale { e, to_t, to_s },
+                ));
+            }
+        }
         let e = m.ilogb();
         let (to_t, to_s) = normal_powers_of_two::<T>(e.saturating_neg());
         let d = if to_t == T::ZERO {

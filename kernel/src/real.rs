@@ -129,6 +129,19 @@ pub trait Real:
     fn scalbn(self, k: i32) -> Self;
     /// The binary exponent: `floor(log2(|self|))` for finite non-zero values; see `libm::ilogb` otherwise.
     fn ilogb(self) -> i32;
+    /// For a positive normal number below the top binade, `(ilogb(self), 2^-ilogb(self))` (both powers of two
+    /// are then normal numbers, so a multiplication by either is exact unless its result leaves the normal
+    /// range — and then it is what `scalbn` gives, one correctly rounded product); `None` for anything else.
+    /// Read from the bits for the primitive types (no libm call).
+    #[inline]
+    fn binade(self) -> Option<(i32, Self)> {
+        if !(self >= Self::MIN_POSITIVE && self < Self::MAX) {
+            return None;
+        }
+        let e = self.ilogb();
+        let inv = Self::ONE.scalbn(e.saturating_neg());
+        (inv >= Self::MIN_POSITIVE && inv.is_finite() && e != Self::MAX.ilogb()).then_some((e, inv))
+    }
     /// The nearest integer, halfway cases away from zero (libm's `round`; `f32` and `F32Fast`: `roundf`, in
     /// `f32` arithmetic).
     #[inline]
@@ -195,7 +208,7 @@ pub trait Real:
 
 macro_rules! impl_real_prim {
     ($t:ty, $name:literal, $sqrt:path, $sin:path, $cos:path, $atan2:path, $fma:path, $scalbn:path, $ilogb:path,
-     $round:path, $cbrt:path) => {
+     $round:path, $cbrt:path, $bits:ty, $fraction_bits:literal, $bias:literal) => {
         impl Real for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
@@ -257,6 +270,20 @@ macro_rules! impl_real_prim {
                 $ilogb(self)
             }
             #[inline]
+            fn binade(self) -> Option<(i32, Self)> {
+                // the biased exponent of a positive number (a negative one has the sign bit above it)
+                let biased = self.to_bits() >> $fraction_bits;
+                let top: $bits = 2 * $bias; // the biased exponent of the top binade, whose 2^-e is subnormal
+                if biased == 0 || biased >= top {
+                    return None;
+                }
+                let e = i32::try_from(biased).ok()?.wrapping_sub($bias);
+                Some((
+                    e,
+                    <$t>::from_bits(top.wrapping_sub(biased) << $fraction_bits),
+                ))
+            }
+            #[inline]
             fn round(self) -> Self {
                 $round(self)
             }
@@ -291,7 +318,10 @@ impl_real_prim!(
     libm::scalbn,
     libm::ilogb,
     libm::round,
-    libm::cbrt
+    libm::cbrt,
+    u64,
+    52,
+    1023
 );
 /// The `f32` square root: the FPU's `VSQRT.F32` on hard-float ARM (a Cortex-M4F), through the one-instruction
 /// crate `curvicast-arm-sqrt` that holds its `unsafe` block; libm's elsewhere. Both are correctly rounded, so
@@ -312,7 +342,10 @@ impl_real_prim!(
     libm::scalbnf,
     libm::ilogbf,
     libm::roundf,
-    cbrt_f32
+    cbrt_f32,
+    u32,
+    23,
+    127
 );
 
 /// Kahan's first guess at a cube root from the bits of `x`: the biased exponent and significand, read as one
@@ -579,6 +612,10 @@ mod fast {
             libm::ilogbf(self.0)
         }
         #[inline]
+        fn binade(self) -> Option<(i32, Self)> {
+            self.0.binade().map(|(e, inv)| (e, F32Fast(inv)))
+        }
+        #[inline]
         fn from_f32(x: f32) -> Self {
             F32Fast(x)
         }
@@ -730,6 +767,55 @@ mod tests {
         assert!(super::cbrt_f32(-0.0).is_sign_negative());
         assert!(super::cbrt_f32(f32::NAN).is_nan());
         assert_eq!(super::cbrt_f32(f32::NEG_INFINITY), f32::NEG_INFINITY);
+    }
+
+    /// `binade` against libm's `ilogb` and `scalbn` (its generic default), on every binade of each type, both
+    /// ends of each, and the values it must refuse (zero, subnormals, the top binade, negatives, ∞, NaN).
+    fn check_binade<T: Real>(bits_of: impl Fn(T) -> u64) {
+        let reference = |x: T| -> Option<(i32, T)> {
+            if !(x >= T::MIN_POSITIVE && x < T::MAX) || x.ilogb() == T::MAX.ilogb() {
+                return None;
+            }
+            Some((x.ilogb(), T::ONE.scalbn(-x.ilogb())))
+        };
+        let same = |a: Option<(i32, T)>, b: Option<(i32, T)>| match (a, b) {
+            (Some((e, x)), Some((f, y))) => e == f && bits_of(x) == bits_of(y),
+            (None, None) => true,
+            _ => false,
+        };
+        let mut x = T::MIN_POSITIVE.scalbn(-20);
+        let mut count = 0;
+        while x.is_finite() {
+            for v in [
+                x,
+                x * T::from_f64(1.5),
+                x * T::TWO * (T::ONE - T::EPSILON),
+                -x,
+            ] {
+                assert!(same(v.binade(), reference(v)), "{}", v.to_f64());
+                count += 1;
+            }
+            x *= T::TWO;
+        }
+        assert!(count >= 4 * (254 + 20));
+        for v in [
+            T::ZERO,
+            T::MAX,
+            T::INFINITY,
+            T::NEG_INFINITY,
+            T::NAN,
+            T::ONE,
+        ] {
+            assert!(same(v.binade(), reference(v)), "{}", v.to_f64());
+        }
+        assert_eq!(T::ONE.binade().map(|(e, _)| e), Some(0));
+        assert_eq!(T::MAX.binade(), None);
+    }
+
+    #[test]
+    fn binade_matches_ilogb_and_scalbn_on_every_binade() {
+        check_binade::<f64>(f64::to_bits);
+        check_binade::<f32>(|x| u64::from(x.to_bits()));
     }
 
     #[test]

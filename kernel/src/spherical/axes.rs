@@ -63,11 +63,28 @@ fn count_le<T: Real>(v: &[T], x: T) -> u32 {
     u32::try_from(v.partition_point(|&b| b <= x)).unwrap_or(u32::MAX)
 }
 
+/// The end of the prefix of `lo..hi` on which `holds` is true (it is true on a prefix), by bisection.
+#[inline(always)]
+fn bisect(mut lo: usize, mut hi: usize, mut holds: impl FnMut(usize) -> bool) -> usize {
+    while lo < hi {
+        let mid = lo.wrapping_add(hi.wrapping_sub(lo) / 2);
+        if holds(mid) {
+            lo = mid.wrapping_add(1);
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
 /// `q` times the power of two that brings its largest component into `[1, 2)` (exact): directions are located
 /// by signs of products, which must not underflow for tiny or overflow for huge coordinates.
 #[inline]
 pub(crate) fn unit_scaled<T: Real>(q: V3<T>) -> V3<T> {
     let m = q.max_abs();
+    if let Some((_, inv)) = m.binade() {
+        return q.scaled(inv); // each product is what `scalbn` gives
+    }
     if m == T::ZERO || !m.is_finite() {
         return q;
     }
@@ -171,30 +188,22 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
         if leave_axis && q.z < T::ZERO && rho2 == T::ZERO {
             return u32::try_from(self.theta.partition_point(|&t| t < T::PI)).unwrap_or(u32::MAX);
         }
-        let n = self.cos.len().min(self.sin.len());
-        // a binary search over the indices (θ_j <= θ(q) holds for a prefix of the breakpoints)
-        let (mut lo, mut hi) = (0, n);
-        while lo < hi {
-            let mid = lo.midpoint(hi);
-            let (c, s) = (
-                self.cos.get(mid).copied().unwrap_or(T::ZERO),
-                self.sin.get(mid).copied().unwrap_or(T::ZERO),
-            );
-            // θ = π/2 by the sign of z itself: z² may underflow where z does not
-            let below = if c == T::ZERO {
-                !(q.z > T::ZERO)
-            } else if c > T::ZERO {
-                !(q.z > T::ZERO) || c * c * rho2 >= s * s * z2
-            } else {
-                q.z < T::ZERO && c * c * rho2 <= s * s * z2
+        let (up, down) = (q.z > T::ZERO, q.z < T::ZERO);
+        // θ_j <= θ(q) holds for a prefix of the breakpoints
+        let band = bisect(0, self.cos.len().min(self.sin.len()), |j| {
+            let (Some(&c), Some(&s)) = (self.cos.get(j), self.sin.get(j)) else {
+                return false;
             };
-            if below {
-                lo = mid.saturating_add(1);
+            // θ = π/2 by the sign of z itself: z² may underflow where z does not
+            if c > T::ZERO {
+                !up || c * c * rho2 >= s * s * z2
+            } else if c < T::ZERO {
+                down && c * c * rho2 <= s * s * z2
             } else {
-                hi = mid;
+                !up
             }
-        }
-        u32::try_from(lo).unwrap_or(u32::MAX)
+        });
+        u32::try_from(band).unwrap_or(u32::MAX)
     }
 
     /// Whether the direction `d` lies on cone `k` within the rounding of its equation (`d` parallel to a
@@ -344,31 +353,25 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
             (v.x, v.y)
         };
         let half_v = self.lower_half_excluded(x, y);
-        // v is at or after boundary j (counter-clockwise from boundary 0) — a prefix of the boundaries.
+        let split = self.half_from as usize;
+        // v is at or after boundary j (counter-clockwise from boundary 0): true for a prefix of the boundaries
         let at_or_after = |j: usize| -> bool {
-            let (c, s) = self.dir(j);
+            let (Some(&c), Some(&s)) = (self.cos.get(j), self.sin.get(j)) else {
+                return false;
+            };
             let hj = if self.half_from == u32::MAX {
                 j != 0 && self.lower_half_excluded(c, s)
             } else {
-                j >= self.half_from as usize
+                j >= split
             };
             if hj != half_v {
                 return half_v;
             }
             c * y - s * x >= T::ZERO
         };
-        let nb = self.boundaries as usize;
-        // binary search for the first boundary that v is not at or after
-        let (mut lo, mut hi) = (1usize, nb);
-        while lo < hi {
-            let mid = lo.saturating_add(hi.saturating_sub(lo) / 2);
-            if at_or_after(mid) {
-                lo = mid.saturating_add(1);
-            } else {
-                hi = mid;
-            }
-        }
-        u32::try_from(lo.saturating_sub(1)).unwrap_or(0)
+        // the first boundary that v is not at or after, less one
+        let after = bisect(1, self.boundaries as usize, at_or_after);
+        u32::try_from(after.wrapping_sub(1)).unwrap_or(0)
     }
 }
 

@@ -34,9 +34,8 @@ pub(crate) struct Axes<'a, T> {
     /// True for the cylinder and the polar grid: the radius is measured from the z axis.
     pub flat_radius: bool,
     pub slots: [SlotKind; 3],
-    /// The cell rule and the iteration bound, formed once with the grid.
+    /// The cell rule, formed once with the grid.
     rule: CellRule,
-    max_events: u32,
 }
 
 /// What decides whether a set of bands is a cell of the domain, and which: per slot, the inside bands are
@@ -85,10 +84,8 @@ impl<'a, T: Real> Axes<'a, T> {
                 first: [0; 3],
                 count: [u32::MAX; 3],
             },
-            max_events: 0,
         };
         axes.rule = axes.cell_rule();
-        axes.max_events = axes.event_bound();
         axes
     }
 
@@ -120,18 +117,6 @@ impl<'a, T: Real> Axes<'a, T> {
             Some(SlotKind::Azimuth) => Axis::Phi,
             _ => Axis::Z,
         }
-    }
-
-    /// A bound on the number of events of one ray (each stream is bounded by its breakpoint count; this is
-    /// the safety net that turns an unforeseen loop into an error).
-    fn event_bound(&self) -> u32 {
-        let n = self
-            .radial
-            .len
-            .saturating_add(self.zenith.map_or(0, |z| z.len))
-            .saturating_add(self.azimuth.boundaries)
-            .saturating_add(self.height.map_or(0, |h| h.len));
-        n.saturating_mul(4).saturating_add(64)
     }
 }
 
@@ -419,7 +404,8 @@ impl<T: Real> Emitter<T> {
     #[inline(always)]
     fn on(&mut self, rule: &CellRule, t: T, slot: usize, band: u32) -> Option<CellCrossing<T>> {
         // Inside to inside (every event of a ray inside a full grid): the crossing ends here, nothing is held.
-        if self.outside == 0 && t.is_finite() {
+        // (`t.abs() < ∞` is `is_finite` as one mask and one comparison)
+        if self.outside == 0 && t.abs() < T::INFINITY {
             if let Some(i) = rule.index(slot, band) {
                 let c = CellCrossing {
                     cell: self.cell,
@@ -505,8 +491,6 @@ pub struct SerialMarch<'g, T> {
     em: Emitter<T>,
     /// Bit `s` is set while stream `s` is live.
     live: u8,
-    /// Events left before the iteration bound (`Axes::event_bound`) is exceeded.
-    steps_left: u32,
     finished: bool,
     error: Option<MarchError>,
 }
@@ -538,10 +522,18 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             cones,
             em,
             live,
-            steps_left: axes.max_events,
             finished: t0.is_none(),
             error,
         }
+    }
+
+    /// The march with its zenith stream (slot 1) `n` events from its bound (to test the bound).
+    #[cfg(test)]
+    pub(crate) fn with_zenith_events_left(mut self, n: u32) -> Self {
+        if let Some(s) = self.streams.get_mut(1) {
+            *s = s.with_events_left(n);
+        }
+        self
     }
 
     /// Why the march stopped early, if it did: the ray could not be put into the grid's frame
@@ -622,12 +614,6 @@ impl<T: Real> SerialMarch<'_, T> {
                 }
                 continue;
             }
-            if self.steps_left == 0 {
-                self.error = Some(MarchError::IterationBound);
-                self.finished = true;
-                continue;
-            }
-            self.steps_left = self.steps_left.wrapping_sub(1);
             let ended = !next_event(
                 self.axes,
                 &self.rays,
@@ -637,6 +623,12 @@ impl<T: Real> SerialMarch<'_, T> {
             );
             if ended {
                 self.live &= !(1u8 << slot);
+                if self.streams.get(slot).is_some_and(Stream::overran) {
+                    // (every stream but the zenith one is bounded by construction: `zenith_event_bound`)
+                    self.error = Some(MarchError::IterationBound);
+                    self.finished = true;
+                    continue;
+                }
             }
             if slot == 0 && ended && self.axes.rule.beyond_outer_radius(band) {
                 self.finished = true; // left the outer radius for good
@@ -744,6 +736,9 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
                 })?;
                 last_band = b;
                 last_t = Some(t);
+            }
+            if streams.get(slot).is_some_and(Stream::overran) {
+                return Err(MarchError::IterationBound);
             }
             if slot == 0 && last_band >= axes.radial.len {
                 if let Some(t) = last_t {

@@ -224,7 +224,9 @@ pub enum MarchError {
         /// The capacity.
         capacity: usize,
     },
-    /// More events than the grid's size allows: a safety net that turns an unforeseen loop into an error.
+    /// More zenith events than the grid's size allows: a safety net that turns an unforeseen loop into an error
+    /// (the other coordinates' events are bounded by construction). The serial engine stops with it after the
+    /// crossings before it; the separable engine returns it at construction.
     IterationBound,
     /// The ray could not be expressed relative to the grid's center (it overflows).
     Ray(RayError),

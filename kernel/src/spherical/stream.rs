@@ -28,7 +28,9 @@
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
 use crate::ray::{Line, Scale};
 use crate::real::Real;
-use crate::surface::{ConeRoots, PlaneZ, Side, sphere_roots_of};
+use crate::surface::{
+    ConeRoots, PlaneZ, Side, sign_of, sphere_exit_root_signed, sphere_roots_signed,
+};
 use crate::vec3::V3;
 
 /// One event: the crossing's parameter `t` and the band (or sector) entered.
@@ -168,10 +170,15 @@ enum Kind<T> {
         /// The leaving root of the sphere last entered: its index (`NO_CACHE` when none) and `t`.
         cache_j: u32,
         cache_t: T,
+        /// The band the stream started in: every sphere below it that the ascending phase leaves, the
+        /// descending phase entered (one band per event), so its roots are known to be distinct and in order.
+        start: u32,
     },
     Zenith {
         up: bool,
         switched: bool,
+        /// Events left before [`zenith_event_bound`] is exceeded.
+        left: u32,
     },
     Azimuth {
         ccw: bool,
@@ -184,6 +191,9 @@ enum Kind<T> {
     Height {
         up: bool,
     },
+    /// A zenith stream that exceeded its event bound: no further events, and the march stops with
+    /// `MarchError::IterationBound`.
+    Overrun,
     /// A run of band steps all at one `t`, the jump of θ through the center or of φ across the z axis (seed 001
     /// §3.1.4), after which the stream ends: `remaining` steps up or down (`cyclic`: sectors, modulo the
     /// azimuth's boundary count).
@@ -208,6 +218,8 @@ pub(crate) struct RadialLine<T> {
     pd: T,
     /// `‖d‖²`.
     dd: T,
+    /// The sign the stable quadratic gives its square root, `sign_of(⟨p|d⟩)` (taken once per ray).
+    sign: T,
     scale: Scale<T>,
 }
 
@@ -219,6 +231,7 @@ impl<T: Real> RadialLine<T> {
             ww: ray.p_cross_d().length_squared(),
             pd: ray.pd(),
             dd: ray.dd(),
+            sign: sign_of(ray.pd()),
             scale: ray.scale(),
         }
     }
@@ -230,8 +243,16 @@ impl<T: Real> RadialLine<T> {
         if !(r2 > T::ZERO) {
             return None;
         }
-        let (a, b) = sphere_roots_of(r2, self.pp, self.dd, self.pd, self.ww)?;
+        let (a, b) = sphere_roots_signed(r2, self.pp, self.dd, self.pd, self.ww, self.sign)?;
         Some((self.scale.t_from_scaled(a), self.scale.t_from_scaled(b)))
+    }
+
+    /// The second of [`RadialLine::sphere_roots`], the same bits, for a sphere the line entered (its roots were
+    /// found distinct and in order): one division, no test for a touch.
+    #[inline]
+    fn exit_of_entered(&self, r2: T) -> T {
+        let s = sphere_exit_root_signed(r2, self.pp, self.dd, self.pd, self.ww, self.sign);
+        self.scale.t_from_scaled(s)
     }
 
     /// A placeholder until the set-up forms the line (no arithmetic).
@@ -241,6 +262,7 @@ impl<T: Real> RadialLine<T> {
             ww: T::ZERO,
             pd: T::ZERO,
             dd: T::ZERO,
+            sign: T::ONE,
             scale: ray.scale(),
         }
     }
@@ -252,6 +274,19 @@ impl<T: Real> RadialLine<T> {
     fn before_hinge(&self, t: T) -> bool {
         self.pd + self.scale.t_to_scaled(t) * self.dd < T::ZERO
     }
+}
+
+/// The most events a zenith stream of `len` breakpoints may give: its bound on the engines' loops. The other
+/// streams are bounded by construction (the radius band falls, then rises, one band per event; the azimuth
+/// crosses each boundary at most once, then walks at most once round; the height band is monotone; a walk
+/// counts its steps), so the serial engine needs no count of its own. The zenith stream's cone crossings are
+/// as bounded (θ is ditone, Lemma 4: one switch of direction), but its repairs where the solver is blind
+/// (see `next_zenith`) are argued, not counted by construction: this is the safety net that turns an
+/// unforeseen loop there into `MarchError::IterationBound`. Each phase crosses each cone at most once and each
+/// repair moves toward the limit band, so `4·len + 64` leaves a wide margin.
+#[inline]
+pub(crate) fn zenith_event_bound(len: u32) -> u32 {
+    len.saturating_mul(4).saturating_add(64)
 }
 
 /// True when a cross product (of largest component `w`) is at the level of its own rounding error for factors
@@ -352,8 +387,23 @@ impl<T: Real> Stream<T> {
             Kind::Azimuth { .. } => StepKind::Azimuth,
             Kind::Height { .. } => StepKind::Height,
             Kind::Walk { .. } => StepKind::Walk,
-            Kind::Fixed => StepKind::None,
+            Kind::Fixed | Kind::Overrun => StepKind::None,
         }
+    }
+
+    /// The same zenith stream with only `n` events left before its bound (to test the bound).
+    #[cfg(test)]
+    pub(crate) fn with_events_left(mut self, n: u32) -> Self {
+        if let Kind::Zenith { left, .. } = &mut self.kind {
+            *left = n;
+        }
+        self
+    }
+
+    /// True when this stream ended by exceeding its event bound (see [`zenith_event_bound`]).
+    #[inline]
+    pub(crate) fn overran(&self) -> bool {
+        matches!(self.kind, Kind::Overrun)
     }
 
     /// A stream without events, in `band`.
@@ -392,6 +442,7 @@ impl<T: Real> Stream<T> {
                     descending: line.before_hinge(t0),
                     cache_j: NO_CACHE,
                     cache_t: T::ZERO,
+                    start: band,
                 },
             },
             band,
@@ -462,6 +513,7 @@ impl<T: Real> Stream<T> {
                 kind: Kind::Zenith {
                     up,
                     switched: false,
+                    left: zenith_event_bound(axis.len),
                 },
             },
             band,
@@ -572,6 +624,7 @@ impl<T: Real> Stream<T> {
             descending,
             cache_j,
             cache_t,
+            start,
         } = &mut self.kind
         else {
             return false;
@@ -613,6 +666,11 @@ impl<T: Real> Stream<T> {
         }
         let t_out = if *cache_j == j {
             *cache_t
+        } else if j < *start {
+            // entered on the way in: only its exit root is solved again
+            axis.r2
+                .get(j as usize)
+                .map_or(*t_own, |&r2| line.exit_of_entered(r2))
         } else {
             axis.r2
                 .get(j as usize)
@@ -642,9 +700,14 @@ impl<T: Real> Stream<T> {
         t_max: T,
         roots: &mut SecondRoots<T>,
     ) -> bool {
-        let Kind::Zenith { up, switched } = &mut self.kind else {
+        let Kind::Zenith { up, switched, left } = &mut self.kind else {
             return false;
         };
+        if *left == 0 {
+            self.kind = Kind::Overrun;
+            return false;
+        }
+        *left = left.wrapping_sub(1);
         let (band, t_own) = (&mut self.band, &mut self.t);
         for _ in 0..2 {
             // the cone to cross and the side to enter (band 0 has no cone below it, band `len` none above)

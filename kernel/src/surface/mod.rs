@@ -46,7 +46,7 @@ pub(crate) use cone::ConeRoots;
 pub use half_plane::HalfPlane;
 pub use plane_z::PlaneZ;
 pub use spheroid::Spheroid;
-pub(crate) use spheroid::{sphere_roots_of, sphere_scaled_roots};
+pub(crate) use spheroid::{sphere_exit_root_signed, sphere_roots_signed, sphere_scaled_roots};
 
 use crate::ray::Ray;
 use crate::real::Real;
@@ -205,8 +205,22 @@ pub(crate) fn side_of_sign<T: Real>(x: T) -> Option<Side> {
 /// two operations (relative 2ε), the sqrt being correctly rounded; no difference of nearly equal terms is formed.
 #[inline]
 pub(crate) fn stable_quadratic<T: Real>(a: T, b: T, c: T, root_d: T) -> (T, T) {
-    // root_d >= 0: its sign is b's by one comparison (a zero b counts as positive, as in `with_sign_of`)
-    let q = -(b + if b < T::ZERO { -root_d } else { root_d });
+    stable_quadratic_signed(a, b, c, root_d, sign_of(b))
+}
+
+/// The sign that [`stable_quadratic`] gives its root for the coefficient `b`: −1 when `b < 0`, else +1 (a zero
+/// or NaN `b` counts as positive, as in `with_sign_of`). A caller that solves many quadratics with one `b`
+/// takes it once.
+#[inline]
+pub(crate) fn sign_of<T: Real>(b: T) -> T {
+    if b < T::ZERO { -T::ONE } else { T::ONE }
+}
+
+/// [`stable_quadratic`] with `b`'s sign `sign = sign_of(b)` given (the same operations: `sign · root_d` is
+/// exact).
+#[inline]
+pub(crate) fn stable_quadratic_signed<T: Real>(a: T, b: T, c: T, root_d: T, sign: T) -> (T, T) {
+    let q = -(b + sign * root_d);
     let nan = T::NAN;
     if q == T::ZERO {
         // b = 0 and root_d = 0: then a·c = 0, and the double root is s = 0 (or, if a = 0 as well, every s or none).
@@ -219,7 +233,7 @@ pub(crate) fn stable_quadratic<T: Real>(a: T, b: T, c: T, root_d: T) -> (T, T) {
     // q has the sign of −b; a·s + b at s = q/a is −sign(b)·root_d, and at c/q it is +sign(b)·root_d.
     let far = if a == T::ZERO { nan } else { q / a };
     let near = c / q;
-    if b >= T::ZERO {
+    if sign > T::ZERO {
         (far, near)
     } else {
         (near, far)

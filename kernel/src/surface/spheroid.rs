@@ -18,7 +18,9 @@
 //! between ray and surface, so it grows only in the near-tangent band, where the problem itself is
 //! ill-conditioned. For `a ≠ b` the scaling of z adds one rounding (`ε·S`). The host oracle measures both.
 
-use super::{Crossings, Side, Surface, SurfaceError, side_of_sign, stable_quadratic};
+use super::{
+    Crossings, Side, Surface, SurfaceError, side_of_sign, sign_of, stable_quadratic_signed,
+};
 use crate::ray::{Line, Ray};
 use crate::real::Real;
 use crate::vec3::V3;
@@ -113,6 +115,20 @@ fn quadratic_roots<T: Real>(a2: T, p: V3<T>, dd: T, pd: T, w: V3<T>) -> Option<(
 /// in the order entry, exit; `None` when the line misses the sphere.
 #[inline]
 pub(crate) fn sphere_roots_of<T: Real>(a2: T, pp: T, dd: T, pd: T, ww: T) -> Option<(T, T)> {
+    sphere_roots_signed(a2, pp, dd, pd, ww, sign_of(pd))
+}
+
+/// [`sphere_roots_of`] with the sign of `⟨p|d⟩` given, `sign = sign_of(pd)` (the same bits): a caller that
+/// solves many spheres on one line takes it once.
+#[inline]
+pub(crate) fn sphere_roots_signed<T: Real>(
+    a2: T,
+    pp: T,
+    dd: T,
+    pd: T,
+    ww: T,
+    sign: T,
+) -> Option<(T, T)> {
     // ⟨p|d⟩² − ‖d‖²(‖p‖² − R²) = ‖d‖² R² − |p × d|²: closest approach from the cross product.
     let disc = dd * a2 - ww;
     if !(disc >= T::ZERO) {
@@ -120,7 +136,7 @@ pub(crate) fn sphere_roots_of<T: Real>(a2: T, pp: T, dd: T, pd: T, ww: T) -> Opt
     }
     let c = pp - a2;
     // ‖d‖² grows toward outside ⇒ the root where the quadratic decreases is the entry into the ball.
-    let (s_in, s_out) = stable_quadratic(dd, pd, c, disc.sqrt());
+    let (s_in, s_out) = stable_quadratic_signed(dd, pd, c, disc.sqrt(), sign);
     // Near tangency the two roots are equal within rounding, and the two roundings (q/a, c/q) can put them in
     // reverse order: that is a touch, reported at their midpoint (the tangency convention of `surface`).
     if s_in > s_out {
@@ -128,6 +144,21 @@ pub(crate) fn sphere_roots_of<T: Real>(a2: T, pp: T, dd: T, pd: T, ww: T) -> Opt
         return Some((mid, mid));
     }
     Some((s_in, s_out))
+}
+
+/// The exit root alone of [`sphere_roots_signed`], for a sphere whose two roots the caller knows to be distinct
+/// and in order (it entered the ball at the first, from the same invariants): the same bits as that function's
+/// second root, with one division instead of two and no test for a touch.
+#[inline]
+pub(crate) fn sphere_exit_root_signed<T: Real>(a2: T, pp: T, dd: T, pd: T, ww: T, sign: T) -> T {
+    let root = (dd * a2 - ww).sqrt();
+    // `stable_quadratic_signed`'s q, and of its two quotients the one it returns second for this sign
+    let q = -(pd + sign * root);
+    if sign > T::ZERO {
+        (pp - a2) / q
+    } else {
+        q / dd
+    }
 }
 
 impl<T: Real> Surface<T> for Spheroid<T> {
@@ -157,6 +188,51 @@ mod tests {
             *o = (x.t.to_f64(), x.into);
         }
         out
+    }
+
+    /// The radius stream solves a sphere it entered again on the way out for its exit root alone
+    /// (`sphere_exit_root_signed`): that must be the full solve's second root, bit for bit, whenever the full
+    /// solve found the roots distinct and in order — on lines in both directions past the center, from near and
+    /// far, at near-tangent radii and at tiny and huge scales.
+    fn check_exit_root_alone<T: Real>(bits: impl Fn(T) -> u64) {
+        let mut unit = crate::test_util::xorshift_uniform(0x9e37_79b9_7f4a_7c15);
+        let mut uniform = move || unit() * 2.0 - 1.0;
+        let mut compared = 0;
+        for i in 0..20_000 {
+            let scale = [1.0, 1e-12, 1e12][i % 3];
+            let mut v = || T::from_f64(uniform());
+            let p = V3::new(v(), v(), v()).scaled(T::from_f64(3.0 * scale));
+            let d = V3::new(v(), v(), v());
+            let Ok(ray) = Ray::new(p, d) else {
+                continue;
+            };
+            let line = ray.line();
+            let (pp, dd, pd, ww) = (
+                line.origin().length_squared(),
+                line.dd(),
+                line.pd(),
+                line.p_cross_d().length_squared(),
+            );
+            // the squared distance of the line from the center, and radii around it (near-tangent ones first)
+            let closest2 = ww / dd;
+            let r2 = closest2
+                * T::from_f64(1.0 + [1e-15, 1e-7, 0.01, 1.0, 9.0][i % 5] * uniform().abs());
+            let sign = sign_of(pd);
+            if let Some((a, b)) = sphere_roots_signed(r2, pp, dd, pd, ww, sign) {
+                if a < b {
+                    let alone = sphere_exit_root_signed(r2, pp, dd, pd, ww, sign);
+                    assert_eq!(bits(alone), bits(b), "{p:?} r2 {}", r2.to_f64());
+                    compared += 1;
+                }
+            }
+        }
+        assert!(compared > 15_000, "{compared}");
+    }
+
+    #[test]
+    fn exit_root_alone_is_the_second_root_of_every_sphere_entered() {
+        check_exit_root_alone::<f64>(f64::to_bits);
+        check_exit_root_alone::<f32>(|x| u64::from(x.to_bits()));
     }
 
     #[test]

@@ -125,13 +125,7 @@ fn hull_covers_every_sampled_point_inside_the_volume() {
     // below and grazing: every sample the point test puts inside lies in the two-stage hull, and the hull is
     // not looser than the samples by more than one step at either end.
     let e = Ellipsoid::<f64>::wgs84();
-    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut rnd = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rnd = crate::test_util::xorshift_uniform(0x9e37_79b9_7f4a_7c15);
     let mut checked = 0;
     for _ in 0..300 {
         let lat_s = -90.0 + 170.0 * rnd();
