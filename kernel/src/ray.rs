@@ -5,9 +5,12 @@
 //! solver inherits them:
 //!
 //! * **Scale-free direction.** `d` is stored multiplied by a power of two so that its largest component lies in
-//!   `[1, 2)`. The scaling is exact, so a direction of length `1e-30` or `1e30` (which would underflow or overflow
+//!   `[1/2, 2)`: a direction there (every unit vector) is kept as given, any other is brought into `[1, 2)`.
+//!   The scaling is exact, so a direction of length `1e-30` or `1e30` (which would underflow or overflow
 //!   `‖d‖²` in `f32`) behaves exactly like a unit-sized one; solvers work in the scaled parameter and
-//!   [`Ray::t_from_scaled`] converts back, again exactly.
+//!   [`Ray::t_from_scaled`] converts back, again exactly. A solver's expressions are homogeneous in `d`, so
+//!   which power of two is chosen changes no bit of its result (short of overflow); keeping unit-sized
+//!   directions as given only saves the conversions (`s = t`).
 //! * **No cancellation in the closest approach.** `|p × d|²` is kept, so the squared distance of the line from the
 //!   origin is `|p × d|² / ‖d‖²`, never `‖p‖²‖d‖² − ⟨p|d⟩²` (the form Lemma 8 and §4.3 warn against).
 //!
@@ -68,11 +71,11 @@ pub struct Ray<T> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Line<T> {
     origin: V3<T>,
-    /// `dir * 2^-e`, largest component in `[1, 2)`.
+    /// `dir * 2^-e`, largest component in `[1/2, 2)`.
     d: V3<T>,
     /// The exact rescaling between `t` and the scaled parameter.
     scale: Scale<T>,
-    /// `‖d‖²` of the scaled direction, in `[1, 12)`.
+    /// `‖d‖²` of the scaled direction, in `[1/4, 12)`.
     dd: T,
     /// `⟨p|d⟩` with the scaled direction.
     pd: T,
@@ -93,6 +96,13 @@ pub(crate) struct Scale<T> {
 }
 
 impl<T: Real> Scale<T> {
+    /// No rescaling (`e = 0`: `s = t`).
+    const IDENTITY: Self = Scale {
+        e: 0,
+        to_t: T::ONE,
+        to_s: T::ONE,
+    };
+
     /// `s · 2^-e` (exact unless it under- or overflows).
     #[inline]
     pub(crate) fn t_from_scaled(&self, s: T) -> T {
@@ -140,6 +150,10 @@ impl<T: Real> Ray<T> {
         let m = dir.max_abs();
         if m == T::ZERO {
             return Err(RayError::ZeroDirection);
+        }
+        if m >= T::HALF && m < T::TWO {
+            // of unit size already (every unit vector is): kept as given, so that s = t
+            return Ok(Self::with_scaled(origin, dir, dir, Scale::IDENTITY));
         }
         // m = 2^ilogb(m) * [1, 2): dividing by 2^ilogb(m) is exact.
         if let Some((e, to_t)) = m.binade() {
@@ -249,12 +263,13 @@ impl<T: Real> Ray<T> {
         self.line.origin.add_scaled(t, self.dir).to_array()
     }
 
-    /// The direction rescaled exactly so that its largest component is in `[1, 2)`.
+    /// The direction rescaled exactly so that its largest component is in `[1/2, 2)`: the direction as given
+    /// when it is there already, else brought into `[1, 2)`.
     #[inline]
     pub fn scaled_dir(&self) -> V3<T> {
         self.line.d
     }
-    /// `‖d‖²` of the scaled direction (in `[1, 12)`).
+    /// `‖d‖²` of the scaled direction (in `[1/4, 12)`).
     #[inline]
     pub fn dd(&self) -> T {
         self.line.dd

@@ -202,9 +202,9 @@ fn outer_ball_representable<T: Real>(
     let Some(&r2) = axes.radial.r2.last() else {
         return true;
     };
-    // Cheap bound first (no square root, no division): a point of the ball has |s| ≤ |p| + R (the scaled
-    // direction is at least 1 long), and |p| + R ≤ 2 max|p_i| + max(1, R²); with a factor 2 for rounding.
-    let bound = (ray.origin().max_abs() * T::TWO + r2.max(T::ONE)) * T::TWO;
+    // Cheap bound first (no square root, no division): a point of the ball has |s| ≤ 2(|p| + R) (the scaled
+    // direction is at least 1/2 long), and |p| + R ≤ 2 max|p_i| + max(1, R²); with a factor 2 for rounding.
+    let bound = (ray.origin().max_abs() * T::TWO + r2.max(T::ONE)) * (T::TWO + T::TWO);
     if ray.t_from_scaled(bound).is_finite() {
         return true;
     }

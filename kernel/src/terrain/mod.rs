@@ -592,7 +592,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
 }
 
 /// The same line as `ray` with the direction [`Ray::scaled_dir`] (exactly `ray`'s times a power of two, its
-/// largest component in `[1, 2)`) when `ray`'s own direction is far from unit size (a component beyond 2^±32),
+/// largest component in `[1/2, 2)`) when `ray`'s own direction is far from unit size (a component beyond 2^±32),
 /// `None` otherwise. The traversal multiplies the direction with Earth-sized coordinates and with `t`; a
 /// subnormal direction (seen down to the smallest, 5e-324) or a huge one would lose bits there or overflow,
 /// while at unit size every product is ordinary and `t` converts back exactly ([`t_of_unit_sized`]).
