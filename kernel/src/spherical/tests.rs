@@ -793,3 +793,53 @@ fn zenith_stream_past_its_event_bound_stops_the_march_with_an_iteration_bound_er
     assert_eq!(full.by_ref().count(), whole.len());
     assert_eq!(full.error(), None);
 }
+
+/// A direction of unit size (largest component in [1/2, 2)) is kept as given (`s = t`), any other is scaled by
+/// a power of two: the solvers' expressions are homogeneous in the direction, so a march along `d · 2^k` must
+/// give the cells of the march along `d` and its `t` divided by `2^k`, bit for bit, whichever way each ray was
+/// scaled (both engines, on a grid with a shell, both poles, cones near the pole and a wedge across φ = 0).
+#[test]
+fn unit_sized_direction_kept_as_given_marches_like_its_power_of_two_multiples() {
+    let r = [0.2, 0.35, 0.5, 0.8, 1.0];
+    let th = [0.0, 1e-3, 0.9, PI / 2.0, 2.0, PI];
+    let ph = [-0.5, 0.7, 2.0, 3.5];
+    let mut ws = [0.0; 64];
+    let g = SphericalGrid::new(&r, &th, &ph, &mut ws).unwrap();
+    let march = |ray: &Ray<f64>| -> Vec<CellCrossing<f64>> {
+        let mut m = g.march(ray);
+        let a: Vec<_> = m.by_ref().collect();
+        assert_eq!(m.error(), None);
+        let b: Vec<_> = g.march_separable::<64>(ray).unwrap().collect();
+        assert_eq!(a, b, "serial and separable differ");
+        a
+    };
+    let mut unit = crate::test_util::xorshift_uniform(0x5ca1_ab1e);
+    let mut v = move || unit() * 4.0 - 2.0;
+    let mut compared = 0;
+    for i in 0..2_000 {
+        let o = [v(), v(), v()];
+        // toward a point near the center (most rays cross the grid), at unit size
+        let to = [v() * 0.3, v() * 0.3, v() * 0.3];
+        let d = [to[0] - o[0], to[1] - o[1], to[2] - o[2]];
+        let n = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let d = d.map(|x| x / n * [1.0, 0.9, 1.9][i % 3]);
+        let base_ray = Ray::new(o, d).unwrap();
+        assert_eq!(base_ray.scale_exponent(), 0);
+        let base = march(&base_ray);
+        for k in [-40, -2, 2, 40] {
+            let ray = Ray::new(o, d.map(|x| x * 2f64.powi(k))).unwrap();
+            assert_ne!(ray.scale_exponent(), 0);
+            let scaled: Vec<_> = march(&ray)
+                .into_iter()
+                .map(|c| CellCrossing {
+                    cell: c.cell,
+                    t_enter: c.t_enter * 2f64.powi(k),
+                    t_exit: c.t_exit * 2f64.powi(k),
+                })
+                .collect();
+            assert_eq!(scaled, base, "ray {i}, k = {k}");
+            compared += base.len();
+        }
+    }
+    assert!(compared > 20_000, "{compared}");
+}
