@@ -57,6 +57,48 @@ pub(crate) fn take<'a, T>(ws: &mut &'a mut [T], n: usize) -> Option<&'a mut [T]>
     Some(head)
 }
 
+/// The `(cos, sin)` pairs of an angular axis's breakpoints, interleaved in one slice (`cos_j` at `2j`, `sin_j`
+/// at `2j + 1`), so that reading a pair costs one bounds check.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct UnitPairs<'a, T>(&'a [T]);
+
+impl<'a, T: Real> UnitPairs<'a, T> {
+    /// Takes `2n` values off the workspace and fills them with `pair(j)` for `j < n`; the first error of
+    /// `pair` is returned.
+    fn build<E>(
+        ws: &mut &'a mut [T],
+        n: usize,
+        mut pair: impl FnMut(usize) -> Result<(T, T), E>,
+        too_small: E,
+    ) -> Result<Self, E> {
+        let Some(out) = take(ws, n.saturating_mul(2)) else {
+            return Err(too_small);
+        };
+        for (j, slot) in out.chunks_exact_mut(2).enumerate() {
+            if let [c, s] = slot {
+                (*c, *s) = pair(j)?;
+            }
+        }
+        Ok(UnitPairs(out))
+    }
+
+    /// Pair `j`.
+    #[inline(always)]
+    pub(crate) fn get(&self, j: usize) -> Option<(T, T)> {
+        let k = j.wrapping_mul(2);
+        match self.0.get(k..k.wrapping_add(2)) {
+            Some(&[c, s]) => Some((c, s)),
+            _ => None,
+        }
+    }
+
+    /// The number of pairs.
+    #[inline]
+    pub(crate) fn len(&self) -> usize {
+        self.0.len() / 2
+    }
+}
+
 /// The number of breakpoints `<= x` in a sorted slice (binary search, no arithmetic on `T`).
 #[inline]
 fn count_le<T: Real>(v: &[T], x: T) -> u32 {
@@ -129,8 +171,8 @@ impl<'a, T: Real> RadialAxis<'a, T> {
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct ZenithAxis<'a, T> {
     pub theta: &'a [T],
-    pub cos: &'a [T],
-    pub sin: &'a [T],
+    /// `(cos θ_j, sin θ_j)`.
+    pub dirs: UnitPairs<'a, T>,
     pub len: u32,
     /// The grid's outer radius: the length scale below which a line counts as passing through the center.
     pub scale: T,
@@ -140,22 +182,21 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
     pub(crate) fn build(theta: &'a [T], ws: &mut &'a mut [T]) -> Result<Self, GridError> {
         let axis = Axis::Theta;
         let len = check_sorted(axis, theta)?;
-        let n = theta.len();
-        let cos = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
-        let sin = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
-        for (index, &th) in theta.iter().enumerate() {
-            // π/2 and π give exact (0, 1) and (−1, 0): θ = π/2 is exactly the plane z = 0.
-            let cone = AxialCone::from_zenith_rad(T::ZERO, th)
-                .map_err(|_| GridError::OutOfRange { axis, index })?;
-            if let (Some(b), Some(d)) = (cos.get_mut(index), sin.get_mut(index)) {
-                *b = cone.cos();
-                *d = cone.sin();
-            }
-        }
+        let dirs = UnitPairs::build(
+            ws,
+            theta.len(),
+            |index| {
+                // π/2 and π give exact (0, 1) and (−1, 0): θ = π/2 is exactly the plane z = 0.
+                let th = theta.get(index).copied().unwrap_or(T::ZERO);
+                let cone = AxialCone::from_zenith_rad(T::ZERO, th)
+                    .map_err(|_| GridError::OutOfRange { axis, index })?;
+                Ok((cone.cos(), cone.sin()))
+            },
+            GridError::WorkspaceTooSmall,
+        )?;
         Ok(ZenithAxis {
             theta,
-            cos,
-            sin,
+            dirs,
             len,
             scale: T::ZERO,
         })
@@ -164,11 +205,8 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
     /// The cone of breakpoint `j` (no validation, no square root: the pair was validated at construction).
     #[inline]
     pub(crate) fn cone(&self, j: u32) -> Option<AxialCone<T>> {
-        let j = j as usize;
-        Some(AxialCone::from_validated_unit_parts(
-            *self.cos.get(j)?,
-            *self.sin.get(j)?,
-        ))
+        let (c, s) = self.dirs.get(j as usize)?;
+        Some(AxialCone::from_validated_unit_parts(c, s))
     }
 
     /// The band of the direction of `q` (from the center), `q ≠ 0`: the number of breakpoints with
@@ -190,8 +228,8 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
         }
         let (up, down) = (q.z > T::ZERO, q.z < T::ZERO);
         // θ_j <= θ(q) holds for a prefix of the breakpoints
-        let band = bisect(0, self.cos.len().min(self.sin.len()), |j| {
-            let (Some(&c), Some(&s)) = (self.cos.get(j), self.sin.get(j)) else {
+        let band = bisect(0, self.dirs.len(), |j| {
+            let Some((c, s)) = self.dirs.get(j) else {
                 return false;
             };
             // θ = π/2 by the sign of z itself: z² may underflow where z does not
@@ -228,8 +266,8 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
 /// wider than π is the union of two half-spaces (seed 001 §3.1.3); the sector logic here never needs to say so.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct AzimuthAxis<'a, T> {
-    pub cos: &'a [T],
-    pub sin: &'a [T],
+    /// `(cos φ_j, sin φ_j)`.
+    dirs: UnitPairs<'a, T>,
     /// Number of sectors inside the domain (`m`).
     pub sectors: u32,
     /// Number of boundary half-planes (`m` for a full turn, `m + 1` for a wedge).
@@ -262,20 +300,20 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
             });
         }
         let full = span >= two_pi - tol;
-        let cos = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
-        let sin = take(ws, n).ok_or(GridError::WorkspaceTooSmall)?;
-        for (index, &p) in phi.iter().enumerate() {
-            let h =
-                HalfPlane::from_azimuth_rad(p).map_err(|_| GridError::NonFinite { axis, index })?;
-            if let (Some(c), Some(s)) = (cos.get_mut(index), sin.get_mut(index)) {
-                *c = h.cos();
-                *s = h.sin();
-            }
-        }
+        let dirs = UnitPairs::build(
+            ws,
+            n,
+            |index| {
+                let p = phi.get(index).copied().unwrap_or(T::ZERO);
+                let h = HalfPlane::from_azimuth_rad(p)
+                    .map_err(|_| GridError::NonFinite { axis, index })?;
+                Ok((h.cos(), h.sin()))
+            },
+            GridError::WorkspaceTooSmall,
+        )?;
         let sectors = len.saturating_sub(1);
         let mut axis = AzimuthAxis {
-            cos,
-            sin,
+            dirs,
             sectors,
             boundaries: if full { sectors } else { len },
             full,
@@ -327,10 +365,7 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
     /// `(cos, sin)` of boundary `j`.
     #[inline]
     fn dir(&self, j: usize) -> (T, T) {
-        (
-            self.cos.get(j).copied().unwrap_or(T::ONE),
-            self.sin.get(j).copied().unwrap_or(T::ZERO),
-        )
+        self.dirs.get(j).unwrap_or((T::ONE, T::ZERO))
     }
 
     /// Is the direction `(x, y)` at an angle of π or more counter-clockwise from boundary 0? The same sign test
@@ -356,7 +391,7 @@ impl<'a, T: Real> AzimuthAxis<'a, T> {
         let split = self.half_from as usize;
         // v is at or after boundary j (counter-clockwise from boundary 0): true for a prefix of the boundaries
         let at_or_after = |j: usize| -> bool {
-            let (Some(&c), Some(&s)) = (self.cos.get(j), self.sin.get(j)) else {
+            let Some((c, s)) = self.dirs.get(j) else {
                 return false;
             };
             let hj = if self.half_from == u32::MAX {
