@@ -834,8 +834,9 @@ impl<T: Real> Stream<T> {
         }
         // The line meets boundary j's half-plane ahead (the arc test above), going the way `b_d` says.
         let (num, den) = plane.scaled_root_fraction_ahead(ray, sg);
+        // (`num` is never NaN: the origin and the boundary's direction are finite, and so is each product)
         let t = later(plane_t(num, den, ray), *t_own);
-        if t > t_max || num.is_nan() {
+        if t > t_max {
             self.kind = Kind::Fixed;
             return false;
         }
