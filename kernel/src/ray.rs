@@ -112,6 +112,11 @@ impl<T: Real> Scale<T> {
             s * self.to_t
         }
     }
+    /// True when `t = s·2^-e` can overflow where `s` does not (`e < 0`: a direction that was scaled up).
+    #[inline]
+    pub(crate) fn enlarges(&self) -> bool {
+        self.e < 0
+    }
     /// `t · 2^e` (exact unless it under- or overflows).
     #[inline]
     pub(crate) fn t_to_scaled(&self, t: T) -> T {

@@ -144,6 +144,11 @@ impl<T: Real> Rays<T> {
     fn t_max(&self) -> T {
         self.t_max
     }
+    /// True when an event's `t` may fail to be finite (see [`CHECK_T`]): the line's or the radius line's
+    /// `t = s·2^-e` can overflow where `s` does not.
+    fn t_may_overflow(&self) -> bool {
+        self.rel.scale().enlarges() || self.radial.scale().enlarges()
+    }
 }
 
 /// As [`next_event`], kept out of line: for the set-up (each stream's first event), so that the streams' code is
@@ -336,13 +341,23 @@ fn setup<T: Real>(
     Ok(Some(t0))
 }
 
+/// The bits of [`Emitter::outside`] that say which slots' bands are outside the domain.
+const SLOTS: u8 = 0b111;
+
+/// The bit of [`Emitter::outside`] set for a whole march in which an event's `t` may not be finite, so that
+/// every event takes the checked path. That needs a ray whose `t = s·2^-e` can overflow where `s` does not
+/// (`e < 0`, a direction scaled up). Otherwise every event inside the domain has a finite `t`: it lies before the
+/// ray leaves the outer radius (which ends the march), and that `t` is at most the finite `s` of its root.
+const CHECK_T: u8 = 0x80;
+
 /// Turns band changes into cell crossings. A crossing that ends inside the domain is final at once (the next one
 /// is another cell); one that ends by leaving the domain is held until the ray comes back, so that a zero-length
 /// excursion out of the domain (a touch of its boundary from inside) that returns to the same cell is merged away.
 ///
 /// The cell is kept up to date one slot at a time: `cell[s]` is the index of slot `s`'s band and bit `s` of
 /// `outside` is set while that band is outside the domain, so an event costs one band lookup, not a
-/// re-evaluation of the whole cell rule.
+/// re-evaluation of the whole cell rule. With [`CHECK_T`] in the same byte, an event of a ray inside the domain
+/// is told to need nothing more by one test of that byte.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Emitter<T> {
     cell: [u32; 3],
@@ -357,10 +372,10 @@ pub(crate) struct Emitter<T> {
 }
 
 impl<T: Real> Emitter<T> {
-    fn new(rule: &CellRule, bands: [u32; 3], t0: T) -> Self {
+    fn new(rule: &CellRule, bands: [u32; 3], t0: T, check_t: bool) -> Self {
         let mut em = Emitter {
             cell: [0; 3],
-            outside: 0,
+            outside: if check_t { CHECK_T } else { 0 },
             seg_start: t0,
             pending: None,
             unrepresentable: false,
@@ -388,6 +403,21 @@ impl<T: Real> Emitter<T> {
         }
     }
 
+    /// The crossing that ends at `t`, where slot `slot` enters the band of cell index `i` inside the domain.
+    #[inline(always)]
+    fn cross(&mut self, t: T, slot: usize, i: u32) -> CellCrossing<T> {
+        let c = CellCrossing {
+            cell: self.cell,
+            t_enter: self.seg_start,
+            t_exit: t,
+        };
+        if let Some(x) = self.cell.get_mut(slot) {
+            *x = i;
+        }
+        self.seg_start = t;
+        c
+    }
+
     /// The held crossing, if any (taken).
     #[inline]
     fn take_pending(&mut self) -> Option<CellCrossing<T>> {
@@ -404,25 +434,22 @@ impl<T: Real> Emitter<T> {
     #[inline(always)]
     fn on(&mut self, rule: &CellRule, t: T, slot: usize, band: u32) -> Option<CellCrossing<T>> {
         // Inside to inside (every event of a ray inside a full grid): the crossing ends here, nothing is held.
-        // (`t.abs() < ∞` is `is_finite` as one mask and one comparison)
-        if self.outside == 0 && t.abs() < T::INFINITY {
+        // `t` is finite unless `CHECK_T` is set.
+        if self.outside == 0 {
             if let Some(i) = rule.index(slot, band) {
-                let c = CellCrossing {
-                    cell: self.cell,
-                    t_enter: self.seg_start,
-                    t_exit: t,
-                };
-                if let Some(x) = self.cell.get_mut(slot) {
-                    *x = i;
-                }
-                self.seg_start = t;
-                return Some(c);
+                return Some(self.cross(t, slot, i));
             }
         }
-        let was_inside = self.outside == 0;
+        let was_inside = self.outside & SLOTS == 0;
+        if was_inside && t.is_finite() {
+            // the same with `CHECK_T` set (or a band outside: then the ray leaves the domain, below)
+            if let Some(i) = rule.index(slot, band) {
+                return Some(self.cross(t, slot, i));
+            }
+        }
         let before = self.cell;
         self.set(rule, slot, band);
-        if !was_inside && self.outside != 0 {
+        if !was_inside && self.outside & SLOTS != 0 {
             return None;
         }
         if !t.is_finite() {
@@ -453,7 +480,7 @@ impl<T: Real> Emitter<T> {
 
     /// The end of the march at `t_end`: the crossing in progress, or the held one.
     fn finish(&mut self, t_end: T) -> Option<CellCrossing<T>> {
-        if self.outside != 0 {
+        if self.outside & SLOTS != 0 {
             return self.take_pending();
         }
         let t_exit = t_end.max(self.seg_start);
@@ -505,7 +532,12 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             Ok(t0) => (t0, None),
             Err(e) => (None, Some(e)),
         };
-        let em = Emitter::new(&axes.rule, streams.map(|s| s.band), t0.unwrap_or(T::ZERO));
+        let em = Emitter::new(
+            &axes.rule,
+            streams.map(|s| s.band),
+            t0.unwrap_or(T::ZERO),
+            rays.t_may_overflow(),
+        );
         let mut live = 0u8;
         if t0.is_some() {
             for slot in 0..3 {
@@ -746,7 +778,7 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
                 }
             }
         }
-        m.em = Some(Emitter::new(&axes.rule, bands, t0));
+        m.em = Some(Emitter::new(&axes.rule, bands, t0, rays.t_may_overflow()));
         m.finished = false;
         Ok(())
     }

@@ -267,6 +267,12 @@ impl<T: Real> RadialLine<T> {
         }
     }
 
+    /// The exact rescaling between this line's scaled parameter and the ray's `t`.
+    #[inline]
+    pub(crate) fn scale(&self) -> Scale<T> {
+        self.scale
+    }
+
     /// True before the hinge of r (Lemma 8): `⟨p + t d | d⟩ < 0`, decided without a division. No branch for
     /// `t = ±∞` (a line's start): with a finite `⟨p|d⟩` the sum is then `±∞`, which is the test `t < 0`; an
     /// infinite `⟨p|d⟩` (NaN sum) needs `‖p‖² = ∞`, and then no sphere is entered either way.

@@ -531,26 +531,53 @@ fn tiny_direction_whose_t_overflows_is_an_error_not_a_miss() {
 #[test]
 fn vertical_tiny_direction_in_a_cylinder_stops_with_an_error_at_the_first_unrepresentable_t() {
     // A vertical line inside the cylinder (its radius never changes): z = 0 at t = 5e307, z = 4 at t = 4.5e308,
-    // beyond the largest f64. The first crossing is correct and finite; the second cannot be expressed.
-    let (rho, phi, z) = ([0.0, 1.0, 2.0], [0.0, PI, 2.0 * PI], [-1.0, 0.0, 4.0]);
-    let mut ws = [0.0; 64];
-    let g = CylindricalGrid::new(&rho, &phi, &z, &mut ws).unwrap();
-    let ray = Ray::new([0.5, 0.5, -0.5], [0.0, 0.0, 1e-308]).unwrap();
-    let mut m = g.march(&ray);
-    let serial: Vec<_> = m.by_ref().collect();
-    assert_eq!(m.error(), Some(MarchError::Unrepresentable));
-    let mut s = g.march_separable::<32>(&ray).unwrap();
-    let separable: Vec<_> = s.by_ref().collect();
-    assert_eq!(s.error(), Some(MarchError::Unrepresentable));
-    assert_eq!(serial, separable);
+    // beyond the largest f64. The first crossing is correct and finite; the second cannot be expressed, whether
+    // z = 4 is where the line leaves the domain or a boundary between two cells inside it.
+    for z in [&[-1.0, 0.0, 4.0][..], &[-1.0, 0.0, 4.0, 5.0]] {
+        let (rho, phi) = ([0.0, 1.0, 2.0], [0.0, PI, 2.0 * PI]);
+        let mut ws = [0.0; 64];
+        let g = CylindricalGrid::new(&rho, &phi, z, &mut ws).unwrap();
+        let ray = Ray::new([0.5, 0.5, -0.5], [0.0, 0.0, 1e-308]).unwrap();
+        let mut m = g.march(&ray);
+        let serial: Vec<_> = m.by_ref().collect();
+        assert_eq!(m.error(), Some(MarchError::Unrepresentable), "{z:?}");
+        let mut s = g.march_separable::<32>(&ray).unwrap();
+        let separable: Vec<_> = s.by_ref().collect();
+        assert_eq!(s.error(), Some(MarchError::Unrepresentable));
+        assert_eq!(serial, separable);
+        assert_eq!(
+            serial,
+            [CellCrossing {
+                cell: [0, 0, 0],
+                t_enter: 0.0,
+                t_exit: 0.5 / 1e-308
+            }],
+            "{z:?}"
+        );
+    }
+}
+
+/// A unit-sized direction (`s = t`, so the emitter does not test `t`) nearly parallel to the azimuth boundary
+/// φ = 0, whose crossing of it lies at t ≈ 1e309 (not finite): that event comes after the ray leaves the outer
+/// radius, which ends the march, so every crossing is finite and none is lost (both engines).
+#[test]
+fn unit_direction_whose_far_azimuth_crossing_overflows_gives_finite_crossings() {
+    let ph = [0.0, PI / 2.0, PI, 1.5 * PI, 2.0 * PI];
+    let ray = Ray::new([-2.0, 0.1, 0.3], [1.0, -1e-310, 0.0]).unwrap();
+    let got = march_s(&R, &TH, &ph, &ray);
+    let cells: Vec<_> = got.iter().map(|c| c.cell).collect();
+    // outer shell, inner ball, outer shell in the upper half; φ from just below π to π/2 and on toward 0
     assert_eq!(
-        serial,
-        [CellCrossing {
-            cell: [0, 0, 0],
-            t_enter: 0.0,
-            t_exit: 0.5 / 1e-308
-        }]
+        cells,
+        [[1, 0, 1], [0, 0, 1], [0, 0, 0], [1, 0, 0]],
+        "{got:?}"
     );
+    assert!(
+        got.iter()
+            .all(|c| c.t_enter.is_finite() && c.t_exit.is_finite())
+    );
+    let exit = 2.0 + (1.0f64 - 0.01 - 0.09).sqrt();
+    assert!((got[3].t_exit - exit).abs() < 1e-15, "{got:?}");
 }
 
 #[test]
