@@ -478,7 +478,14 @@ impl<T: Real> Emitter<T> {
         }
     }
 
-    /// The end of the march at `t_end`: the crossing in progress, or the held one.
+    /// Ends the crossing in progress without giving it (a march that stops at an error or never starts): only
+    /// the held crossing, if any, is left for [`Emitter::finish`].
+    fn close(&mut self) {
+        self.outside = 0xff;
+    }
+
+    /// The end of the march at `t_end`: the crossing in progress, or the held one (taken: a second call gives
+    /// nothing).
     fn finish(&mut self, t_end: T) -> Option<CellCrossing<T>> {
         if self.outside & SLOTS != 0 {
             return self.take_pending();
@@ -516,15 +523,14 @@ pub struct SerialMarch<'g, T> {
     /// The zenith stream's kept second roots.
     cones: SecondRoots<T>,
     em: Emitter<T>,
-    /// Bit `s` is set while stream `s` is live.
+    /// Bit `s` is set while stream `s` is live; 0 once the march is over (every stream ended, or it stopped).
     live: u8,
-    finished: bool,
     error: Option<MarchError>,
 }
 
 impl<'g, T: Real> SerialMarch<'g, T> {
     pub(crate) fn new(axes: &'g Axes<'g, T>, ray: &Ray<T>) -> Self {
-        // (a march that does not start keeps an empty emitter; `finished` is set)
+        // (a march that does not start has no stream live and a closed emitter)
         let mut rays = Rays::of(ray);
         let mut streams = [Stream::fixed(0); 3];
         let mut cones = SecondRoots::EMPTY;
@@ -532,12 +538,15 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             Ok(t0) => (t0, None),
             Err(e) => (None, Some(e)),
         };
-        let em = Emitter::new(
+        let mut em = Emitter::new(
             &axes.rule,
             streams.map(|s| s.band),
             t0.unwrap_or(T::ZERO),
             rays.t_may_overflow(),
         );
+        if t0.is_none() {
+            em.close();
+        }
         let mut live = 0u8;
         if t0.is_some() {
             for slot in 0..3 {
@@ -554,7 +563,6 @@ impl<'g, T: Real> SerialMarch<'g, T> {
             cones,
             em,
             live,
-            finished: t0.is_none(),
             error,
         }
     }
@@ -624,9 +632,6 @@ impl<T: Real> SerialMarch<'_, T> {
     #[inline(always)]
     fn step(&mut self) -> Option<CellCrossing<T>> {
         loop {
-            if self.finished {
-                return self.em.take_pending();
-            }
             // the earliest of the live streams' next events; the first slot on a tie
             let [s0, s1, s2] = &self.streams;
             let (mut slot, mut t, mut band) = (3usize, s0.t, s0.band);
@@ -640,11 +645,8 @@ impl<T: Real> SerialMarch<'_, T> {
                 (slot, t, band) = (2, s2.t, s2.band);
             }
             if slot == 3 {
-                self.finished = true;
-                if let Some(c) = self.em.finish(self.rays.t_max()) {
-                    return Some(c);
-                }
-                continue;
+                // the march is over: the crossing in progress, or the held one (then nothing)
+                return self.em.finish(self.rays.t_max());
             }
             let ended = !next_event(
                 self.axes,
@@ -658,12 +660,12 @@ impl<T: Real> SerialMarch<'_, T> {
                 if self.streams.get(slot).is_some_and(Stream::overran) {
                     // (every stream but the zenith one is bounded by construction: `zenith_event_bound`)
                     self.error = Some(MarchError::IterationBound);
-                    self.finished = true;
+                    self.stop();
                     continue;
                 }
             }
             if slot == 0 && ended && self.axes.rule.beyond_outer_radius(band) {
-                self.finished = true; // left the outer radius for good
+                self.live = 0; // left the outer radius for good (this event is the last)
             }
             let out = self.em.on(&self.axes.rule, t, slot, band);
             if out.is_some() {
@@ -671,9 +673,17 @@ impl<T: Real> SerialMarch<'_, T> {
             }
             if self.em.unrepresentable {
                 self.error = Some(MarchError::Unrepresentable);
-                self.finished = true;
+                self.stop();
             }
         }
+    }
+
+    /// Stops the march at an error: no further event, and the crossing in progress is not given (the held one
+    /// is).
+    #[cold]
+    fn stop(&mut self) {
+        self.live = 0;
+        self.em.close();
     }
 }
 
