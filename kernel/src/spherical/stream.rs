@@ -739,7 +739,7 @@ impl<T: Real> Stream<T> {
                         s: [s0, s1],
                         into: [into0, into1],
                         n,
-                    } = cone.scaled_crossings(ray);
+                    } = cone.scaled_crossings_past_origin(ray);
                     let t0 = ray.t_from_scaled(s0);
                     if n >= 1 && into0 == want && t0 >= *t_own {
                         hit = Some(t0);

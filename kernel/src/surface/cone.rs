@@ -203,8 +203,6 @@ impl<T: Real> AxialCone<T> {
     /// crossing it needs from here without building a [`Crossings`].
     #[inline(never)]
     pub(crate) fn scaled_crossings(&self, ray: &Line<T>) -> ConeRoots<T> {
-        let no_roots = ConeRoots::NONE;
-        let (c2, s2) = (self.cos2, self.sin2);
         let d = ray.scaled_dir();
         let (q, w) = if self.apex_z == T::ZERO {
             (ray.origin(), ray.p_cross_d())
@@ -213,10 +211,7 @@ impl<T: Real> AxialCone<T> {
             q.z -= self.apex_z;
             (q, q.cross(d))
         };
-        if self.sin == T::ZERO {
-            return no_roots; // a half-axis: a line can touch it but never changes side
-        }
-        if w == V3::ZERO {
+        if self.sin != T::ZERO && w == V3::ZERO {
             // The line passes through the apex (or starts there): Q = A (s − s_apex)², no simple root. It changes
             // side at the apex exactly when the directions −d and +d lie on different sides.
             let before = self.side_of_relative(d.negated());
@@ -226,8 +221,28 @@ impl<T: Real> AxialCone<T> {
                     let s_apex = -q.dot(d) / ray.dd();
                     ConeRoots::of([(s_apex, a), (s_apex, a)], 1)
                 }
-                _ => no_roots,
+                _ => ConeRoots::NONE,
             };
+        }
+        self.crossings_past_apex(q, w, d)
+    }
+
+    /// [`AxialCone::scaled_crossings`] of a cone whose apex is the origin (as the spherical grid's zenith cones
+    /// are: `apex_z` is not read) for a line that does not pass through it, `p × d ≠ 0` (as the zenith stream
+    /// knows from its start): the same crossings, without the two tests.
+    #[inline(never)]
+    pub(crate) fn scaled_crossings_past_origin(&self, ray: &Line<T>) -> ConeRoots<T> {
+        self.crossings_past_apex(ray.origin(), ray.p_cross_d(), ray.scaled_dir())
+    }
+
+    /// The crossings of the line `q + s d` (`q` relative to the apex, `w = q × d ≠ 0`) in the scaled parameter:
+    /// the body of [`AxialCone::scaled_crossings`] (seed 001 §4.4, Lemma 10).
+    #[inline(always)]
+    fn crossings_past_apex(&self, q: V3<T>, w: V3<T>, d: V3<T>) -> ConeRoots<T> {
+        let no_roots = ConeRoots::NONE;
+        let (c2, s2) = (self.cos2, self.sin2);
+        if self.sin == T::ZERO {
+            return no_roots; // a half-axis: a line can touch it but never changes side
         }
         if self.cos == T::ZERO {
             // θ = π/2: the plane z = k, with the larger θ below it.
