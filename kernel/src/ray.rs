@@ -128,6 +128,31 @@ impl<T: Real> Scale<T> {
     }
 }
 
+/// The direction `dir` (largest component `m > 0`, finite) at unit size, exactly, with its rescaling: as given
+/// when `m` is in `[1/2, 2)` (every unit vector: `s = t`), else times the power of two that brings `m` into
+/// `[1, 2)`.
+#[inline]
+fn at_unit_size<T: Real>(dir: V3<T>, m: T) -> (V3<T>, Scale<T>) {
+    if m >= T::HALF && m < T::TWO {
+        return (dir, Scale::IDENTITY);
+    }
+    // m = 2^ilogb(m) * [1, 2): dividing by 2^ilogb(m) is exact.
+    if let Some((e, to_t)) = m.binade() {
+        if let Some((_, to_s)) = to_t.binade() {
+            // both powers of two normal: the scaling is a multiplication (no libm call)
+            return (dir.scaled(to_t), Scale { e, to_t, to_s });
+        }
+    }
+    let e = m.ilogb();
+    let (to_t, to_s) = normal_powers_of_two::<T>(e.saturating_neg());
+    let d = if to_t == T::ZERO {
+        dir.scalbn(e.saturating_neg())
+    } else {
+        dir.scaled(to_t)
+    };
+    (d, Scale { e, to_t, to_s })
+}
+
 /// `(2^k, 2^-k)` when both are normal numbers of `T`, else `(0, 0)`.
 #[inline]
 fn normal_powers_of_two<T: Real>(k: i32) -> (T, T) {
@@ -156,30 +181,8 @@ impl<T: Real> Ray<T> {
         if m == T::ZERO {
             return Err(RayError::ZeroDirection);
         }
-        if m >= T::HALF && m < T::TWO {
-            // of unit size already (every unit vector is): kept as given, so that s = t
-            return Ok(Self::with_scaled(origin, dir, dir, Scale::IDENTITY));
-        }
-        // m = 2^ilogb(m) * [1, 2): dividing by 2^ilogb(m) is exact.
-        if let Some((e, to_t)) = m.binade() {
-            if let Some((_, to_s)) = to_t.binade() {
-                // both powers of two normal: the scaling is a multiplication (no libm call)
-                return Ok(Self::with_scaled(
-                    origin,
-                    dir,
-                    dir.scaled(to_t),
-                    Scale { e, to_t, to_s },
-                ));
-            }
-        }
-        let e = m.ilogb();
-        let (to_t, to_s) = normal_powers_of_two::<T>(e.saturating_neg());
-        let d = if to_t == T::ZERO {
-            dir.scalbn(e.saturating_neg())
-        } else {
-            dir.scaled(to_t)
-        };
-        Ok(Self::with_scaled(origin, dir, d, Scale { e, to_t, to_s }))
+        let (d, scale) = at_unit_size(dir, m);
+        Ok(Self::with_scaled(origin, dir, d, scale))
     }
 
     /// The ray from its origin, its direction as given and the exactly rescaled one.
