@@ -491,7 +491,7 @@ impl<T: Real> Emitter<T> {
             return self.take_pending();
         }
         let t_exit = t_end.max(self.seg_start);
-        self.outside = 0xff;
+        self.close();
         Some(CellCrossing {
             cell: self.cell,
             t_enter: self.seg_start,
