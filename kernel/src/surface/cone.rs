@@ -235,6 +235,23 @@ impl<T: Real> AxialCone<T> {
         self.crossings_past_apex(ray.origin(), ray.p_cross_d(), ray.scaled_dir())
     }
 
+    /// One Newton step on the cone's quadratic form at the point `q + s d` (see `crossings_past_apex`), taken only
+    /// when it is finite and at most a quarter of `gap`, the separation of the roots (a NaN `gap`, the linear
+    /// case: any finite step).
+    #[inline(always)]
+    fn newton_step(&self, q: V3<T>, d: V3<T>, s: T, gap: T) -> T {
+        let (c2, s2) = (self.cos2, self.sin2);
+        let x = V3::new(q.x + s * d.x, q.y + s * d.y, q.z + s * d.z);
+        let qx = c2 * (x.x * x.x + x.y * x.y) - s2 * x.z * x.z;
+        let half_slope = c2 * (x.x * d.x + x.y * d.y) - s2 * x.z * d.z;
+        let step = qx / (half_slope + half_slope);
+        if step.is_finite() && !(step.abs() * T::from_i32(4) > gap) {
+            s - step
+        } else {
+            s
+        }
+    }
+
     /// The crossings of the line `q + s d` (`q` relative to the apex, `w = q × d ≠ 0`) in the scaled parameter:
     /// the body of [`AxialCone::scaled_crossings`] (seed 001 §4.4, Lemma 10).
     #[inline(always)]
@@ -261,30 +278,14 @@ impl<T: Real> AxialCone<T> {
         }
         let root_d = self.cos.abs() * disc.sqrt();
         let (s_dec, s_inc) = stable_quadratic(a, b, cc, root_d);
-        // One Newton step on Q at each computed point. A, B, C are evaluated at the origin, where Q's terms are as
+        // One Newton step on Q at each returned point. A, B, C are evaluated at the origin, where Q's terms are as
         // large as |q|², so their rounding (ε|q|²) reaches the root divided by |∇Q| at the crossing — which is
         // proportional to the crossing's distance from the apex. Re-evaluated at the crossing x, Q's rounding is
         // ε|x|², and the step leaves the point within O(ε S) of the cone however close to the apex it lies. The step
         // is taken only when it stays within a quarter of the roots' separation (so a near-double root is never
-        // pushed into the other root's basin) and is finite.
-        let (s_dec, s_inc) = if root_d == T::ZERO {
-            (s_dec, s_inc)
-        } else {
-            let gap = (s_inc - s_dec).abs();
-            let refine = |s: T| -> T {
-                let x = V3::new(q.x + s * d.x, q.y + s * d.y, q.z + s * d.z);
-                let qx = c2 * (x.x * x.x + x.y * x.y) - s2 * x.z * x.z;
-                let half_slope = c2 * (x.x * d.x + x.y * d.y) - s2 * x.z * d.z;
-                let step = qx / (half_slope + half_slope);
-                // `gap` is NaN in the linear case (one root is NaN): then any finite step is taken.
-                if step.is_finite() && !(step.abs() * T::from_i32(4) > gap) {
-                    s - step
-                } else {
-                    s
-                }
-            };
-            (refine(s_dec), refine(s_inc))
-        };
+        // pushed into the other root's basin) and is finite. A root that is not returned is not refined.
+        let gap = (s_inc - s_dec).abs(); // (in the branch with `root_d ≠ 0`, where `refine` is used)
+        let refine = |s: T| self.newton_step(q, d, s, gap);
         // On the upper nappe (c > 0) the positive side (larger θ) is Q > 0; on the lower nappe it is Q < 0.
         let upper = self.cos > T::ZERO;
         let into_when_q_rises = Side::from_bool(upper);
@@ -334,12 +335,14 @@ impl<T: Real> AxialCone<T> {
             let dec = (s_dec, into_when_q_rises.flip());
             let inc = (s_inc, into_when_q_rises);
             if a_clear && a < T::ZERO {
-                let keep = if (d.z > T::ZERO) == upper { dec } else { inc };
+                let (s, side) = if (d.z > T::ZERO) == upper { dec } else { inc };
+                let keep = (refine(s), side);
                 if keep.0.is_finite() {
                     roots = [keep, keep];
                     n = 1;
                 }
             } else if a_clear && dxw_z != T::ZERO {
+                let (s_dec, s_inc) = (refine(s_dec), refine(s_inc));
                 if (dxw_z > T::ZERO) == upper && s_dec.is_finite() && s_inc.is_finite() {
                     // entry before exit; two roots that rounding put in reverse order are a touch (midpoint)
                     let (s0, s1) = if s_dec <= s_inc {
@@ -352,7 +355,8 @@ impl<T: Real> AxialCone<T> {
                     n = 2;
                 }
             } else {
-                let (lo, hi) = if s_dec <= s_inc {
+                let (dec, inc) = ((refine(s_dec), dec.1), (refine(s_inc), inc.1));
+                let (lo, hi) = if dec.0 <= inc.0 {
                     (dec, inc)
                 } else {
                     (inc, dec)
