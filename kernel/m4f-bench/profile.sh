@@ -8,6 +8,10 @@
 # firmware marched, to read instructions per crossing; march-f32 marches each ray 9 times, 8 timed runs and one
 # for the stack, so PER = 9 × the crossings it prints).
 #
+# With BYTES=1 it prints instead the bytes of the instructions that ran at least once and of those that never ran,
+# by function (functions of at least MIN bytes), e.g. `BYTES=1 ./profile.sh march-f32 release-s 100000` for the
+# totals alone.
+#
 # Usage: profile.sh FIRMWARE [PROFILE] [MIN] [PER]   e.g. `./profile.sh march-f32 release 100 19575`
 # (PROFILE is a cargo profile, `release` by default; build it first, e.g. `cargo build --release --bins`).
 # Needs qemu-system-arm and what text-by-function.sh needs. The log is large (about 300 MB for march-f32).
@@ -40,6 +44,14 @@ awk '
         for (a in count) printf "%s %d\n", a, count[a]
     }' "$log" > "$log.weights"
 rm -f "$log"
+if [[ -n ${BYTES:-} ]]; then
+    # the code size of what ran and of what never ran, by function (functions of at least MIN bytes)
+    for select in executed never; do
+        echo "bytes of instructions that ran $([[ $select == never ]] && echo never || echo "at least once"):"
+        COUNTS="$log.weights" SELECT=$select ./text-by-function.sh "$elf" "$min"
+    done
+    exit 0
+fi
 WEIGHTS="$log.weights" ./text-by-function.sh "$elf" 1 | awk -v per="$per" -v min="$min" '
     { w = $1 / per; $1 = ""; sub(/^ /, "") }
     w >= min || !/^\[|::/ { printf(per == 1 ? "%9d %s\n" : "%9.1f %s\n", w, $0) }'

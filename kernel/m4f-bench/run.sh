@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Builds the firmwares (opt-level 3 for the instruction counts, opt-level "s" for the code sizes), runs each under
 # QEMU's mps2-an386 (Cortex-M4F) with instruction counting, checks the f32 march firmware's code (VSQRT.F32
-# present, no soft double precision), prints the table and writes it to `embedded.md` next to this script.
+# present, no soft double precision), splits the march firmware's kernel code into what the benchmark's rays
+# execute and what they never reach (profile.sh), prints the table and writes it to `embedded.md` next to this
+# script.
 #
 # Needs: the thumbv7em-none-eabihf target, qemu-system-arm, llvm-objdump / llvm-nm (rustup's llvm-tools
 # component, or the system's) and binutils' addr2line (for text-by-function.sh). Exits non-zero if a firmware
@@ -61,6 +63,14 @@ OBJDUMP=$OBJDUMP ./text-by-function.sh "$march32" 64 | tee march-f32-text.txt
 # The pick firmware's too, in the log only (functions of 512 B or more).
 echo "pick-f32 .text (opt \"s\") by kernel function, 512 B or more:"
 OBJDUMP=$OBJDUMP ./text-by-function.sh "$pick32" 512
+# What of the march firmware's kernel code (opt "s") the benchmark's rays execute, and what they never reach (the
+# paths for hard cases, errors and other grid kinds): from QEMU's execution log, by profile.sh.
+# (profile.sh's own output on stderr is the firmware's, already shown above)
+if ! split=$(BYTES=1 ./profile.sh march-f32 release-s 1000000 2>/dev/null | awk '$2 == "kernel" { print $1 }' | tr '\n' ' '); then
+    echo "!!! march-f32: profile.sh BYTES=1 failed"; status=1
+fi
+read -r kernel_ran kernel_never <<<"${split:-}"
+echo "march-f32 (opt \"s\") kernel code: ${kernel_ran:-?} B ran on the benchmark's rays, ${kernel_never:-?} B never"
 # And the march's stack: the frames (opt 3, the build whose stack is measured) of 64 B or more.
 echo "march-f32 stack frames (opt 3) of 64 B or more:"
 OBJDUMP=$OBJDUMP ./stack-frames.sh "target/$TARGET/release/march-f32" | tee march-f32-all-frames.txt \
@@ -115,7 +125,11 @@ verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "me
          "$(verdict "$per_crossing" 150)); march-only firmware at most 12 KiB of \`.text\` at opt \"s\" or smaller" \
          "($march_s B at opt \"s\", $march_z B at opt \"z\": $(verdict "$(( march_s < march_z ? march_s : march_z ))" 12288));" \
          "one march's stack at most 1 KiB ($march_stack B:" \
-         "$(verdict "$march_stack" 1024))."
+         "$(verdict "$march_stack" 1024)). Of the kernel's code in the march-f32 firmware at opt \"s\"," \
+         "${kernel_ran:-?} B ran on the benchmark's rays and ${kernel_never:-?} B never did: the paths for what" \
+         "these rays do not meet (rays through the centre or along the z axis, repairs near the axis, errors," \
+         "other grid kinds; \`BYTES=1 ./profile.sh march-f32 release-s\` by function). The README's \"How far the" \
+         "targets are\" and \"The M4F firmwares\" give the floor of the instructions per crossing, measured."
     echo
     echo "Where the march-f32 firmware's \`.text\` goes (opt \"s\"; each instruction charged to the outermost kernel" \
          "function it was inlined from, by \`text-by-function.sh\`; functions of 256 B or more):"

@@ -9,7 +9,9 @@
 # Usage: text-by-function.sh ELF [MIN] (needs llvm-objdump, as run.sh finds it, and binutils' addr2line).
 #
 # With WEIGHTS=FILE (lines `hex weight`, the address in lower-case hex without `0x` or leading zeros) each
-# address is charged its weight instead of its size: `profile.sh` charges executed instructions this way.
+# address is charged its weight instead of its size: `profile.sh` charges executed instructions this way. With
+# COUNTS=FILE (the same form, execution counts) and SELECT=executed or SELECT=never, only the bytes of the
+# instructions that ran at least once, or never, are charged (`profile.sh` with BYTES=1).
 set -euo pipefail
 elf=$1
 min=${2:-1}
@@ -25,6 +27,10 @@ sizes=$("$objdump" -d --no-show-raw-insn "$elf" | awk -v end="$end" '
     /^ +[0-9a-f]+:/ { a = $1; sub(/:$/, "", a); addr[n++] = hex(a) }
     END { split(end, e, " "); addr[n] = hex(e[1]) + hex(e[2])
         for (i = 0; i < n; i++) if (addr[i + 1] > addr[i]) printf "%x %d\n", addr[i], addr[i + 1] - addr[i] }')
+fi
+if [[ -n ${COUNTS:-} ]]; then
+    sizes=$(awk -v select="${SELECT:-executed}" 'NR == FNR { if ($2 > 0) ran[$1] = 1; next }
+        (select == "never") != ($1 in ran) { print }' "$COUNTS" - <<<"$sizes")
 fi
 
 awk '{ print "0x" $1 }' <<<"$sizes" | addr2line -a -f -i -C -e "$elf" | awk -v min="$min" -v sizes="$sizes" '
