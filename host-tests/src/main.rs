@@ -234,7 +234,12 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => match e.downcast_ref::<curvicast_host::cli::OutputError>() {
+        Err(e) => match e
+            .downcast_ref::<curvicast_host::cli::OutputError>()
+            .or_else(|| {
+                e.downcast_ref::<curvicast_host::cli::io::StreamError>()
+                    .and_then(|s| s.output())
+            }) {
             // The reader went away: end quietly, as Unix tools do.
             Some(out) if out.is_closed_pipe() => ExitCode::SUCCESS,
             Some(_) => {

@@ -98,14 +98,16 @@ fn tessellate_to_a_full_disk_is_one_line_and_exit_1() {
 #[test]
 fn tessellate_into_a_closed_pipe_ends_quietly() {
     let obj = scratch("pipe.obj");
+    // The reader is gone before the command starts, so its summary must meet the closed pipe.
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
     let mut child = cli()
         .args(["tessellate", "--sphere", "1", "--level", "6", "--out"])
         .arg(&obj)
-        .stdout(Stdio::piped())
+        .stdout(writer)
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    drop(child.stdout.take()); // the reader goes away before the summary is written
     let mut err = String::new();
     child
         .stderr

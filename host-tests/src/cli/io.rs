@@ -17,9 +17,10 @@
 //!   the rays before the failure, with one line on stderr naming the file and the line (exit 2).
 //!
 //! Blank lines are skipped and do not count as rays; a UTF-8 byte-order mark at the start of the input and `\r`
-//! line ends are accepted. An error on output ends the command with one line on stderr (exit 2), never a panic;
+//! line ends are accepted. An error on output ends the command with one line on stderr (exit 1), never a panic;
 //! a closed pipe (`| head -1`) ends it silently with exit 0, as Unix filters do.
 
+use super::OutputError;
 use crate::scenes::spec::RaySpec;
 use std::io::{BufRead, BufReader, ErrorKind, IsTerminal, Read, Write};
 use std::path::Path;
@@ -174,13 +175,48 @@ fn open_rays(path: Option<&Path>) -> Result<Receiver<Input>, UsageError> {
 pub type Answer<'a> = dyn Fn(usize, RayLine, &mut dyn Write) -> std::io::Result<()> + Sync + 'a;
 
 /// Whether an output error ends the command silently (a closed pipe) or with a message.
-fn output_error(e: &std::io::Error) -> Result<(), UsageError> {
+fn output_error(e: std::io::Error) -> Result<(), StreamError> {
     if e.kind() == ErrorKind::BrokenPipe {
         Ok(())
     } else {
-        Err(UsageError(format!(
-            "<stdout>: cannot write the answers: {e}"
-        )))
+        Err(StreamError::Output(OutputError(e)))
+    }
+}
+
+/// Why [`stream_answers`] stopped: the rays could not be read (exit code 2), or the answers could not be written
+/// (exit code 1; a closed pipe is not an error).
+#[derive(Debug)]
+pub enum StreamError {
+    /// The rays file or standard input.
+    Input(UsageError),
+    /// Standard output.
+    Output(OutputError),
+}
+
+impl std::fmt::Display for StreamError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            StreamError::Input(e) => e.fmt(f),
+            StreamError::Output(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for StreamError {}
+
+impl StreamError {
+    /// The output error, if that is what this is.
+    pub fn output(&self) -> Option<&OutputError> {
+        match self {
+            StreamError::Input(_) => None,
+            StreamError::Output(e) => Some(e),
+        }
+    }
+}
+
+impl From<UsageError> for StreamError {
+    fn from(e: UsageError) -> Self {
+        StreamError::Input(e)
     }
 }
 
@@ -231,7 +267,7 @@ pub fn stream_answers(
     window: usize,
     label: &'static str,
     answer: &Answer<'_>,
-) -> Result<(), UsageError> {
+) -> Result<(), StreamError> {
     use rayon::prelude::*;
     let rx = open_rays(path)?;
     let mut out = std::io::BufWriter::with_capacity(1 << 16, out);
@@ -276,11 +312,11 @@ pub fn stream_answers(
         };
         answered += n;
         if let Err(e) = written.and_then(|()| out.flush()) {
-            return output_error(&e);
+            return output_error(e);
         }
         progress.update(answered);
         if let Some(m) = failed {
-            return Err(UsageError(m));
+            return Err(UsageError(m).into());
         }
         if ended {
             return Ok(());

@@ -21,7 +21,7 @@
 //! `NeedsBlock`; per ray, so answers do not depend on the order of the rays), or with `--no-paging` an error
 //! line naming the node.
 
-use super::io::{RayLine, UsageError, error_line, stream_answers};
+use super::io::{RayLine, StreamError, UsageError, error_line, stream_answers};
 use crate::scenes::dem_files::read_dem;
 use crate::scenes::spec::RaySpec;
 use crate::scenes::terrain::load_terrain;
@@ -153,12 +153,13 @@ const WINDOW: usize = 4096;
 
 /// Runs the subcommand, writing the answer lines to `out` as the rays arrive (see [`super::io`] for the streaming
 /// rules). Every file or argument problem is returned as a [`UsageError`] before anything is written.
-pub fn run(args: &PickArgs, out: &mut dyn Write) -> Result<(), UsageError> {
+pub fn run(args: &PickArgs, out: &mut dyn Write) -> Result<(), StreamError> {
     if !(1..=1024).contains(&args.block) {
         return Err(UsageError(format!(
             "--block: must be between 1 and 1024 cells, got {}",
             args.block
-        )));
+        ))
+        .into());
     }
     let m = &args.multires;
     let fine_region = m
@@ -184,9 +185,7 @@ pub fn run(args: &PickArgs, out: &mut dyn Write) -> Result<(), UsageError> {
             })?,
     };
     if m.coarse_level.is_some_and(|c| c > 30) {
-        return Err(UsageError(
-            "--coarse-level: must be between 0 and 30".into(),
-        ));
+        return Err(UsageError("--coarse-level: must be between 0 and 30".into()).into());
     }
     let dem = match &args.terrain {
         TerrainSource::Terrain(p) => load_terrain(p),
@@ -214,12 +213,13 @@ pub fn run(args: &PickArgs, out: &mut dyn Write) -> Result<(), UsageError> {
         return Err(UsageError(format!(
             "--min-level: {} is deeper than the terrain's quadtree (levels 0 to {depth} with --block {})",
             args.min_level, args.block
-        )));
+        )).into());
     }
     if let Some(&l) = non_resident_levels.iter().find(|&&l| l > depth) {
         return Err(UsageError(format!(
             "--non-resident-levels: {l} is deeper than the terrain's quadtree (levels 0 to {depth})"
-        )));
+        ))
+        .into());
     }
     if m.any() {
         let lat = |i: u32| dem.lat0 + f64::from(i) * dem.dlat;

@@ -392,8 +392,9 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     }
 
     /// One watertight ray–triangle test, its edges on the border of the surface given by `border` (edges
-    /// `b–c`, `c–a`, `a–b`; asked only for a ray passing within rounding outside an edge); a nearer hit becomes
-    /// the candidate.
+    /// `b–c`, `c–a`, `a–b`; asked only for a ray passing within rounding of an edge, where the side of a border
+    /// edge is then decided from the exact vertices, triangle.rs "Edges on the border of the surface"); a nearer
+    /// hit becomes the candidate.
     #[inline]
     pub(super) fn test_triangle(
         &self,
@@ -409,9 +410,24 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         // the watertight ray is sheared from the exactly rescaled direction (any direction length works, down
         // to subnormal ones): its parameter is the ray's scaled one
         let (lo, hi) = (w.ray.t_to_scaled(w.ray.t_min()), w.ray.t_to_scaled(limit));
+        let ray = w.ray;
+        let edges = move |near: [bool; 3]| {
+            let open = border();
+            if !near.iter().zip(open).any(|(&n, o)| n && o) {
+                return [Edge::Shared; 3];
+            }
+            let inside = refine::exact_sides(self.storage, &self.grid, ray, cell, tri);
+            [0, 1, 2].map(
+                |k| match (open.get(k), inside.and_then(|s| s.get(k).copied())) {
+                    (Some(true), Some(true)) => Edge::Inside,
+                    (Some(true), Some(false)) => Edge::Outside,
+                    _ => Edge::Shared,
+                },
+            )
+        };
         if let Some(t) = w
             .wray
-            .intersect_with_border(a, b, c, lo, hi, border)
+            .intersect_with_border(a, b, c, lo, hi, edges)
             .map(|(s, _)| w.ray.t_from_scaled(s))
         {
             if w.best.as_ref().is_none_or(|h| t < h.t) {

@@ -91,7 +91,7 @@ use crate::vec3::V3;
 use boxes::{FrameRay, LocalFrame, NodeBox};
 use core::cell::Cell;
 use refine::{Tri, Vtx};
-use triangle::WatertightRay;
+use triangle::{Edge, WatertightRay};
 
 /// Why a pick failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

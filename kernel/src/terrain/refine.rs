@@ -60,7 +60,8 @@
 //! normal-direction measure is the right one because along the plane a grazing ray legitimately moves by
 //! `1 / sin ε` times more.
 
-use super::{Grid, TerrainStorage};
+use super::triangle::exact_edge_sides;
+use super::{Grid, TerrainStorage, TriRef};
 use crate::dd::{Dd, sin_cos_deg, two_prod};
 use crate::geodesy::Ellipsoid;
 use crate::ray::Ray;
@@ -276,6 +277,31 @@ fn vtx_dd<T: Real, S: TerrainStorage<T> + ?Sized>(
             Some([half(a0, b0), half(a1, b1), half(a2, b2)])
         }
     }
+}
+
+/// Whether the exact ray passes through the closed triangle `tri` of cell `[i, j]` at each of its edges (opposite
+/// its first, second and third vertex), from its vertices in pairs ([`exact_edge_sides`]); `None` if a vertex has
+/// no data or the triangle is seen edge-on.
+pub(super) fn exact_sides<T: Real, S: TerrainStorage<T> + ?Sized>(
+    s: &S,
+    g: &Grid<T>,
+    ray: &Ray<T>,
+    [i, j]: [u32; 2],
+    tri: TriRef,
+) -> Option<[bool; 3]> {
+    let vertices = match tri {
+        TriRef::Vertices(v) => v,
+        TriRef::Cell(t) => {
+            let (i1, j1) = (i.checked_add(1)?, j.checked_add(1)?);
+            match t {
+                Tri::First => [Vtx::Grid(i, j), Vtx::Grid(i, j1), Vtx::Grid(i1, j1)],
+                Tri::Second => [Vtx::Grid(i, j), Vtx::Grid(i1, j1), Vtx::Grid(i1, j)],
+            }
+        }
+    };
+    let [a, b, c] = vertices;
+    let v = [vtx_dd(s, g, a)?, vtx_dd(s, g, b)?, vtx_dd(s, g, c)?];
+    exact_edge_sides(ray.origin(), ray.scaled_dir(), &v)
 }
 
 /// The intersection of the ray with the plane through `v0, v1, v2` (pairs), with the point's in-plane distances

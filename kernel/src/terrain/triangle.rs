@@ -19,18 +19,19 @@
 //! # Edges on the border of the surface
 //!
 //! Watertightness covers an edge that two triangles share. An edge that only one triangle has (on the DEM's outer
-//! edge, or next to a nodata vertex) has no neighbour to catch a ray that the vertices' rounding puts just
-//! outside it: a ray through the exact vertex `V(0, j)` of a DEM's first row passes, in the scalar vertices,
-//! up to a few ulps of their coordinates outside the triangles on either side, and the closed triangles of the
-//! contract would be missed. [`WatertightRay::intersect_with_border`] therefore takes which edges are on the
-//! border and, for those only, counts an edge function of the wrong sign as 0 when it is within what the
-//! rounding of the vertices and of the sheared coordinates can explain: `16 ε m (|Δx| + |Δy|)`, where `m` is
-//! `‖origin‖∞` plus the largest `‖v − origin‖∞` of the three vertices and `Δ` the edge in the sheared frame
-//! (the edge function is the edge's length times the origin's distance from it; `16 ε m` is about 1e-8 m at
-//! Earth scale in `f64`). The ray then hits the triangle on its edge. Inner edges keep the exact rule: their
-//! neighbour answers.
+//! edge, or next to a nodata vertex) has no neighbour to catch a ray that the vertices' rounding puts on the wrong
+//! side of it: the scalar vertices are a few ulps of their coordinates off the contract's exact ones, so a ray
+//! through the exact vertex `V(0, j)` of a DEM's first row may pass just outside the scalar triangles on either
+//! side, and a ray just outside the exact edge may pass just inside them. So wherever an edge function is within
+//! what the rounding of the vertices and of the sheared coordinates can explain, `64 ε m (|Δx| + |Δy|)` (`m` is
+//! `‖origin‖∞` plus the largest `‖v − origin‖∞` of the three vertices, `Δ` the edge in the sheared frame),
+//! [`WatertightRay::intersect_with_border`] asks the caller about that edge ([`Edge`]): a shared edge keeps the
+//! scalar decision (its neighbour answers), and for an edge on the border the caller decides the side exactly,
+//! from the exact vertices ([`exact_edge_sides`]: the sign of `d · ((v_a − o) × (v_b − o))` in pair arithmetic,
+//! a tie counting as on the edge, since triangles are closed). The band only chooses where to ask; it never
+//! decides a hit.
 
-use crate::dd::two_prod;
+use crate::dd::{Dd, two_prod};
 use crate::real::Real;
 use crate::vec3::V3;
 
@@ -41,6 +42,18 @@ fn comp<T: Copy>(v: V3<T>, k: usize) -> T {
         1 => v.y,
         _ => v.z,
     }
+}
+
+/// An edge of a triangle that a ray passes within rounding of (module docs, "Edges on the border of the surface").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Edge {
+    /// Another triangle shares the edge: the scalar decision stands (watertightness gives the ray to one of the
+    /// two).
+    Shared,
+    /// On the border of the surface, and the exact ray passes through the closed triangle at this edge.
+    Inside,
+    /// On the border of the surface, and the exact ray passes outside this edge.
+    Outside,
 }
 
 /// The precomputed shear of a ray (per ray, reused for every triangle).
@@ -96,13 +109,12 @@ impl<T: Real> WatertightRay<T> {
         t_lo: T,
         t_hi: T,
     ) -> Option<(T, [T; 3])> {
-        self.intersect_with_border(v0, v1, v2, t_lo, t_hi, || [false; 3])
+        self.intersect_with_border(v0, v1, v2, t_lo, t_hi, |_| [Edge::Shared; 3])
     }
 
-    /// [`WatertightRay::intersect`], with the edges on the border of the surface closed up to the vertices'
-    /// rounding (module docs, "Edges on the border of the surface"). `border()` is asked only when the ray
-    /// passes that close outside an edge: which of the edges `v1–v2`, `v2–v0`, `v0–v1` have no neighbouring
-    /// triangle.
+    /// [`WatertightRay::intersect`], with the edges on the border of the surface decided exactly (module docs,
+    /// "Edges on the border of the surface"). `edges(near)` is asked only when the ray passes within rounding
+    /// of an edge (`near`, for the edges `v1–v2`, `v2–v0`, `v0–v1`), and says what each of those edges is.
     #[inline]
     pub fn intersect_with_border(
         &self,
@@ -111,7 +123,7 @@ impl<T: Real> WatertightRay<T> {
         v2: V3<T>,
         t_lo: T,
         t_hi: T,
-        border: impl FnOnce() -> [bool; 3],
+        edges: impl FnOnce([bool; 3]) -> [Edge; 3],
     ) -> Option<(T, [T; 3])> {
         let a = v0.minus(self.origin);
         let b = v1.minus(self.origin);
@@ -137,13 +149,26 @@ impl<T: Real> WatertightRay<T> {
         }
         let neg = u < T::ZERO || v < T::ZERO || w < T::ZERO;
         let pos = u > T::ZERO || v > T::ZERO || w > T::ZERO;
-        if neg && pos {
-            let norm = |p: V3<T>| p.x.abs().max(p.y.abs()).max(p.z.abs());
+        // A miss by the signs, or a hit with an edge function within rounding of 0 (the ray then passes near
+        // an edge, which may be on the border; the bound is the miss path's, formed on a hit only when an edge
+        // function is that small against the largest product).
+        let norm = |p: V3<T>| p.x.abs().max(p.y.abs()).max(p.z.abs());
+        let near_hit = || {
+            let scale = norm(self.origin) + norm(a).max(norm(b)).max(norm(c));
+            let reach = T::from_f64(BAND) * T::EPSILON * scale;
+            let extent = (ax.abs() + ay.abs())
+                .max(bx.abs() + by.abs())
+                .max(cx.abs() + cy.abs());
+            [u, v, w]
+                .iter()
+                .any(|f| f.abs() <= reach * (extent + extent))
+        };
+        if (neg && pos) || near_hit() {
             let scale = norm(self.origin) + norm(a).max(norm(b)).max(norm(c));
             // Through `dyn`, so that one copy serves every caller's closure.
-            let mut border = Some(border);
-            let mut open = || border.take().map_or([false; 3], |b| b());
-            [u, v, w] = close_border_edges(scale, [ax, ay, bx, by, cx, cy], [u, v, w], &mut open)?;
+            let mut edges = Some(edges);
+            let mut ask = |near: [bool; 3]| edges.take().map_or([Edge::Shared; 3], |e| e(near));
+            [u, v, w] = settle_near_edges(scale, [ax, ay, bx, by, cx, cy], [u, v, w], &mut ask)?;
         }
         let det = u + v + w;
         if det == T::ZERO || det.is_nan() {
@@ -175,17 +200,21 @@ impl<T: Real> WatertightRay<T> {
     }
 }
 
-/// The edge functions `f = [U, V, W]` of a ray that misses the triangle by their signs, with each one of the
-/// wrong sign set to 0 if its edge is on the border and the miss is within rounding (module docs); `None` if
-/// any edge function keeps the wrong sign. `scale` is `m` of the module docs, `p` the vertices' sheared
-/// coordinates `[ax, ay, bx, by, cx, cy]`, `border` says which edges are on the border (called at most once).
-/// Out of line: it runs only for misses.
+/// The band of the scalar edge functions, in `ε m` per unit of edge length, within which an edge's side is asked
+/// of the caller (module docs).
+const BAND: f64 = 64.0;
+
+/// The edge functions `f = [U, V, W]` with each edge that the ray passes within rounding of settled by `edges`
+/// (module docs): a border edge the exact ray passes outside makes a miss, one it passes inside sets a
+/// wrong-signed edge function to 0 (the ray hits the closed triangle on that edge), a shared edge keeps its
+/// sign. `None` for a miss. `scale` is `m` of the module docs, `p` the vertices' sheared coordinates
+/// `[ax, ay, bx, by, cx, cy]`, `edges` is called at most once. Out of line: it runs only near edges.
 #[inline(never)]
-fn close_border_edges<T: Real>(
+fn settle_near_edges<T: Real>(
     scale: T,
     [ax, ay, bx, by, cx, cy]: [T; 6],
     mut f: [T; 3],
-    border: &mut dyn FnMut() -> [bool; 3],
+    edges: &mut dyn FnMut([bool; 3]) -> [Edge; 3],
 ) -> Option<[T; 3]> {
     let det = f.iter().fold(T::ZERO, |s, &x| s + x);
     // The orientation is the sign of the sum: only rounding-sized terms can have the other sign.
@@ -199,38 +228,93 @@ fn close_border_edges<T: Real>(
             x > T::ZERO
         }
     };
-    let tol = T::from_f64(16.0) * T::EPSILON * scale;
+    let tol = T::from_f64(BAND) * T::EPSILON * scale;
     // The edges opposite v0, v1, v2: v1–v2, v2–v0, v0–v1.
     let lengths = [
         (bx - cx).abs() + (by - cy).abs(),
         (cx - ax).abs() + (cy - ay).abs(),
         (ax - bx).abs() + (ay - by).abs(),
     ];
-    // Only for a triangle that is not a sliver as the ray sees it (seen edge-on, or a polar sliver): there a
-    // closed gap of rounding size moves the hit along the sliver by its length over its width, far beyond rounding.
-    let longest = lengths[0].max(lengths[1]).max(lengths[2]);
-    if !(det.abs() >= T::from_f64(1e-3) * longest * longest) {
-        return None;
+    let mut near = [false; 3];
+    for ((x, len), n) in f.iter().zip(lengths).zip(&mut near) {
+        *n = x.abs() <= tol * len;
+        if wrong(*x) && !*n {
+            return None;
+        }
     }
-    let mut need = [false; 3];
-    for ((x, len), n) in f.iter().zip(lengths).zip(&mut need) {
-        if wrong(*x) {
-            if !(x.abs() <= tol * len) {
-                return None;
+    if !near.iter().any(|&n| n) {
+        return Some(f);
+    }
+    let sides = edges(near);
+    let mut closes = false;
+    for ((x, side), n) in f.iter_mut().zip(sides).zip(near) {
+        match (n, side) {
+            (true, Edge::Outside) => return None,
+            (true, Edge::Inside) if wrong(*x) => {
+                *x = T::ZERO;
+                closes = true;
             }
-            *n = true;
+            (_, _) if wrong(*x) => return None,
+            _ => {}
         }
     }
-    let open = border();
-    if need.iter().zip(open).any(|(&n, o)| n && !o) {
+    // Closing a gap only for a triangle that is not a sliver as the ray sees it (seen edge-on, or a polar sliver):
+    // there a closed gap of rounding size moves the hit along the sliver by its length over its width, far beyond
+    // rounding.
+    let longest = lengths[0].max(lengths[1]).max(lengths[2]);
+    if closes && !(det.abs() >= T::from_f64(1e-3) * longest * longest) {
         return None;
-    }
-    for x in &mut f {
-        if wrong(*x) {
-            *x = T::ZERO;
-        }
     }
     Some(f)
+}
+
+/// Whether the exact ray `origin + t dir` passes through the closed triangle `v` (vertices in pairs) at each of
+/// its edges `v1–v2`, `v2–v0`, `v0–v1` (module docs, "Edges on the border of the surface"): the sign of `dir ·
+/// ((v_a − origin) × (v_b − origin))` in pair arithmetic against the triangle's orientation (their sum), a value
+/// within the pair arithmetic's error of 0 counting as on the edge. `None` when the triangle is seen edge-on
+/// within that error (no orientation).
+pub fn exact_edge_sides<T: Real>(
+    origin: V3<T>,
+    dir: V3<T>,
+    v: &[[Dd<T>; 3]; 3],
+) -> Option<[bool; 3]> {
+    let rel = |p: &[Dd<T>; 3]| {
+        let [x, y, z] = *p;
+        [
+            x.plus_t(-origin.x),
+            y.plus_t(-origin.y),
+            z.plus_t(-origin.z),
+        ]
+    };
+    let [r0, r1, r2] = [rel(&v[0]), rel(&v[1]), rel(&v[2])];
+    let side = |[a0, a1, a2]: [Dd<T>; 3], [b0, b1, b2]: [Dd<T>; 3]| {
+        let cx = a1.times(b2).minus(a2.times(b1));
+        let cy = a2.times(b0).minus(a0.times(b2));
+        let cz = a0.times(b1).minus(a1.times(b0));
+        cx.times_t(dir.x)
+            .plus(cy.times_t(dir.y))
+            .plus(cz.times_t(dir.z))
+            .value()
+    };
+    let s = [side(r1, r2), side(r2, r0), side(r0, r1)];
+    // Error bound: the vertices are within a few ε² of their coordinates, each product and sum of the pair
+    // arithmetic within a few ε² of its magnitude; 256 ε² (‖a‖ + M)(‖b‖ + M)‖dir‖₁ covers both with room (M the
+    // largest vertex coordinate).
+    let big = |p: &[Dd<T>; 3]| p.iter().fold(T::ZERO, |m, x| m.max(x.value().abs()));
+    let m = big(&v[0]).max(big(&v[1])).max(big(&v[2]));
+    let dir1 = dir.x.abs() + dir.y.abs() + dir.z.abs();
+    let eps2 = T::from_f64(256.0) * T::EPSILON * T::EPSILON * dir1;
+    let bound = |a: &[Dd<T>; 3], b: &[Dd<T>; 3]| eps2 * (big(a) + m) * (big(b) + m);
+    let e = [bound(&r1, &r2), bound(&r2, &r0), bound(&r0, &r1)];
+    let total = s[0] + s[1] + s[2];
+    if !(total.abs() > e[0] + e[1] + e[2]) {
+        return None;
+    }
+    let sign = if total > T::ZERO { T::ONE } else { -T::ONE };
+    Some([0, 1, 2].map(|k| match (s.get(k), e.get(k)) {
+        (Some(&x), Some(&b)) => x * sign >= -b,
+        _ => false,
+    }))
 }
 
 #[cfg(test)]
@@ -325,31 +409,91 @@ mod tests {
         }
     }
 
+    /// The edges' answer of a caller whose triangle has the exact vertices `exact` and whose edges `border` have
+    /// no triangle across.
+    fn sides(
+        o: V3<f64>,
+        d: V3<f64>,
+        exact: [[Dd<f64>; 3]; 3],
+        border: [bool; 3],
+    ) -> impl FnOnce([bool; 3]) -> [Edge; 3] {
+        move |_near| {
+            let inside = exact_edge_sides(o, d, &exact).unwrap();
+            [0, 1, 2].map(|k| match (border[k], inside[k]) {
+                (false, _) => Edge::Shared,
+                (true, true) => Edge::Inside,
+                (true, false) => Edge::Outside,
+            })
+        }
+    }
+
     #[test]
-    fn border_edge_is_closed_up_to_rounding_and_no_further() {
-        // A triangle of Earth-scale coordinates and a ray down through a point 1e-9 m outside its edge v0–v1
-        // (y = 6.4e6 − 0.5): within the vertices' rounding, so a hit on that edge when it is on the border,
-        // a miss when it is not (its neighbour answers) and a miss 1e-6 m outside.
+    fn border_edge_of_earth_scale_triangle_is_decided_by_the_exact_vertices() {
+        // Scalar vertices at Earth-scale coordinates, the edge v0–v1 along y = y0; a ray straight down through a
+        // point `gap` m outside (y0 − gap). The exact vertices of that edge lie `shift` m further out (the scalar
+        // ones are their rounding). Exactly inside the closed triangle: a hit on the edge; exactly outside: a
+        // miss, however close; a shared edge: the scalar decision (its neighbour answers).
         let y0 = 6.4e6 - 0.5;
         let (v0, v1, v2) = (
             V3::new(0.0, y0, 10.0),
             V3::new(1.0, y0, 10.0),
             V3::new(0.0, y0 + 1.0, 10.0),
         );
-        for (gap, border, hits) in [
-            (1e-9, [false, false, true], true),
-            (1e-9, [false, false, false], false),
-            (1e-9, [true, true, false], false),
-            (1e-6, [true, true, true], false),
+        let exact = |shift: f64| {
+            let p = |v: V3<f64>, dy: f64| [Dd::from(v.x), Dd::from(v.y).plus_t(dy), Dd::from(v.z)];
+            [p(v0, -shift), p(v1, -shift), p(v2, 0.0)]
+        };
+        let one_ulp = 2f64.powi(-30); // the ulp of y0
+        for (gap, shift, border, hits) in [
+            // 1 ulp outside the scalar edge, 2 ulps inside the exact one: closed on the border only.
+            (one_ulp, 3.0 * one_ulp, [false, false, true], true),
+            (one_ulp, 3.0 * one_ulp, [true, true, false], false),
+            // 1 ulp outside both: outside the exact triangle, a miss on the border too (a widened tolerance
+            // would take it).
+            (one_ulp, 0.0, [false, false, true], false),
+            // 1 ulp inside the scalar edge, 1 ulp outside the exact one: a miss on the border, a hit if shared.
+            (-one_ulp, -2.0 * one_ulp, [false, false, true], false),
+            (-one_ulp, -2.0 * one_ulp, [false, false, false], true),
+            // On the exact edge: closed, a hit.
+            (0.0, 0.0, [false, false, true], true),
+            // Far outside: no question asked.
+            (1e-6, 0.0, [true, true, true], false),
         ] {
-            let r =
-                WatertightRay::new(V3::new(0.5, y0 - gap, 20.0), V3::new(0.0, 0.0, -1.0)).unwrap();
-            let hit = r.intersect_with_border(v0, v1, v2, 0.0, 100.0, || border);
-            assert_eq!(hit.is_some(), hits, "{gap} {border:?}");
-            if let Some((t, b)) = hit {
-                assert!((t - 10.0).abs() < 1e-12 && b[2] == 0.0, "{t} {b:?}");
+            let (o, d) = (V3::new(0.5, y0 - gap, 20.0), V3::new(0.0, 0.0, -1.0));
+            let r = WatertightRay::new(o, d).unwrap();
+            let hit =
+                r.intersect_with_border(v0, v1, v2, 0.0, 100.0, sides(o, d, exact(shift), border));
+            assert_eq!(hit.is_some(), hits, "{gap} {shift} {border:?}");
+            if let Some((t, _)) = hit {
+                assert!((t - 10.0).abs() < 1e-12, "{t}");
             }
         }
+    }
+
+    #[test]
+    fn exact_edge_sides_of_a_ray_through_a_vertex_count_it_on_both_edges() {
+        let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]].map(|p| p.map(Dd::from));
+        let down = V3::new(0.0, 0.0, -1.0);
+        // Through v0: on edges v2–v0 and v0–v1, inside v1–v2.
+        assert_eq!(
+            exact_edge_sides(V3::new(0.0, 0.0, 1.0), down, &v),
+            Some([true; 3])
+        );
+        // 1e-20 outside v0 towards −x: outside v2–v0 only; 1e-300 is within the pair arithmetic's error bound,
+        // on the edge.
+        assert_eq!(
+            exact_edge_sides(V3::new(-1e-20, 0.0, 1.0), down, &v),
+            Some([true, false, true])
+        );
+        assert_eq!(
+            exact_edge_sides(V3::new(-1e-300, 0.0, 1.0), down, &v),
+            Some([true; 3])
+        );
+        // In the triangle's plane: no orientation.
+        assert_eq!(
+            exact_edge_sides(V3::new(-1.0, 0.5, 0.0), V3::new(1.0, 0.0, 0.0), &v),
+            None
+        );
     }
 
     #[test]

@@ -49,6 +49,13 @@ impl Surface {
         Some(self.e.ecef_from_sin_cos(sl, cl, so, co, h))
     }
 
+    /// Vertex `(i, j)` in pairs, as the contract has it (the refinement's parallels and meridians).
+    fn vertex_dd(&self, i: u32, j: u32) -> Option<[crate::dd::Dd<f64>; 3]> {
+        let h = self.h(i, j)?;
+        let (so, co) = refine::col_sin_cos_dd(&self.grid, j);
+        Some(refine::row_parallel(&self.e, &self.grid, i).ecef(so, co, h))
+    }
+
     /// Brute force over every triangle with the same watertight test: the nearest `t` and its cell.
     fn brute(&self, ray: &Ray<f64>) -> Option<(f64, [u32; 2])> {
         let w = WatertightRay::new(ray.origin(), ray.dir()).unwrap();
@@ -77,17 +84,33 @@ impl Surface {
                         v[1],
                     ],
                 ];
-                for (tri, across) in [[v[0], v[1], v[2]], [v[0], v[2], v[3]]]
+                let corners = [(i, j), (i, j + 1), (i + 1, j + 1), (i + 1, j)];
+                for ((tri, across), k) in [[v[0], v[1], v[2]], [v[0], v[2], v[3]]]
                     .into_iter()
                     .zip(across)
+                    .zip([[0, 1, 2], [0, 2, 3]])
                 {
                     let [Some(a), Some(b), Some(c)] = tri else {
                         continue;
                     };
                     let hi = best.map_or(ray.t_max(), |x| x.0);
-                    let border = || across.map(|x| x.is_none());
-                    if let Some((t, _)) = w.intersect_with_border(a, b, c, ray.t_min(), hi, border)
-                    {
+                    // A border edge's side from the exact vertices (triangle.rs, "Edges on the border of
+                    // the surface").
+                    let edges = |_near: [bool; 3]| {
+                        let exact = k.map(|q| corners[q]).map(|(ii, jj)| self.vertex_dd(ii, jj));
+                        let inside = match exact {
+                            [Some(p), Some(q), Some(r)] => {
+                                triangle::exact_edge_sides(ray.origin(), ray.dir(), &[p, q, r])
+                            }
+                            _ => None,
+                        };
+                        [0, 1, 2].map(|e| match (across[e].is_none(), inside.map(|s| s[e])) {
+                            (true, Some(true)) => Edge::Inside,
+                            (true, Some(false)) => Edge::Outside,
+                            _ => Edge::Shared,
+                        })
+                    };
+                    if let Some((t, _)) = w.intersect_with_border(a, b, c, ray.t_min(), hi, edges) {
                         if best.is_none_or(|x| t < x.0) {
                             best = Some((t, [i, j]));
                         }

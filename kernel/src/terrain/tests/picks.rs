@@ -10,8 +10,10 @@ fn flat_terrain_at_h0_hit_by_radial_rays_at_vertices() {
     let dem = TestDem::new(g, std::vec![0.0; 81], 2);
     let s = dem.storage();
     let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
-    for i in 0..9 {
-        for j in 0..9 {
+    // The inner vertices: the outer edge's are the border tests' (tests/border.rs), where a ray straight down
+    // through a vertex built in scalars passes up to its rounding outside the exact triangles.
+    for i in 1..8 {
+        for j in 1..8 {
             let (lat, lon) = (g.lat_deg(i), g.lon_deg(j));
             let hit = p
                 .pick(&radial_ray(&dem.surface.e, lat, lon, 1000.0))

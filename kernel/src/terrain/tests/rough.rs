@@ -218,7 +218,7 @@ fn cached_bounds_give_identical_picks() {
                 let ray = radial_ray(
                     &dem.surface.e,
                     36.02 + 0.06 * k as f64,
-                    100.0 + 0.065 * k as f64,
+                    100.01 + 0.065 * k as f64,
                     5000.0,
                 );
                 p.pick(&ray).unwrap().map(|h| (h.t, h.cell))
@@ -232,14 +232,18 @@ fn cached_bounds_give_identical_picks() {
         let ray = radial_ray(
             &dem.surface.e,
             36.02 + 0.06 * k as f64,
-            100.0 + 0.065 * k as f64,
+            100.01 + 0.065 * k as f64,
             5000.0,
         );
-        assert_eq!(p.pick(&ray).unwrap().map(|h| (h.t, h.cell)), *want);
+        assert_eq!(
+            p.pick(&ray).unwrap().map(|h| (h.t, h.cell)),
+            *want,
+            "ray {k}"
+        );
         let ray = radial_ray(
             &dem.surface.e,
             36.02 + 0.06 * k as f64,
-            100.0 + 0.065 * k as f64,
+            100.01 + 0.065 * k as f64,
             5000.0,
         );
         same_hit(
