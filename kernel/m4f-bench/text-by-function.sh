@@ -33,8 +33,13 @@ if [[ -n ${COUNTS:-} ]]; then
         (select == "never") != ($1 in ran) { print }' "$COUNTS" - <<<"$sizes")
 fi
 
-awk '{ print "0x" $1 }' <<<"$sizes" | addr2line -a -f -i -C -e "$elf" | awk -v min="$min" -v sizes="$sizes" '
-    BEGIN { n = split(sizes, s, "\n"); for (i = 1; i <= n; i++) { split(s[i], p, " "); size["0x" p[1]] = p[2] } }
+# The sizes go to awk in a file: as a `-v` argument a large firmware's list passes the kernel's 128 KiB limit on one
+# argument ("Argument list too long").
+sizes_file=$(mktemp)
+trap 'rm -f "$sizes_file"' EXIT
+printf '%s\n' "$sizes" >"$sizes_file"
+awk '{ print "0x" $1 }' "$sizes_file" | addr2line -a -f -i -C -e "$elf" | awk -v min="$min" -v sizes_file="$sizes_file" '
+    BEGIN { while ((getline line < sizes_file) > 0) { split(line, p, " "); size["0x" p[1]] = p[2] } }
     function flush(   i, entry, group) {
         if (cur == "") return
         entry = ""
