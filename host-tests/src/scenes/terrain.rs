@@ -176,8 +176,11 @@ impl Dem {
             ));
         }
         let floor = -b * b / a;
+        // Heights are f32 (the heights file's type, and inline heights rounded to it): `nodata` is compared as the
+        // f32 it rounds to, so that a value f32 cannot hold exactly (−9999.9) still marks its vertices.
+        let nodata = nodata.map(|nd| nd as f32);
         for (k, h) in heights.iter_mut().enumerate() {
-            if h.is_nan() || nodata.is_some_and(|nd| f64::from(*h) == nd) {
+            if h.is_nan() || nodata.is_some_and(|nd| *h == nd) {
                 *h = f32::NAN;
                 continue;
             }
@@ -448,6 +451,23 @@ mod tests {
         assert_eq!(sincos_deg(540.0), (0.0, -1.0));
         let (s, c) = sincos_deg(30.0);
         assert!((s - 0.5).abs() < 2.3e-16 && (c - 0.75f64.sqrt()).abs() < 2.3e-16);
+    }
+
+    #[test]
+    fn nodata_that_f32_cannot_hold_exactly_still_marks_its_vertex() {
+        let mut hs = vec![1000.0f32; 9];
+        hs[4] = -9999.9f64 as f32;
+        let d = Dem::new(
+            6378137.0,
+            6356752.0,
+            (-80.0, 0.0, -0.5, 0.5),
+            (3, 3),
+            hs,
+            Some(-9999.9),
+        )
+        .unwrap();
+        assert_eq!(d.height(1, 1), None);
+        assert_eq!(d.height(1, 2), Some(1000.0));
     }
 
     #[test]

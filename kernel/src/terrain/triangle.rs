@@ -149,9 +149,10 @@ impl<T: Real> WatertightRay<T> {
         }
         let neg = u < T::ZERO || v < T::ZERO || w < T::ZERO;
         let pos = u > T::ZERO || v > T::ZERO || w > T::ZERO;
-        // A miss by the signs, or a hit with an edge function within rounding of 0 (the ray then passes near
-        // an edge, which may be on the border; the bound is the miss path's, formed on a hit only when an edge
-        // function is that small against the largest product).
+        // A miss by the signs, or a hit with an edge function that may be within the band of 0 (the ray then
+        // passes near an edge, which may be on the border). On a hit the band is bounded cheaply from above: an
+        // edge's `|Δx| + |Δy|` is at most twice the largest vertex's `|x| + |y|`; `settle_near_edges` then applies
+        // the exact band per edge.
         let norm = |p: V3<T>| p.x.abs().max(p.y.abs()).max(p.z.abs());
         let near_hit = || {
             let scale = norm(self.origin) + norm(a).max(norm(b)).max(norm(c));
