@@ -1,8 +1,9 @@
 //! `curvicast march` follows the command-line contract: answers per ray, error lines for bad rays, exit code 2
 //! with an empty stdout and one stderr line naming the file for a malformed grid.
 
-use std::io::Write;
-use std::process::{Command, Stdio};
+mod support;
+
+use support::run;
 
 /// A file holding `text` whose name ends in `name`, removed when the returned path drops.
 fn tmp(name: &str, text: &str) -> tempfile::TempPath {
@@ -14,31 +15,6 @@ fn tmp(name: &str, text: &str) -> tempfile::TempPath {
         .into_temp_path();
     std::fs::write(&p, text).unwrap();
     p
-}
-
-fn run(args: &[&str], stdin: &str) -> (i32, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_curvicast"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    // A child that rejects its grid exits without reading stdin: a broken pipe then is not an error.
-    let written = child.stdin.take().unwrap().write_all(stdin.as_bytes());
-    if let Err(e) = written {
-        assert_eq!(
-            e.kind(),
-            std::io::ErrorKind::BrokenPipe,
-            "writing stdin: {e}"
-        );
-    }
-    let out = child.wait_with_output().unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8(out.stdout).unwrap(),
-        String::from_utf8(out.stderr).unwrap(),
-    )
 }
 
 const SPHERE: &str = r#"{"kind": "spherical", "center": [0, 0, 0], "r": [0.0, 0.5, 1.0], "theta": [0.0, 1.5707963267948966, 3.141592653589793], "phi": [0.0, 3.141592653589793, 6.283185307179586]}"#;

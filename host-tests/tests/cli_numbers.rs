@@ -7,6 +7,8 @@
 //! rounded), keeping those where the two differ. The commands must read each one to `str::parse`'s bits.
 
 use curvicast::terrain::Picker;
+mod support;
+
 use curvicast_host::cli::pick::answer;
 use curvicast_host::march_run::{Engine, Precision, run_engine};
 use curvicast_host::scenes::spec::{GridSpec, RaySpec};
@@ -14,8 +16,7 @@ use curvicast_host::scenes::terrain::load_terrain;
 use curvicast_host::storage::DemStorage;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use std::io::Write;
-use std::process::{Command, Stdio};
+use support::run;
 
 /// The two-rounding fast path: the significand as `f64` (exact below 2^53, rounded above), then one
 /// multiplication or division by a correctly rounded power of ten.
@@ -74,26 +75,6 @@ fn num(text: &str) -> f64 {
     text.parse().unwrap()
 }
 
-/// Runs the command with `stdin` written from a thread (a child's full stdout cannot block our write).
-fn run(args: &[&str], stdin: String) -> (i32, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_curvicast"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut si = child.stdin.take().unwrap();
-    let writer = std::thread::spawn(move || si.write_all(stdin.as_bytes()));
-    let out = child.wait_with_output().unwrap();
-    writer.join().unwrap().unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8(out.stdout).unwrap(),
-        String::from_utf8(out.stderr).unwrap(),
-    )
-}
-
 #[test]
 fn the_fast_path_emulation_misreads_the_reported_t_max() {
     // The decimal of the report: a two-rounding parser gives the double below it.
@@ -149,7 +130,7 @@ fn march_reads_every_number_to_its_correctly_rounded_bits_and_writes_them_back_e
                 "--engine",
                 name,
             ],
-            rays_text.clone(),
+            &rays_text,
         );
         assert_eq!(code, 0, "{err}");
         let lines: Vec<&str> = out.lines().collect();
@@ -157,22 +138,14 @@ fn march_reads_every_number_to_its_correctly_rounded_bits_and_writes_them_back_e
         for (k, (line, ray)) in lines.iter().zip(&rays).enumerate() {
             let v: serde_json::Value = serde_json::from_str(line).unwrap();
             let crossings = v["crossings"].as_array().unwrap();
-            // Every number as the command wrote it, read back with the correctly rounded `str::parse`.
-            let written = |c: &serde_json::Value, key: &str| -> f64 {
-                c[key].to_string().parse::<f64>().unwrap()
+            // Every number as the command wrote it, read back with the correctly rounded `str::parse`, is
+            // `want` to the bit.
+            let same = |c: &serde_json::Value, key: &str, want: f64| {
+                let written: f64 = c[key].to_string().parse().unwrap();
+                assert_eq!(written.to_bits(), want.to_bits(), "ray {k} {key}: {line}");
             };
-            let first = crossings.first().unwrap();
-            let last = crossings.last().unwrap();
-            assert_eq!(
-                written(first, "t_enter").to_bits(),
-                ray.t_min.to_bits(),
-                "ray {k}: {line}"
-            );
-            assert_eq!(
-                written(last, "t_exit").to_bits(),
-                ray.t_max_or_inf().to_bits(),
-                "ray {k}: {line}"
-            );
+            same(crossings.first().unwrap(), "t_enter", ray.t_min);
+            same(crossings.last().unwrap(), "t_exit", ray.t_max_or_inf());
             // The whole answer is the kernel's, in this process, on the correctly rounded inputs.
             let expect = run_engine(&grid, ray, engine, Precision::F64).unwrap();
             assert_eq!(crossings.len(), expect.len(), "ray {k}: {line}");
@@ -185,16 +158,8 @@ fn march_reads_every_number_to_its_correctly_rounded_bits_and_writes_them_back_e
                     .collect();
                 let want: Vec<u64> = e.cell.iter().map(|&x| u64::from(x)).collect();
                 assert_eq!(cell, want, "ray {k}: {line}");
-                assert_eq!(
-                    written(c, "t_enter").to_bits(),
-                    e.t_enter.to_bits(),
-                    "ray {k}: {line}"
-                );
-                assert_eq!(
-                    written(c, "t_exit").to_bits(),
-                    e.t_exit.to_bits(),
-                    "ray {k}: {line}"
-                );
+                same(c, "t_enter", e.t_enter);
+                same(c, "t_exit", e.t_exit);
             }
         }
     }
@@ -265,7 +230,7 @@ fn pick_reads_every_number_to_its_correctly_rounded_bits_and_writes_them_back_ex
     }
     let (code, out, err) = run(
         &["pick", "--terrain", terrain_path.to_str().unwrap()],
-        rays_text,
+        &rays_text,
     );
     assert_eq!(code, 0, "{err}");
     let storage = DemStorage::new(&dem, 16);

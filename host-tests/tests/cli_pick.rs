@@ -1,10 +1,10 @@
 //! `curvicast pick` end to end: the binary, its output lines, and its errors (command-line contract).
 
+mod support;
+
 use curvicast_host::oracle::terrain::TerrainOracle;
 use curvicast_host::scenes::spec::RaySpec;
 use curvicast_host::scenes::terrain_cases::{TerrainKind, random_rays, synthetic};
-use std::io::Write;
-use std::process::{Command, Stdio};
 
 /// A fresh temporary directory, removed with everything in it when the returned guard drops.
 fn dir(name: &str) -> tempfile::TempDir {
@@ -14,32 +14,9 @@ fn dir(name: &str) -> tempfile::TempDir {
         .unwrap()
 }
 
+/// [`support::run`] with no input for `None`.
 fn run(args: &[&str], stdin: Option<&str>) -> (i32, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_curvicast"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    {
-        let mut si = child.stdin.take().unwrap();
-        // A child that rejects its input files exits without reading stdin: a broken pipe then is not an
-        // error.
-        if let Some(Err(e)) = stdin.map(|s| si.write_all(s.as_bytes())) {
-            assert_eq!(
-                e.kind(),
-                std::io::ErrorKind::BrokenPipe,
-                "writing stdin: {e}"
-            );
-        }
-    }
-    let o = child.wait_with_output().unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8(o.stdout).unwrap(),
-        String::from_utf8(o.stderr).unwrap(),
-    )
+    support::run(args, stdin.unwrap_or(""))
 }
 
 #[test]

@@ -3,12 +3,13 @@
 //! exactly as `--terrain` does on the same heights; every malformed file is exit 2 with one stderr line naming it
 //! and nothing on stdout.
 
+mod support;
+
 use curvicast_host::scenes::dem_files::{RasterType, read_dem, write_geotiff_i16};
 use curvicast_host::scenes::real_dem::{data_dir, encode, etopo20, trinidad};
 use curvicast_host::scenes::terrain::{Dem, WGS84_A, WGS84_B, geodetic_to_ecef_f64};
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use support::run;
 
 /// A fresh temporary directory, removed when dropped.
 fn dir(name: &str) -> tempfile::TempDir {
@@ -16,29 +17,6 @@ fn dir(name: &str) -> tempfile::TempDir {
         .prefix(&format!("curvicast-pick-dem-{name}-"))
         .tempdir()
         .unwrap()
-}
-
-fn run(args: &[&str], stdin: &str) -> (i32, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_curvicast"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut si = child.stdin.take().unwrap();
-    let input = stdin.to_string();
-    // A child that rejects its files exits without reading stdin: a broken pipe then is not an error.
-    let feeder = std::thread::spawn(move || {
-        let _ = si.write_all(input.as_bytes());
-    });
-    let out = child.wait_with_output().unwrap();
-    feeder.join().unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8(out.stdout).unwrap(),
-        String::from_utf8(out.stderr).unwrap(),
-    )
 }
 
 /// Rays over the DEM's area: straight down from 6 km above points between vertices, and oblique ones from 6 km

@@ -2,11 +2,11 @@
 //! at the ray's `t_max` bit for bit, and a ray whose crossings lie where `t` overflows (a tiny direction) is a
 //! typed error — in the kernel and as an error line of `curvicast march` — never a miss or a `null` t.
 
+mod support;
+
 use curvicast_host::march_run::{Engine, Precision, run_engine};
 use curvicast_host::scenes::march_cases::{partial_grid, random_grid, random_ray};
 use rand::{Rng, SeedableRng};
-use std::io::Write;
-use std::process::{Command, Stdio};
 
 /// The neighbours of `t` by `k` units in the last place of the precision's type.
 fn ulps(p: Precision, t: f64, k: i64) -> f64 {
@@ -83,23 +83,11 @@ fn last_crossing_of_a_ray_ending_inside_exits_at_t_max_exactly() {
     );
 }
 
+/// The standard output of a successful run.
 fn run_cli(args: &[&str], stdin: &str) -> String {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_curvicast"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(stdin.as_bytes())
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert_eq!(out.status.code(), Some(0));
-    String::from_utf8(out.stdout).unwrap()
+    let (code, out, err) = support::run(args, stdin);
+    assert_eq!(code, 0, "{err}");
+    out
 }
 
 /// `[1e-308, 0, 0]` from three units away crosses the unit ball at t ≈ 2e308..4e308, beyond the largest f64:

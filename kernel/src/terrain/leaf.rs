@@ -417,13 +417,12 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                 return [Edge::Shared; 3];
             }
             let inside = refine::exact_sides(self.storage, &self.grid, ray, cell, tri);
-            [0, 1, 2].map(
-                |k| match (open.get(k), inside.and_then(|s| s.get(k).copied())) {
-                    (Some(true), Some(true)) => Edge::Inside,
-                    (Some(true), Some(false)) => Edge::Outside,
-                    _ => Edge::Shared,
-                },
-            )
+            [0, 1, 2].map(|k| {
+                Edge::of(
+                    open.get(k).is_some_and(|&o| o),
+                    inside.and_then(|s| s.get(k).copied()),
+                )
+            })
         };
         if let Some(t) = w
             .wray

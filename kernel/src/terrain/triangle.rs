@@ -56,6 +56,18 @@ pub enum Edge {
     Outside,
 }
 
+impl Edge {
+    /// An edge that is on the border of the surface or not (`border`), with the exact side of the ray where known
+    /// (`inside`, from [`exact_edge_sides`]; without it the scalar decision stands).
+    pub fn of(border: bool, inside: Option<bool>) -> Self {
+        match (border, inside) {
+            (true, Some(true)) => Edge::Inside,
+            (true, Some(false)) => Edge::Outside,
+            _ => Edge::Shared,
+        }
+    }
+}
+
 /// The precomputed shear of a ray (per ray, reused for every triangle).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WatertightRay<T> {
@@ -420,11 +432,7 @@ mod tests {
     ) -> impl FnOnce([bool; 3]) -> [Edge; 3] {
         move |_near| {
             let inside = exact_edge_sides(o, d, &exact).unwrap();
-            [0, 1, 2].map(|k| match (border[k], inside[k]) {
-                (false, _) => Edge::Shared,
-                (true, true) => Edge::Inside,
-                (true, false) => Edge::Outside,
-            })
+            [0, 1, 2].map(|k| Edge::of(border[k], Some(inside[k])))
         }
     }
 

@@ -104,11 +104,7 @@ impl Surface {
                             }
                             _ => None,
                         };
-                        [0, 1, 2].map(|e| match (across[e].is_none(), inside.map(|s| s[e])) {
-                            (true, Some(true)) => Edge::Inside,
-                            (true, Some(false)) => Edge::Outside,
-                            _ => Edge::Shared,
-                        })
+                        [0, 1, 2].map(|e| Edge::of(across[e].is_none(), inside.map(|s| s[e])))
                     };
                     if let Some((t, _)) = w.intersect_with_border(a, b, c, ray.t_min(), hi, edges) {
                         if best.is_none_or(|x| t < x.0) {

@@ -1,0 +1,33 @@
+//! What the integration tests share: one way to run the `curvicast` binary.
+
+use std::io::Write;
+use std::process::{Command, Stdio};
+
+/// Runs `curvicast ARGS` to the end with `stdin` as its input, written from a thread (so that a child whose
+/// stdout pipe is full cannot block the write): (exit code, stdout, stderr). A child that exits without reading
+/// all of its input (it rejected its files) leaves a broken pipe, which is not an error.
+pub fn run(args: &[&str], stdin: &str) -> (i32, String, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_curvicast"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut si = child.stdin.take().unwrap();
+    let input = stdin.to_owned();
+    let feeder = std::thread::spawn(move || si.write_all(input.as_bytes()));
+    let out = child.wait_with_output().unwrap();
+    if let Err(e) = feeder.join().unwrap() {
+        assert_eq!(
+            e.kind(),
+            std::io::ErrorKind::BrokenPipe,
+            "writing stdin: {e}"
+        );
+    }
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}
