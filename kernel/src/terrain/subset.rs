@@ -201,9 +201,9 @@ impl BlockSubset {
                 // A shift by 64 (B = 1, levels = 64) is `None` from `checked_shr`: the quotient is 0.
                 None => Some(v.checked_shr(levels.saturating_sub(k)).unwrap_or(0)),
             };
+            // Below `B` by the range check above (so no filter against `B` here).
             scaled
                 .and_then(|s| u32::try_from(s).ok())
-                .filter(|&s| s < block_cells)
                 .ok_or(SubsetError::DescendantOutOfRange)
         };
         Ok(BlockSubset {
@@ -309,6 +309,34 @@ mod tests {
             assert_eq!(rect(s), ([0, 1], [0, 1]));
         }
         assert_eq!(s.levels(), MAX_LEVELS);
+    }
+
+    #[test]
+    fn accessors_report_block_size_levels_and_first_column_and_row() {
+        // Block of 8 cells, two levels up from the leaf in column 3, row 1 of the 4 × 4 descendants.
+        let s = BlockSubset::of_descendant(8, 2, 3, 1).unwrap();
+        assert_eq!(
+            (
+                s.block_cells(),
+                s.levels(),
+                s.extent(),
+                s.x_min(),
+                s.y_min()
+            ),
+            (8, 2, 2, 6, 2)
+        );
+        assert_eq!((s.x_max(), s.y_max()), (8, 4));
+    }
+
+    #[test]
+    fn errors_say_what_is_wrong() {
+        use std::string::ToString;
+        let text = |e: SubsetError| e.to_string();
+        assert!(
+            text(SubsetError::InvalidBlockCells(6)).contains("block size 6 is not a power of two")
+        );
+        assert!(text(SubsetError::TooManyLevels).contains("more than 64 levels up"));
+        assert!(text(SubsetError::DescendantOutOfRange).contains("descendant index outside"));
     }
 
     #[test]
