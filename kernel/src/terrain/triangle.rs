@@ -159,30 +159,14 @@ impl<T: Real> WatertightRay<T> {
             v = det2(ax, cy, ay, cx);
             w = det2(bx, ay, by, ax);
         }
-        let neg = u < T::ZERO || v < T::ZERO || w < T::ZERO;
-        let pos = u > T::ZERO || v > T::ZERO || w > T::ZERO;
-        // A miss by the signs, or a hit with an edge function that may be within the band of 0 (the ray then
-        // passes near an edge, which may be on the border). On a hit the band is bounded cheaply from above: an
-        // edge's `|Δx| + |Δy|` is at most twice the largest vertex's `|x| + |y|`; `settle_near_edges` then applies
-        // the exact band per edge.
+        // The signs decide, except where an edge function is within the band of 0 (module docs): there the
+        // caller says what the edge is.
         let norm = |p: V3<T>| p.x.abs().max(p.y.abs()).max(p.z.abs());
-        let near_hit = || {
-            let scale = norm(self.origin) + norm(a).max(norm(b)).max(norm(c));
-            let reach = T::from_f64(BAND) * T::EPSILON * scale;
-            let extent = (ax.abs() + ay.abs())
-                .max(bx.abs() + by.abs())
-                .max(cx.abs() + cy.abs());
-            [u, v, w]
-                .iter()
-                .any(|f| f.abs() <= reach * (extent + extent))
-        };
-        if (neg && pos) || near_hit() {
-            let scale = norm(self.origin) + norm(a).max(norm(b)).max(norm(c));
-            // Through `dyn`, so that one copy serves every caller's closure.
-            let mut edges = Some(edges);
-            let mut ask = |near: [bool; 3]| edges.take().map_or([Edge::Shared; 3], |e| e(near));
-            [u, v, w] = settle_near_edges(scale, [ax, ay, bx, by, cx, cy], [u, v, w], &mut ask)?;
-        }
+        let scale = norm(self.origin) + norm(a).max(norm(b)).max(norm(c));
+        // Through `dyn`, so that one copy serves every caller's closure.
+        let mut edges = Some(edges);
+        let mut ask = |near: [bool; 3]| edges.take().map_or([Edge::Shared; 3], |e| e(near));
+        [u, v, w] = settle_near_edges(scale, [ax, ay, bx, by, cx, cy], [u, v, w], &mut ask)?;
         let det = u + v + w;
         if det == T::ZERO || det.is_nan() {
             return None;
@@ -220,8 +204,9 @@ const BAND: f64 = 64.0;
 /// The edge functions `f = [U, V, W]` with each edge that the ray passes within rounding of settled by `edges`
 /// (module docs): a border edge the exact ray passes outside makes a miss, one it passes inside sets a
 /// wrong-signed edge function to 0 (the ray hits the closed triangle on that edge), a shared edge keeps its
-/// sign. `None` for a miss. `scale` is `m` of the module docs, `p` the vertices' sheared coordinates
-/// `[ax, ay, bx, by, cx, cy]`, `edges` is called at most once. Out of line: it runs only near edges.
+/// sign; away from every edge, the signs decide. `None` for a miss. `scale` is `m` of the module docs, `p` the
+/// vertices' sheared coordinates `[ax, ay, bx, by, cx, cy]`, `edges` is called at most once (only when an edge
+/// is near). Out of line: one copy for every caller.
 #[inline(never)]
 fn settle_near_edges<T: Real>(
     scale: T,
@@ -351,6 +336,55 @@ mod tests {
         assert!(miss.intersect(v0, v1, v2, 0.0, 10.0).is_none());
         // Out of the interval.
         assert!(down.intersect(v0, v1, v2, 0.0, 1.5).is_none());
+    }
+
+    /// In `f32`, straight-down rays near the edge `P–Q` shared by two triangles, placed so that the scalar edge
+    /// function of that edge rounds to exactly 0 while its exact value (of the same rounded coordinates) does
+    /// not: the exact recomputation gives it its sign, so exactly one of the two triangles is hit (a 0 would
+    /// give the ray to both). Each triangle is tried with its vertices in all three rotations, so the edge is
+    /// `U`, `V` and `W` in turn.
+    #[test]
+    fn f32_edge_function_that_rounds_to_zero_takes_its_exact_sign() {
+        let mut seed: u64 = 7;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut found = 0;
+        for _ in 0..200_000 {
+            let q = V3::new(1.0 + next(), 1.0 + next(), 0.0f32);
+            let t = 0.25 + 0.5 * next();
+            let o = V3::new(q.x * t, q.y * t, 1.0f32);
+            // The sheared coordinates of P = 0 and Q relative to o (ray straight down: x' = y, y' = x).
+            let (px, py) = (0.0 - o.y, 0.0 - o.x);
+            let (qx, qy) = (q.y - o.y, q.x - o.x);
+            let scalar = qx * py - qy * px;
+            let exact = f64::from(qx) * f64::from(py) - f64::from(qy) * f64::from(px);
+            if scalar != 0.0 || exact == 0.0 {
+                continue;
+            }
+            found += 1;
+            let p = V3::new(0.0f32, 0.0, 0.0);
+            let (r1, r2) = (V3::new(-q.y, q.x, 0.0), V3::new(q.y, -q.x, 0.0));
+            let ray = WatertightRay::new(o, V3::new(0.0, 0.0, -1.0)).unwrap();
+            for k in 0..3 {
+                let rot = |t: [V3<f32>; 3]| [t[k % 3], t[(k + 1) % 3], t[(k + 2) % 3]];
+                let [a, b, c] = rot([p, q, r1]);
+                let first = ray.intersect(a, b, c, 0.0, 10.0).is_some();
+                let [a, b, c] = rot([q, p, r2]);
+                let second = ray.intersect(a, b, c, 0.0, 10.0).is_some();
+                assert!(
+                    first != second,
+                    "{o:?} {q:?}: {first} {second} (rotation {k})"
+                );
+            }
+            if found == 20 {
+                break;
+            }
+        }
+        assert_eq!(found, 20, "rays with an edge function rounding to 0");
     }
 
     #[test]
