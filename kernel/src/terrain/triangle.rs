@@ -388,6 +388,91 @@ mod tests {
     }
 
     #[test]
+    fn barycentric_coordinates_of_a_triangle_twice_the_unit_size() {
+        // det = 4 in the sheared frame: the coordinates are U, V, W divided by it (multiplying would give 16×).
+        let (v0, v1, v2) = (
+            V3::new(0.0, 0.0, 0.0),
+            V3::new(2.0, 0.0, 0.0),
+            V3::new(0.0, 2.0, 0.0),
+        );
+        let down = WatertightRay::new(V3::new(0.5, 0.5, 2.0), V3::new(0.0, 0.0, -1.0)).unwrap();
+        let (t, b) = down.intersect(v0, v1, v2, 0.0, 10.0).unwrap();
+        assert_eq!((t, b), (2.0, [0.5, 0.25, 0.25]));
+    }
+
+    #[test]
+    fn ray_exactly_through_an_edge_hits_the_closed_triangle_in_either_orientation() {
+        let (v0, v1, v2) = (
+            V3::new(0.0, 0.0, 0.0),
+            V3::new(1.0, 0.0, 0.0),
+            V3::new(0.0, 1.0, 0.0),
+        );
+        // Through the middle of v0–v1 (its edge function is exactly 0), from above and from below.
+        for dz in [-1.0, 1.0] {
+            let r =
+                WatertightRay::new(V3::new(0.5, 0.0, -2.0 * dz), V3::new(0.0, 0.0, dz)).unwrap();
+            assert!(
+                r.intersect(v0, v1, v2, 0.0, 10.0).is_some(),
+                "counter-clockwise, {dz}"
+            );
+            assert!(
+                r.intersect(v0, v2, v1, 0.0, 10.0).is_some(),
+                "clockwise, {dz}"
+            );
+        }
+    }
+
+    #[test]
+    fn triangle_seen_almost_edge_on_within_the_rounding_bound_is_a_miss() {
+        // Sheared coordinates of magnitude 1 (six products of about 1), a sliver of width δ seen along the ray,
+        // which passes exactly through its edge A–B: det = 4δ. At 7 ε of the products' sum it is within the
+        // edge-on bound (8 ε): a miss; at 100 ε it is a triangle: a hit.
+        let eps = f64::EPSILON;
+        for (k, hits) in [(7.0, false), (100.0, true)] {
+            let delta = k * eps * 6.0 / 4.0;
+            let (a, b, c) = (
+                V3::new(1.0, 1.0, 0.0),
+                V3::new(-1.0, -1.0, 0.0),
+                V3::new(1.0 - delta, 1.0 + delta, 0.0),
+            );
+            let r = WatertightRay::new(V3::new(0.0, 0.0, 1.0), V3::new(0.0, 0.0, -1.0)).unwrap();
+            let hit = r.intersect(a, b, c, 0.0, 10.0).is_some()
+                || r.intersect(a, c, b, 0.0, 10.0).is_some();
+            assert_eq!(hit, hits, "det at {k} ε of the products");
+        }
+    }
+
+    #[test]
+    fn border_edge_seen_from_the_far_side_of_the_earth_is_decided_by_the_exact_vertices() {
+        // The band is relative to the origin's and the vertices' coordinates together: a ray from the Earth's
+        // centre out to a wall at 6.4e6 m passing 1e-9 m below its bottom edge, whose exact vertices lie 3e-9 m
+        // lower (the ray is inside the exact triangle): a hit when the edge is on the border.
+        let y0 = 6.4e6 - 0.5;
+        let (v0, v1, v2) = (
+            V3::new(0.0, y0, 0.0),
+            V3::new(1.0, y0, 0.0),
+            V3::new(0.0, y0, 1.0),
+        );
+        let exact = [
+            [Dd::from(0.0), Dd::from(y0), Dd::from(-3e-9)],
+            [Dd::from(1.0), Dd::from(y0), Dd::from(-3e-9)],
+            [Dd::from(0.0), Dd::from(y0), Dd::from(1.0)],
+        ];
+        let (o, d) = (V3::new(0.5, 0.0, -1e-9), V3::new(0.0, 1.0, 0.0));
+        let r = WatertightRay::new(o, d).unwrap();
+        let border = r.intersect_with_border(
+            v0,
+            v1,
+            v2,
+            0.0,
+            1e7,
+            sides(o, d, exact, [false, false, true]),
+        );
+        assert!(border.is_some());
+        assert!(r.intersect(v0, v1, v2, 0.0, 1e7).is_none());
+    }
+
+    #[test]
     fn ray_almost_in_the_plane_of_a_triangle_is_a_miss() {
         // The triangle lies in the plane x = 0; the ray starts in that plane (outside the triangle) and leaves
         // it at an angle of 1e-13, so it meets the plane only at its origin. The projection along the ray is
