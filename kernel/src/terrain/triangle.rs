@@ -561,11 +561,12 @@ mod tests {
         // point `gap` m outside (y0 − gap). The exact vertices of that edge lie `shift` m further out (the scalar
         // ones are their rounding). Exactly inside the closed triangle: a hit on the edge; exactly outside: a
         // miss, however close; a shared edge: the scalar decision (its neighbour answers).
+        // A cell-sized triangle (1 km edges), so that the band scales with the edge's length.
         let y0 = 6.4e6 - 0.5;
         let (v0, v1, v2) = (
             V3::new(0.0, y0, 10.0),
-            V3::new(1.0, y0, 10.0),
-            V3::new(0.0, y0 + 1.0, 10.0),
+            V3::new(1000.0, y0, 10.0),
+            V3::new(0.0, y0 + 1000.0, 10.0),
         );
         let exact = |shift: f64| {
             let p = |v: V3<f64>, dy: f64| [Dd::from(v.x), Dd::from(v.y).plus_t(dy), Dd::from(v.z)];
@@ -587,7 +588,7 @@ mod tests {
             // Far outside: no question asked.
             (1e-6, 0.0, [true, true, true], false),
         ] {
-            let (o, d) = (V3::new(0.5, y0 - gap, 20.0), V3::new(0.0, 0.0, -1.0));
+            let (o, d) = (V3::new(500.0, y0 - gap, 20.0), V3::new(0.0, 0.0, -1.0));
             let r = WatertightRay::new(o, d).unwrap();
             let hit =
                 r.intersect_with_border(v0, v1, v2, 0.0, 100.0, sides(o, d, exact(shift), border));
