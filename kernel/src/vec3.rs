@@ -8,8 +8,9 @@
 
 use crate::real::Real;
 
-/// A 3-vector of [`Real`]s.
+/// A 3-vector of [`Real`]s, laid out as C's `T[3]` (`repr(C)`: the C interface writes arrays of them).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[repr(C)]
 pub struct V3<T> {
     /// x.
     pub x: T,

@@ -110,8 +110,10 @@ pub const fn edge_count(level: u32) -> usize {
     }
 }
 
-/// One face of a beveled polyhedron: a planar convex polygon tangent to the surface at `center`.
+/// One face of a beveled polyhedron: a planar convex polygon tangent to the surface at `center` (`repr(C)`: the
+/// C interface writes arrays of them).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C)]
 pub struct Face<T> {
     /// The center point (§4.3.4): where the face's plane touches the sphere or ellipsoid.
     pub center: V3<T>,

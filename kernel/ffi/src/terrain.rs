@@ -1,0 +1,746 @@
+//! Terrain picking from C (Wartell, Ribarsky, Hodges, *Efficient Ray Intersection with Global Terrain using
+//! Spheroidal Height-Augmented Quadtrees*, §3–§5) on the WGS84 spheroid: the quadtree of the caller's heights
+//! built into the caller's node records, a terrain over them, a picker over the terrain.
+//!
+//! ```c
+//! curvicast_dem_grid_f64 g = {45.0, 7.0, 0.01, 0.01, 9, 9};      /* lat0, lon0, dlat, dlon (deg), rows, cols */
+//! static float heights[9 * 9];                                   /* row-major, NaN: no data */
+//! static curvicast_node_record nodes[64];                        /* >= curvicast_node_slots(9, 9, 8) */
+//! static curvicast_terrain_f64 terrain;
+//! static curvicast_picker_f64 picker;
+//! curvicast_hit_f64 hit;
+//! curvicast_terrain_f64_build(&terrain, &g, heights, 81, 8, nodes, 64);
+//! curvicast_picker_f64_init(&picker, &terrain, 0);
+//! if (curvicast_picker_f64_pick(&picker, &ray, &hit, NULL) == CURVICAST_OK) { /* hit.lat_deg, hit.h, ... */ }
+//! ```
+//!
+//! **Multi-resolution (§5).** `curvicast_terrain_*_build_multires` builds the pyramid, and takes one residency
+//! flag per node (its id is its index). A pick that needs a block that is not resident, and that no coarser
+//! resident block at or below the picker's `min_level` can stand in for, returns
+//! `CURVICAST_TERRAIN_NEEDS_BLOCK` with the node's id in `*needs_node`: set its flag once its block is in
+//! memory, and ask again.
+
+use crate::{CRay, Holds, curvicast_ray_f32, curvicast_ray_f64, curvicast_status};
+use crate::{get, init, out, point, put_optional, read, slice, slice_mut, write};
+use core::sync::atomic::AtomicBool;
+use curvicast::Real;
+use curvicast::geodesy::Ellipsoid;
+use curvicast::terrain::build::{
+    MultiRes, NodeRecord, Parts, SliceStorage, Tree, build_multires_tree, build_tree, node_slots,
+};
+use curvicast::terrain::{Grid, Hit, Picker, TerrainError};
+
+/// The words of a node record (exactly the kernel's record of `float` heights).
+pub const CURVICAST_NODE_RECORD_WORDS: usize = 11;
+/// The storage words of a terrain: a tag and the storage over the caller's buffers.
+pub const CURVICAST_TERRAIN_WORDS: usize = 32;
+/// The storage words of a picker in single precision.
+pub const CURVICAST_PICKER_F32_WORDS: usize = 1280;
+/// The storage words of a picker in double precision.
+pub const CURVICAST_PICKER_F64_WORDS: usize = 2304;
+/// The traversal stack of a picker: up to 3 entries per tree level plus 4 (so trees up to 20 levels deep).
+pub const CURVICAST_PICKER_STACK: usize = 64;
+/// The zones a picker holds: every tree `curvicast_terrain_*_build` makes has at most 4 × 8.
+pub const CURVICAST_PICKER_ZONES: usize = 32;
+
+/// The regular geodetic grid of a DEM on WGS84: vertex `(i, j)` is at latitude `lat0_deg + i·dlat_deg`,
+/// longitude `lon0_deg + j·dlon_deg` (degrees), `0 ≤ i < rows`, `0 ≤ j < cols`; `dlat_deg ≠ 0` of either sign,
+/// `0 < dlon_deg < 180`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct curvicast_dem_grid_f32 {
+    /// Latitude of row 0, degrees.
+    pub lat0_deg: f32,
+    /// Longitude of column 0, degrees.
+    pub lon0_deg: f32,
+    /// Row spacing, degrees.
+    pub dlat_deg: f32,
+    /// Column spacing, degrees.
+    pub dlon_deg: f32,
+    /// Vertex rows (at least 2).
+    pub rows: u32,
+    /// Vertex columns (at least 2).
+    pub cols: u32,
+}
+
+/// The DEM grid (see `curvicast_dem_grid_f32`) in double precision.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct curvicast_dem_grid_f64 {
+    /// Latitude of row 0, degrees.
+    pub lat0_deg: f64,
+    /// Longitude of column 0, degrees.
+    pub lon0_deg: f64,
+    /// Row spacing, degrees.
+    pub dlat_deg: f64,
+    /// Column spacing, degrees.
+    pub dlon_deg: f64,
+    /// Vertex rows (at least 2).
+    pub rows: u32,
+    /// Vertex columns (at least 2).
+    pub cols: u32,
+}
+
+/// The shape of a multi-resolution tree (§5, Fig. 11): branches end `coarse_level` levels above the leaves
+/// outside the fine region `[lat_s, lat_n, lon_w, lon_e]` (degrees), whose nodes go down to full resolution.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct curvicast_multires_f32 {
+    /// Whether `fine_region` is used (false: every node goes down to the leaves).
+    pub has_fine_region: bool,
+    /// `[lat_s, lat_n, lon_w, lon_e]`, degrees.
+    pub fine_region: [f32; 4],
+    /// The level above the leaves at which branches outside the fine region end.
+    pub coarse_level: u32,
+}
+
+/// The shape of a multi-resolution tree (see `curvicast_multires_f32`) in double precision.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct curvicast_multires_f64 {
+    /// Whether `fine_region` is used (false: every node goes down to the leaves).
+    pub has_fine_region: bool,
+    /// `[lat_s, lat_n, lon_w, lon_e]`, degrees.
+    pub fine_region: [f64; 4],
+    /// The level above the leaves at which branches outside the fine region end.
+    pub coarse_level: u32,
+}
+
+/// One quadtree node as the builder stores it (opaque; `curvicast_node_slots` of them per DEM).
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct curvicast_node_record {
+    opaque: [u32; CURVICAST_NODE_RECORD_WORDS],
+}
+
+/// A terrain: the tree and the caller's heights, node records and residency flags, which it borrows.
+#[repr(C)]
+pub struct curvicast_terrain_f32 {
+    opaque: [u64; CURVICAST_TERRAIN_WORDS],
+}
+
+/// A terrain (see `curvicast_terrain_f32`) in double precision.
+#[repr(C)]
+pub struct curvicast_terrain_f64 {
+    opaque: [u64; CURVICAST_TERRAIN_WORDS],
+}
+
+/// A picker: the per-terrain constants (global bound, zone volumes). It borrows its terrain.
+#[repr(C)]
+pub struct curvicast_picker_f32 {
+    opaque: [u64; CURVICAST_PICKER_F32_WORDS],
+}
+
+/// A picker (see `curvicast_picker_f32`) in double precision.
+#[repr(C)]
+pub struct curvicast_picker_f64 {
+    opaque: [u64; CURVICAST_PICKER_F64_WORDS],
+}
+
+/// The nearest hit of a ray with the terrain.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct curvicast_hit_f32 {
+    /// The ray parameter (in the units of the ray's direction).
+    pub t: f32,
+    /// The hit point, ECEF metres.
+    pub ecef: [f32; 3],
+    /// Geodetic latitude, degrees.
+    pub lat_deg: f32,
+    /// Longitude, degrees in [−180, 180].
+    pub lon_deg: f32,
+    /// Height above the ellipsoid, metres.
+    pub h: f32,
+    /// The grid cell `[row, column]` whose triangle was hit (the first of the traced cell's).
+    pub cell: [u32; 2],
+    /// The traced cell's size in grid steps (1 at full resolution).
+    pub stride: u32,
+    /// The quadtree level of the node whose block was traced.
+    pub level: u8,
+}
+
+/// The nearest hit (see `curvicast_hit_f32`) in double precision.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct curvicast_hit_f64 {
+    /// The ray parameter (in the units of the ray's direction).
+    pub t: f64,
+    /// The hit point, ECEF metres.
+    pub ecef: [f64; 3],
+    /// Geodetic latitude, degrees.
+    pub lat_deg: f64,
+    /// Longitude, degrees in [−180, 180].
+    pub lon_deg: f64,
+    /// Height above the ellipsoid, metres.
+    pub h: f64,
+    /// The grid cell `[row, column]` whose triangle was hit (the first of the traced cell's).
+    pub cell: [u32; 2],
+    /// The traced cell's size in grid steps (1 at full resolution).
+    pub stride: u32,
+    /// The quadtree level of the node whose block was traced.
+    pub level: u8,
+}
+
+type Record = NodeRecord<f32>;
+/// The kernel's storage over the caller's buffers (heights in `float`, residency flags for paging).
+pub(crate) type Storage<T> = SliceStorage<'static, T, f32, (), AtomicBool>;
+/// The kernel's picker over it.
+pub(crate) type CPicker<T> =
+    Picker<'static, T, Storage<T>, CURVICAST_PICKER_STACK, CURVICAST_PICKER_ZONES>;
+
+const _: () = assert!(
+    core::mem::size_of::<Record>() == core::mem::size_of::<curvicast_node_record>()
+        && core::mem::align_of::<Record>() == core::mem::align_of::<curvicast_node_record>(),
+    "the C node record must have the kernel record's size and alignment"
+);
+
+// SAFETY: arrays of u64 with tags distinct from every other `Holds` implementor's (0x…06xx in `march`).
+unsafe impl Holds for curvicast_terrain_f32 {
+    type Value = Storage<f32>;
+    const TAG: u64 = 0x6375_7276_6963_0701;
+}
+// SAFETY: as above.
+unsafe impl Holds for curvicast_terrain_f64 {
+    type Value = Storage<f64>;
+    const TAG: u64 = 0x6375_7276_6963_0702;
+}
+// SAFETY: as above.
+unsafe impl Holds for curvicast_picker_f32 {
+    type Value = CPicker<f32>;
+    const TAG: u64 = 0x6375_7276_6963_0703;
+}
+// SAFETY: as above.
+unsafe impl Holds for curvicast_picker_f64 {
+    type Value = CPicker<f64>;
+    const TAG: u64 = 0x6375_7276_6963_0704;
+}
+
+/// The C grid and hit of a scalar type.
+pub(crate) trait Scalar: Real {
+    type DemGrid: Copy;
+    type MultiRes: Copy;
+    type Hit;
+    fn grid(g: &Self::DemGrid) -> Grid<Self>;
+    fn shape(s: &Self::MultiRes) -> MultiRes<Self>;
+    fn hit(h: Hit<Self>) -> Self::Hit;
+}
+
+impl Scalar for f32 {
+    type DemGrid = curvicast_dem_grid_f32;
+    type MultiRes = curvicast_multires_f32;
+    type Hit = curvicast_hit_f32;
+    fn grid(g: &curvicast_dem_grid_f32) -> Grid<f32> {
+        let &curvicast_dem_grid_f32 {
+            lat0_deg,
+            lon0_deg,
+            dlat_deg,
+            dlon_deg,
+            rows,
+            cols,
+        } = g;
+        Grid {
+            lat0_deg,
+            lon0_deg,
+            dlat_deg,
+            dlon_deg,
+            rows,
+            cols,
+        }
+    }
+    fn shape(s: &curvicast_multires_f32) -> MultiRes<f32> {
+        MultiRes {
+            fine_region: s.has_fine_region.then_some(s.fine_region),
+            coarse_level: s.coarse_level,
+        }
+    }
+    fn hit(h: Hit<f32>) -> curvicast_hit_f32 {
+        let Hit {
+            t,
+            ecef,
+            lat_deg,
+            lon_deg,
+            h,
+            cell,
+            level,
+            stride,
+        } = h;
+        curvicast_hit_f32 {
+            t,
+            ecef,
+            lat_deg,
+            lon_deg,
+            h,
+            cell,
+            stride,
+            level,
+        }
+    }
+}
+
+impl Scalar for f64 {
+    type DemGrid = curvicast_dem_grid_f64;
+    type MultiRes = curvicast_multires_f64;
+    type Hit = curvicast_hit_f64;
+    fn grid(g: &curvicast_dem_grid_f64) -> Grid<f64> {
+        let &curvicast_dem_grid_f64 {
+            lat0_deg,
+            lon0_deg,
+            dlat_deg,
+            dlon_deg,
+            rows,
+            cols,
+        } = g;
+        Grid {
+            lat0_deg,
+            lon0_deg,
+            dlat_deg,
+            dlon_deg,
+            rows,
+            cols,
+        }
+    }
+    fn shape(s: &curvicast_multires_f64) -> MultiRes<f64> {
+        MultiRes {
+            fine_region: s.has_fine_region.then_some(s.fine_region),
+            coarse_level: s.coarse_level,
+        }
+    }
+    fn hit(h: Hit<f64>) -> curvicast_hit_f64 {
+        let Hit {
+            t,
+            ecef,
+            lat_deg,
+            lon_deg,
+            h,
+            cell,
+            level,
+            stride,
+        } = h;
+        curvicast_hit_f64 {
+            t,
+            ecef,
+            lat_deg,
+            lon_deg,
+            h,
+            cell,
+            stride,
+            level,
+        }
+    }
+}
+
+/// The length of the node array for a DEM of `rows × cols` vertices and leaf blocks of `block × block` cells
+/// (0 for fewer than 2 rows or columns or a block of 0).
+#[unsafe(no_mangle)]
+pub extern "C" fn curvicast_node_slots(rows: u32, cols: u32, block: u32) -> usize {
+    node_slots(rows, cols, block)
+}
+
+/// Builds the tree (single- or multi-resolution) and the storage over the caller's buffers.
+///
+/// # Safety
+/// As [`curvicast_terrain_f64_build_multires`].
+#[allow(clippy::too_many_arguments)]
+unsafe fn build<T: Scalar>(
+    grid: *const T::DemGrid,
+    heights: (*const f32, usize),
+    block: u32,
+    shape: Option<*const T::MultiRes>,
+    nodes: (*mut curvicast_node_record, usize),
+    resident: (*const bool, usize),
+) -> Result<Storage<T>, curvicast_status> {
+    // SAFETY: the caller's contract: valid arrays, alive and unchanged (residency flags aside) while used.
+    let (grid, heights, records) = unsafe {
+        let grid = T::grid(read(grid)?);
+        let records = slice_mut(nodes.0, nodes.1)?.as_mut_ptr().cast::<Record>();
+        (grid, slice(heights.0, heights.1)?, (records, nodes.1))
+    };
+    // The C records may hold any bytes: each is set to the empty record before the kernel sees them.
+    let mut p = records.0;
+    for _ in 0..records.1 {
+        // SAFETY: `records` is the caller's array of `nodes.1` C records, checked non-null and aligned above,
+        // which has the kernel record's size and alignment (the assertion above), so `p` stays inside it.
+        unsafe {
+            p.write(Record::EMPTY);
+            p = p.add(1);
+        }
+    }
+    // SAFETY: every element was just written with a valid record; the array is the caller's, exclusively ours
+    // for the call and then only read (the contract).
+    let nodes: &'static mut [Record] =
+        unsafe { core::slice::from_raw_parts_mut(records.0, records.1) };
+    let tree: Tree = match shape {
+        Some(s) => {
+            // SAFETY: the contract: `s` is NULL or a valid shape.
+            let shape = T::shape(unsafe { read(s) }?);
+            build_multires_tree(heights, &grid, block, shape, nodes)?
+        }
+        None => build_tree(heights, &grid, block, nodes)?,
+    };
+    let nodes: &'static [Record] = nodes;
+    let resident: &'static [AtomicBool] = if resident.1 == 0 {
+        &[]
+    } else {
+        // SAFETY: the contract: `resident.1` C `bool`s (0 or 1, as `AtomicBool` holds them; same size and
+        // alignment), which the caller writes only between calls.
+        let flags = unsafe { slice(resident.0.cast::<AtomicBool>(), resident.1) }?;
+        flags
+            .get(..tree.slots())
+            .ok_or(curvicast_status::CURVICAST_BUILD_BUFFER_LENGTH)?
+    };
+    let parts = Parts::new(heights, nodes).with_resident(resident);
+    Ok(SliceStorage::with_buffers(
+        Ellipsoid::wgs84(),
+        grid,
+        tree,
+        parts,
+    )?)
+}
+
+/// Builds the quadtree of a DEM on WGS84 into `nodes` and fills `terrain` with it (Wartell et al. §3–§4).
+/// `heights` holds `grid->rows × grid->cols` heights in metres, row-major (vertex `(i, j)` at
+/// `i·cols + j`), NaN for no data; leaves are blocks of `block × block` cells (8 or 16 are typical); `nodes`
+/// holds at least `curvicast_node_slots(rows, cols, block)` records.
+///
+/// # Safety
+/// Each pointer is NULL or valid for its length; `heights` and `nodes` stay alive, in place and unchanged
+/// while `terrain` (or a picker over it) is used; nothing else accesses `terrain` or `nodes` during the call.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn curvicast_terrain_f32_build(
+    terrain: *mut curvicast_terrain_f32,
+    grid: *const curvicast_dem_grid_f32,
+    heights: *const f32,
+    heights_len: usize,
+    block: u32,
+    nodes: *mut curvicast_node_record,
+    nodes_len: usize,
+) -> curvicast_status {
+    let none = (core::ptr::null(), 0);
+    // SAFETY: the contract above.
+    unsafe {
+        init(terrain, || {
+            build::<f32>(
+                grid,
+                (heights, heights_len),
+                block,
+                None,
+                (nodes, nodes_len),
+                none,
+            )
+        })
+    }
+}
+
+/// [`curvicast_terrain_f32_build`] in double precision (heights stay `float`).
+///
+/// # Safety
+/// As [`curvicast_terrain_f32_build`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn curvicast_terrain_f64_build(
+    terrain: *mut curvicast_terrain_f64,
+    grid: *const curvicast_dem_grid_f64,
+    heights: *const f32,
+    heights_len: usize,
+    block: u32,
+    nodes: *mut curvicast_node_record,
+    nodes_len: usize,
+) -> curvicast_status {
+    let none = (core::ptr::null(), 0);
+    // SAFETY: the contract above.
+    unsafe {
+        init(terrain, || {
+            build::<f64>(
+                grid,
+                (heights, heights_len),
+                block,
+                None,
+                (nodes, nodes_len),
+                none,
+            )
+        })
+    }
+}
+
+/// Builds the multi-resolution quadtree of a DEM (Wartell et al. §5): as [`curvicast_terrain_f32_build`],
+/// every node with its own block at `2^k` grid steps (`k` its level above the leaves), branches ending at
+/// `shape->coarse_level` outside `shape->fine_region`. `resident` holds one flag per node (index: the node's
+/// id), at least `curvicast_node_slots` of them, true when the node's block is in memory; `resident_len = 0`:
+/// every block resident.
+///
+/// # Safety
+/// As [`curvicast_terrain_f32_build`]; `resident` stays alive and in place while the terrain is used, and the
+/// caller changes its flags only between calls.
+#[unsafe(no_mangle)]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn curvicast_terrain_f32_build_multires(
+    terrain: *mut curvicast_terrain_f32,
+    grid: *const curvicast_dem_grid_f32,
+    heights: *const f32,
+    heights_len: usize,
+    block: u32,
+    shape: *const curvicast_multires_f32,
+    nodes: *mut curvicast_node_record,
+    nodes_len: usize,
+    resident: *const bool,
+    resident_len: usize,
+) -> curvicast_status {
+    let (h, n, r) = (
+        (heights, heights_len),
+        (nodes, nodes_len),
+        (resident, resident_len),
+    );
+    // SAFETY: the contract above.
+    unsafe { init(terrain, || build::<f32>(grid, h, block, Some(shape), n, r)) }
+}
+
+/// [`curvicast_terrain_f32_build_multires`] in double precision (heights stay `float`).
+///
+/// # Safety
+/// As [`curvicast_terrain_f32_build_multires`].
+#[unsafe(no_mangle)]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn curvicast_terrain_f64_build_multires(
+    terrain: *mut curvicast_terrain_f64,
+    grid: *const curvicast_dem_grid_f64,
+    heights: *const f32,
+    heights_len: usize,
+    block: u32,
+    shape: *const curvicast_multires_f64,
+    nodes: *mut curvicast_node_record,
+    nodes_len: usize,
+    resident: *const bool,
+    resident_len: usize,
+) -> curvicast_status {
+    let (h, n, r) = (
+        (heights, heights_len),
+        (nodes, nodes_len),
+        (resident, resident_len),
+    );
+    // SAFETY: the contract above.
+    unsafe { init(terrain, || build::<f64>(grid, h, block, Some(shape), n, r)) }
+}
+
+/// Fills `picker` for `terrain`: the zones' bounding volumes and the global bound, computed once. Blocks of
+/// nodes shallower than `min_level` never stand in for missing finer ones (0: any resident block may).
+///
+/// # Safety
+/// Each pointer is NULL or valid; `terrain` stays alive, in place and unchanged while `picker` is used.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn curvicast_picker_f32_init(
+    picker: *mut curvicast_picker_f32,
+    terrain: *const curvicast_terrain_f32,
+    min_level: u8,
+) -> curvicast_status {
+    // SAFETY: the contract above.
+    unsafe {
+        init(picker, || {
+            Ok(CPicker::new(get(terrain)?)?.with_min_level(min_level))
+        })
+    }
+}
+
+/// [`curvicast_picker_f32_init`] in double precision.
+///
+/// # Safety
+/// As [`curvicast_picker_f32_init`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn curvicast_picker_f64_init(
+    picker: *mut curvicast_picker_f64,
+    terrain: *const curvicast_terrain_f64,
+    min_level: u8,
+) -> curvicast_status {
+    // SAFETY: the contract above.
+    unsafe {
+        init(picker, || {
+            Ok(CPicker::new(get(terrain)?)?.with_min_level(min_level))
+        })
+    }
+}
+
+/// A kernel answer as a status: its `Ok` value, or the error's status with `NeedsBlock`'s node written to
+/// `needs_node` (if not NULL).
+///
+/// # Safety
+/// `needs_node` is NULL or valid.
+unsafe fn answer<V>(
+    r: Result<V, TerrainError>,
+    needs_node: *mut u32,
+) -> Result<V, curvicast_status> {
+    r.or_else(|e| {
+        if let TerrainError::NeedsBlock(id) = e {
+            // SAFETY: the contract.
+            unsafe { put_optional(needs_node, id.0) }?;
+        }
+        Err(e.into())
+    })
+}
+
+/// # Safety
+/// As [`curvicast_picker_f32_pick`].
+unsafe fn pick<T: HeldPicker, R: CRay<T>>(
+    picker: *const T::C,
+    ray: *const R,
+    hit: *mut T::Hit,
+    needs_node: *mut u32,
+) -> Result<(), curvicast_status> {
+    // SAFETY: the contract.
+    let (p, ray, hit) = unsafe { (get(picker)?, read(ray)?.ray()?, out(hit)?) };
+    // SAFETY: the contract.
+    match unsafe { answer(p.pick(&ray), needs_node) }? {
+        Some(h) => {
+            *hit = T::hit(h);
+            Ok(())
+        }
+        None => Err(curvicast_status::CURVICAST_NO_HIT),
+    }
+}
+
+/// The C picker storage of a scalar type.
+pub(crate) trait HeldPicker: Scalar {
+    type C: Holds<Value = CPicker<Self>>;
+}
+impl HeldPicker for f32 {
+    type C = curvicast_picker_f32;
+}
+impl HeldPicker for f64 {
+    type C = curvicast_picker_f64;
+}
+
+/// # Safety
+/// As [`curvicast_picker_f32_pick_t`].
+unsafe fn pick_t<T: HeldPicker, R: CRay<T>>(
+    picker: *const T::C,
+    ray: *const R,
+    t: *mut T,
+    cell: *mut [u32; 2],
+    needs_node: *mut u32,
+) -> Result<(), curvicast_status> {
+    // SAFETY: the contract.
+    let (p, ray, t, cell) = unsafe { (get(picker)?, read(ray)?.ray()?, out(t)?, out(cell)?) };
+    // SAFETY: the contract.
+    match unsafe { answer(p.pick_t(&ray), needs_node) }? {
+        Some((s, c)) => {
+            (*t, *cell) = (s, c);
+            Ok(())
+        }
+        None => Err(curvicast_status::CURVICAST_NO_HIT),
+    }
+}
+
+/// # Safety
+/// As [`curvicast_picker_f32_line_of_sight`].
+unsafe fn line_of_sight<T: HeldPicker>(
+    picker: *const T::C,
+    a: *const T,
+    b: *const T,
+    clear: *mut bool,
+    needs_node: *mut u32,
+) -> Result<(), curvicast_status> {
+    crate::check(clear)?;
+    // SAFETY: the contract.
+    let (p, a, b) = unsafe { (get(picker)?, point::<T, 3>(a)?, point::<T, 3>(b)?) };
+    // SAFETY: the contract.
+    let answer = unsafe { answer(p.line_of_sight(a, b), needs_node) }?;
+    // SAFETY: the contract (a C `bool` is written whole, not read).
+    unsafe { write(clear, answer) }
+}
+
+/// The nearest hit of `ray` with the terrain (Wartell et al. §4: the traversal; the hit refined in double-double
+/// and converted to geodetic coordinates): `CURVICAST_OK` with `*hit` written, `CURVICAST_NO_HIT`, or an error
+/// (`CURVICAST_TERRAIN_NEEDS_BLOCK`: the node whose block to page in, written to `*needs_node` unless NULL).
+///
+/// # Safety
+/// Each pointer is NULL or valid; what the picker borrows is alive and unchanged.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn curvicast_picker_f32_pick(
+    picker: *const curvicast_picker_f32,
+    ray: *const curvicast_ray_f32,
+    hit: *mut curvicast_hit_f32,
+    needs_node: *mut u32,
+) -> curvicast_status {
+    // SAFETY: the contract above.
+    crate::status::status(unsafe { pick::<f32, _>(picker, ray, hit, needs_node) })
+}
+
+/// [`curvicast_picker_f32_pick`] in double precision.
+///
+/// # Safety
+/// As [`curvicast_picker_f32_pick`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn curvicast_picker_f64_pick(
+    picker: *const curvicast_picker_f64,
+    ray: *const curvicast_ray_f64,
+    hit: *mut curvicast_hit_f64,
+    needs_node: *mut u32,
+) -> curvicast_status {
+    // SAFETY: the contract above.
+    crate::status::status(unsafe { pick::<f64, _>(picker, ray, hit, needs_node) })
+}
+
+/// The parameter `*t` and the grid cell `cell[2]` of the nearest hit, without `pick`'s refinement and
+/// geodetic output (what a general ray caster returns; `t` within a few ulps of the vertices' coordinates
+/// over the sine of the ray's elevation above the triangle): `CURVICAST_OK`, `CURVICAST_NO_HIT`, or an error as
+/// for [`curvicast_picker_f32_pick`].
+///
+/// # Safety
+/// Each pointer is NULL or valid (`cell` for 2 elements); what the picker borrows is alive and unchanged.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn curvicast_picker_f32_pick_t(
+    picker: *const curvicast_picker_f32,
+    ray: *const curvicast_ray_f32,
+    t: *mut f32,
+    cell: *mut u32,
+    needs_node: *mut u32,
+) -> curvicast_status {
+    // SAFETY: the contract above (`[u32; 2]` has `u32`'s alignment).
+    crate::status::status(unsafe { pick_t::<f32, _>(picker, ray, t, cell.cast(), needs_node) })
+}
+
+/// [`curvicast_picker_f32_pick_t`] in double precision.
+///
+/// # Safety
+/// As [`curvicast_picker_f32_pick_t`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn curvicast_picker_f64_pick_t(
+    picker: *const curvicast_picker_f64,
+    ray: *const curvicast_ray_f64,
+    t: *mut f64,
+    cell: *mut u32,
+    needs_node: *mut u32,
+) -> curvicast_status {
+    // SAFETY: the contract above (`[u32; 2]` has `u32`'s alignment).
+    crate::status::status(unsafe { pick_t::<f64, _>(picker, ray, t, cell.cast(), needs_node) })
+}
+
+/// Whether the closed segment from `a` to `b` (ECEF metres, 3 scalars each) meets no terrain triangle:
+/// `*clear` written and `CURVICAST_OK`, or an error as for [`curvicast_picker_f32_pick`].
+///
+/// # Safety
+/// Each pointer is NULL or valid; what the picker borrows is alive and unchanged.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn curvicast_picker_f32_line_of_sight(
+    picker: *const curvicast_picker_f32,
+    a: *const f32,
+    b: *const f32,
+    clear: *mut bool,
+    needs_node: *mut u32,
+) -> curvicast_status {
+    // SAFETY: the contract above.
+    crate::status::status(unsafe { line_of_sight::<f32>(picker, a, b, clear, needs_node) })
+}
+
+/// [`curvicast_picker_f32_line_of_sight`] in double precision.
+///
+/// # Safety
+/// As [`curvicast_picker_f32_line_of_sight`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn curvicast_picker_f64_line_of_sight(
+    picker: *const curvicast_picker_f64,
+    a: *const f64,
+    b: *const f64,
+    clear: *mut bool,
+    needs_node: *mut u32,
+) -> curvicast_status {
+    // SAFETY: the contract above.
+    crate::status::status(unsafe { line_of_sight::<f64>(picker, a, b, clear, needs_node) })
+}
