@@ -102,6 +102,10 @@ enum curvicast_status
      */
     CURVICAST_NOT_INITIALIZED = 13,
     /**
+     * A batch of capacity 0 (it could never make progress).
+     */
+    CURVICAST_ZERO_CAPACITY = 14,
+    /**
      * The ray's origin has a NaN or infinite component.
      */
     CURVICAST_RAY_NON_FINITE_ORIGIN = 20,
@@ -850,9 +854,9 @@ curvicast_status curvicast_march_f32_next(curvicast_march_f32 *march,
 curvicast_status curvicast_march_f64_next(curvicast_march_f64 *march, curvicast_crossing_f64 *crossing);
 
 /**
- * Up to `capacity` next crossings into `crossings` and their number into `*written` (one call instead of one
- * per crossing): `CURVICAST_OK` when the array is full (more may follow), `CURVICAST_DONE` when the march is
- * over, or the error that stopped it (`*written` counts the crossings before it).
+ * Up to `capacity` (at least 1) next crossings into `crossings` and their number into `*written` (one call
+ * instead of one per crossing): `CURVICAST_OK` when the array is full (more may follow), `CURVICAST_DONE`
+ * when the march is over, or the error that stopped it (`*written` counts the crossings before it).
  *
  * # Safety
  * Each pointer is NULL or valid (`crossings` for `capacity` elements); what the march borrows is alive and

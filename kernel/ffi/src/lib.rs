@@ -45,6 +45,8 @@ pub mod march;
 mod status;
 pub mod terrain;
 pub mod tessellate;
+#[cfg(test)]
+mod tests;
 
 pub use status::curvicast_status;
 

@@ -456,6 +456,9 @@ fn fill<T: Real, C: From<CellCrossing<T>>>(
     written: &mut usize,
 ) -> curvicast_status {
     *written = 0;
+    if crossings.is_empty() {
+        return curvicast_status::CURVICAST_ZERO_CAPACITY;
+    }
     for slot in crossings.iter_mut() {
         let Some(c) = march.next() else {
             return march
@@ -523,9 +526,9 @@ pub unsafe extern "C" fn curvicast_march_f64_next(
     }
 }
 
-/// Up to `capacity` next crossings into `crossings` and their number into `*written` (one call instead of one
-/// per crossing): `CURVICAST_OK` when the array is full (more may follow), `CURVICAST_DONE` when the march is
-/// over, or the error that stopped it (`*written` counts the crossings before it).
+/// Up to `capacity` (at least 1) next crossings into `crossings` and their number into `*written` (one call
+/// instead of one per crossing): `CURVICAST_OK` when the array is full (more may follow), `CURVICAST_DONE`
+/// when the march is over, or the error that stopped it (`*written` counts the crossings before it).
 ///
 /// # Safety
 /// Each pointer is NULL or valid (`crossings` for `capacity` elements); what the march borrows is alive and

@@ -29,6 +29,8 @@ pub enum curvicast_status {
     CURVICAST_BUFFER_TOO_LARGE = 12,
     /// An object's storage was not filled by its `init` (or its `init` failed).
     CURVICAST_NOT_INITIALIZED = 13,
+    /// A batch of capacity 0 (it could never make progress).
+    CURVICAST_ZERO_CAPACITY = 14,
     /// The ray's origin has a NaN or infinite component.
     CURVICAST_RAY_NON_FINITE_ORIGIN = 20,
     /// The ray's direction has a NaN or infinite component.

@@ -110,7 +110,7 @@ pub struct curvicast_multires_f64 {
 #[repr(C)]
 #[derive(Clone, Copy)]
 pub struct curvicast_node_record {
-    opaque: [u32; CURVICAST_NODE_RECORD_WORDS],
+    pub(crate) opaque: [u32; CURVICAST_NODE_RECORD_WORDS],
 }
 
 /// A terrain: the tree and the caller's heights, node records and residency flags, which it borrows.

@@ -1,0 +1,714 @@
+//! The boundary's checks, called as C calls them (raw pointers, lengths), and a few answers against the Rust
+//! API. Run under Miri in CI, which checks the unsafe blocks of `lib.rs` on every path these tests take.
+
+use crate::curvicast_status as S;
+use crate::march::*;
+use crate::terrain::*;
+use crate::tessellate::*;
+use crate::{curvicast_ray_f32, curvicast_ray_f64};
+use core::f64::consts::PI;
+use core::ptr::{null, null_mut};
+use curvicast::geodesy::Ellipsoid;
+use curvicast::ray::Ray;
+use curvicast::spherical::SphericalGrid;
+use std::vec;
+use std::vec::Vec;
+
+const R: [f64; 3] = [0.0, 0.5, 1.0];
+const TH: [f64; 3] = [0.0, PI / 2.0, PI];
+const PH: [f64; 3] = [0.0, PI, 2.0 * PI];
+
+/// Storage of a C object, zeroed as a C static is.
+fn zeroed<T>() -> std::boxed::Box<T> {
+    // SAFETY: the storage types are arrays of integers (any bits valid).
+    unsafe { std::boxed::Box::new_zeroed().assume_init() }
+}
+
+fn ray64(origin: [f64; 3], dir: [f64; 3]) -> curvicast_ray_f64 {
+    curvicast_ray_f64 {
+        origin,
+        dir,
+        t_min: 0.0,
+        t_max: f64::INFINITY,
+    }
+}
+
+/// The QEMU smoke test's grid, in `grid`.
+fn smoke_grid(grid: &mut curvicast_grid_f64, ws: &mut [f64]) -> S {
+    // SAFETY: valid arrays with their lengths; they outlive the uses in each test.
+    unsafe {
+        curvicast_spherical_grid_f64_init(
+            grid,
+            R.as_ptr(),
+            3,
+            TH.as_ptr(),
+            3,
+            PH.as_ptr(),
+            3,
+            null(),
+            ws.as_mut_ptr(),
+            ws.len(),
+        )
+    }
+}
+
+#[test]
+fn march_through_the_smoke_grid_gives_the_rust_apis_crossings_one_by_one_and_in_batches() {
+    let mut ws = [0.0; 15];
+    let mut grid = zeroed::<curvicast_grid_f64>();
+    assert_eq!(smoke_grid(&mut grid, &mut ws), S::CURVICAST_OK);
+    let ray = ray64([-2.0, 0.25, 0.25], [1.0, 0.0, 0.0]);
+    let mut march = zeroed::<curvicast_march_f64>();
+    let mut got = Vec::new();
+    let mut c = curvicast_crossing_f64::default();
+    // SAFETY: valid pointers to live objects.
+    unsafe {
+        assert_eq!(
+            curvicast_march_f64_begin(&mut *march, &*grid, &ray),
+            S::CURVICAST_OK
+        );
+        while curvicast_march_f64_next(&mut *march, &mut c) == S::CURVICAST_OK {
+            got.push(c);
+        }
+        // Once done, it stays done.
+        assert_eq!(
+            curvicast_march_f64_next(&mut *march, &mut c),
+            S::CURVICAST_DONE
+        );
+    }
+    let mut ws2 = [0.0; 15];
+    let rust = SphericalGrid::new(&R, &TH, &PH, &mut ws2).unwrap();
+    let want: Vec<curvicast_crossing_f64> = rust
+        .march(&Ray::new([-2.0, 0.25, 0.25], [1.0, 0.0, 0.0]).unwrap())
+        .map(Into::into)
+        .collect();
+    assert_eq!(got, want);
+    assert_eq!(
+        got.iter().map(|c| c.cell).collect::<Vec<_>>(),
+        [[1, 0, 0], [0, 0, 0], [1, 0, 0]]
+    );
+    // In batches of two: 2 (OK), then 1 (DONE).
+    let mut batch = [curvicast_crossing_f64::default(); 2];
+    let mut written = 99;
+    // SAFETY: as above.
+    unsafe {
+        assert_eq!(
+            curvicast_march_f64_begin(&mut *march, &*grid, &ray),
+            S::CURVICAST_OK
+        );
+        assert_eq!(
+            curvicast_march_f64_fill(&mut *march, batch.as_mut_ptr(), 2, &mut written),
+            S::CURVICAST_OK
+        );
+        assert_eq!((written, batch), (2, [want[0], want[1]]));
+        assert_eq!(
+            curvicast_march_f64_fill(&mut *march, batch.as_mut_ptr(), 2, &mut written),
+            S::CURVICAST_DONE
+        );
+        assert_eq!((written, batch[0]), (1, want[2]));
+        assert_eq!(
+            curvicast_march_f64_fill(&mut *march, batch.as_mut_ptr(), 0, &mut written),
+            S::CURVICAST_ZERO_CAPACITY
+        );
+    }
+}
+
+#[test]
+fn march_in_single_precision_along_the_z_axis_crosses_the_north_and_south_cells() {
+    let (r, th, ph) = (
+        [0.0f32, 1.0],
+        [0.0f32, 1.0, core::f32::consts::PI],
+        [0.0f32, 6.2831855],
+    );
+    let mut ws = [0.0f32; 12];
+    let mut grid = zeroed::<curvicast_grid_f32>();
+    let mut march = zeroed::<curvicast_march_f32>();
+    let ray = curvicast_ray_f32 {
+        origin: [0.0, 0.0, -2.0],
+        dir: [0.0, 0.0, 1.0],
+        t_min: 0.0,
+        t_max: f32::INFINITY,
+    };
+    let mut c = curvicast_crossing_f32::default();
+    let mut cells = Vec::new();
+    // SAFETY: valid arrays and objects.
+    unsafe {
+        let s = curvicast_spherical_grid_f32_init(
+            &mut *grid,
+            r.as_ptr(),
+            2,
+            th.as_ptr(),
+            3,
+            ph.as_ptr(),
+            2,
+            null(),
+            ws.as_mut_ptr(),
+            12,
+        );
+        assert_eq!(s, S::CURVICAST_OK);
+        assert_eq!(
+            curvicast_march_f32_begin(&mut *march, &*grid, &ray),
+            S::CURVICAST_OK
+        );
+        while curvicast_march_f32_next(&mut *march, &mut c) == S::CURVICAST_OK {
+            cells.push(c.cell);
+        }
+    }
+    assert_eq!(cells, [[0, 1, 0], [0, 0, 0]]);
+}
+
+#[test]
+fn null_misaligned_and_short_arguments_of_a_grid_are_statuses() {
+    let mut ws = [0.0f64; 16];
+    let mut grid = zeroed::<curvicast_grid_f64>();
+    let init =
+        |grid: *mut curvicast_grid_f64, r: *const f64, nr: usize, ws: *mut f64, nws: usize| {
+            // SAFETY: each pointer is NULL, misaligned, or valid for its length.
+            unsafe {
+                curvicast_spherical_grid_f64_init(
+                    grid,
+                    r,
+                    nr,
+                    TH.as_ptr(),
+                    3,
+                    PH.as_ptr(),
+                    3,
+                    null(),
+                    ws,
+                    nws,
+                )
+            }
+        };
+    let ws_ptr = ws.as_mut_ptr();
+    assert_eq!(
+        init(null_mut(), R.as_ptr(), 3, ws_ptr, 15),
+        S::CURVICAST_NULL_POINTER
+    );
+    assert_eq!(
+        init(&mut *grid, null(), 3, ws_ptr, 15),
+        S::CURVICAST_NULL_POINTER
+    );
+    assert_eq!(
+        init(&mut *grid, null(), 0, ws_ptr, 15),
+        S::CURVICAST_GRID_TOO_FEW_BREAKPOINTS
+    );
+    assert_eq!(
+        init(&mut *grid, R.as_ptr(), 3, null_mut(), 15),
+        S::CURVICAST_NULL_POINTER
+    );
+    assert_eq!(
+        init(&mut *grid, R.as_ptr(), 3, ws_ptr, 14),
+        S::CURVICAST_GRID_WORKSPACE_TOO_SMALL
+    );
+    let misaligned_r = R.as_ptr().cast::<u8>().wrapping_add(1).cast::<f64>();
+    assert_eq!(
+        init(&mut *grid, misaligned_r, 3, ws_ptr, 15),
+        S::CURVICAST_MISALIGNED
+    );
+    let misaligned_grid = (&mut *grid as *mut curvicast_grid_f64)
+        .cast::<u8>()
+        .wrapping_add(4)
+        .cast();
+    assert_eq!(
+        init(misaligned_grid, R.as_ptr(), 3, ws_ptr, 15),
+        S::CURVICAST_MISALIGNED
+    );
+    assert_eq!(
+        init(&mut *grid, R.as_ptr(), usize::MAX / 4, ws_ptr, 15),
+        S::CURVICAST_BUFFER_TOO_LARGE
+    );
+    // A center that is not finite; a grid whose init failed is not a grid.
+    let center = [f64::NAN, 0.0, 0.0];
+    // SAFETY: valid arrays.
+    let s = unsafe {
+        curvicast_spherical_grid_f64_init(
+            &mut *grid,
+            R.as_ptr(),
+            3,
+            TH.as_ptr(),
+            3,
+            PH.as_ptr(),
+            3,
+            center.as_ptr(),
+            ws_ptr,
+            15,
+        )
+    };
+    assert_eq!(s, S::CURVICAST_GRID_NON_FINITE_CENTER);
+    let mut march = zeroed::<curvicast_march_f64>();
+    let ray = ray64([-2.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+    // SAFETY: valid pointers.
+    unsafe {
+        assert_eq!(
+            curvicast_march_f64_begin(&mut *march, &*grid, &ray),
+            S::CURVICAST_NOT_INITIALIZED
+        );
+    }
+}
+
+#[test]
+fn a_march_used_before_begin_or_with_null_arguments_answers_a_status() {
+    let mut ws = [0.0; 15];
+    let mut grid = zeroed::<curvicast_grid_f64>();
+    assert_eq!(smoke_grid(&mut grid, &mut ws), S::CURVICAST_OK);
+    let mut march = zeroed::<curvicast_march_f64>();
+    let mut c = curvicast_crossing_f64::default();
+    let mut written = 0usize;
+    let bad_ray = ray64([-2.0, 0.0, 0.0], [0.0, 0.0, 0.0]);
+    // SAFETY: NULL or valid pointers.
+    unsafe {
+        assert_eq!(
+            curvicast_march_f64_next(&mut *march, &mut c),
+            S::CURVICAST_NOT_INITIALIZED
+        );
+        assert_eq!(
+            curvicast_march_f64_next(null_mut(), &mut c),
+            S::CURVICAST_NULL_POINTER
+        );
+        assert_eq!(
+            curvicast_march_f64_begin(&mut *march, &*grid, null()),
+            S::CURVICAST_NULL_POINTER
+        );
+        assert_eq!(
+            curvicast_march_f64_begin(&mut *march, null(), &bad_ray),
+            S::CURVICAST_NULL_POINTER
+        );
+        assert_eq!(
+            curvicast_march_f64_begin(&mut *march, &*grid, &bad_ray),
+            S::CURVICAST_RAY_ZERO_DIRECTION
+        );
+        // The failed begin left the march uninitialized, not half-made.
+        assert_eq!(
+            curvicast_march_f64_next(&mut *march, &mut c),
+            S::CURVICAST_NOT_INITIALIZED
+        );
+        let ray = ray64([-2.0, 0.1, 0.1], [1.0, 0.0, 0.0]);
+        assert_eq!(
+            curvicast_march_f64_begin(&mut *march, &*grid, &ray),
+            S::CURVICAST_OK
+        );
+        assert_eq!(
+            curvicast_march_f64_next(&mut *march, null_mut()),
+            S::CURVICAST_NULL_POINTER
+        );
+        assert_eq!(
+            curvicast_march_f64_fill(&mut *march, &mut c, 1, null_mut()),
+            S::CURVICAST_NULL_POINTER
+        );
+        assert_eq!(
+            curvicast_march_f64_fill(&mut *march, null_mut(), 1, &mut written),
+            S::CURVICAST_NULL_POINTER
+        );
+    }
+}
+
+#[test]
+fn cylindrical_and_polar_grids_report_their_own_errors() {
+    let (rho, phi, z) = ([0.0, 1.0], [0.0, 2.0 * PI], [1.0, 0.0]);
+    let mut ws = [0.0; 8];
+    let mut grid = zeroed::<curvicast_grid_f64>();
+    // SAFETY: valid arrays.
+    unsafe {
+        let s = curvicast_cylindrical_grid_f64_init(
+            &mut *grid,
+            rho.as_ptr(),
+            2,
+            phi.as_ptr(),
+            2,
+            z.as_ptr(),
+            2,
+            null(),
+            ws.as_mut_ptr(),
+            8,
+        );
+        assert_eq!(s, S::CURVICAST_GRID_NOT_INCREASING);
+        let s = curvicast_polar_grid_f64_init(
+            &mut *grid,
+            rho.as_ptr(),
+            2,
+            phi.as_ptr(),
+            2,
+            null(),
+            ws.as_mut_ptr(),
+            5,
+        );
+        assert_eq!(s, S::CURVICAST_GRID_WORKSPACE_TOO_SMALL);
+        let s = curvicast_polar_grid_f64_init(
+            &mut *grid,
+            rho.as_ptr(),
+            2,
+            phi.as_ptr(),
+            2,
+            null(),
+            ws.as_mut_ptr(),
+            6,
+        );
+        assert_eq!(s, S::CURVICAST_OK);
+    }
+    assert_eq!(curvicast_polar_workspace_len(2, 2), 6);
+    assert_eq!(curvicast_cylindrical_workspace_len(2, 2), 6);
+    assert_eq!(curvicast_spherical_workspace_len(3, 3, 3), 15);
+}
+
+/// A 9 × 9 DEM near (45° N, 7° E), 0.01° cells, heights `50 · ((3i + 5j) mod 7)` m.
+fn dem() -> (curvicast_dem_grid_f64, Vec<f32>) {
+    let g = curvicast_dem_grid_f64 {
+        lat0_deg: 45.0,
+        lon0_deg: 7.0,
+        dlat_deg: 0.01,
+        dlon_deg: 0.01,
+        rows: 9,
+        cols: 9,
+    };
+    let h = (0..81u32)
+        .map(|k| 50.0 * ((3 * (k / 9) + 5 * (k % 9)) % 7) as f32)
+        .collect();
+    (g, h)
+}
+
+/// A ray from 5 km above (lat, lon) straight down.
+fn down(lat: f64, lon: f64) -> curvicast_ray_f64 {
+    let e = Ellipsoid::<f64>::wgs84();
+    let from = e.geodetic_deg_to_ecef(lat, lon, 5000.0);
+    let n = e.normal_deg(lat, lon);
+    ray64([from.x, from.y, from.z], [-n.x, -n.y, -n.z])
+}
+
+#[test]
+fn pick_on_a_small_dem_hits_at_its_height_and_line_of_sight_agrees() {
+    let (g, heights) = dem();
+    let slots = curvicast_node_slots(9, 9, 4);
+    let mut nodes = vec![
+        curvicast_node_record {
+            opaque: [0xAB; CURVICAST_NODE_RECORD_WORDS]
+        };
+        slots
+    ];
+    let mut terrain = zeroed::<curvicast_terrain_f64>();
+    let mut picker = zeroed::<curvicast_picker_f64>();
+    let mut hit = curvicast_hit_f64::default();
+    let ray = down(45.04, 7.04);
+    let (mut t, mut cell, mut clear) = (0.0, [0u32; 2], true);
+    // SAFETY: valid arrays and objects, alive for the test.
+    unsafe {
+        let s = curvicast_terrain_f64_build(
+            &mut *terrain,
+            &g,
+            heights.as_ptr(),
+            81,
+            4,
+            nodes.as_mut_ptr(),
+            slots,
+        );
+        assert_eq!(s, S::CURVICAST_OK);
+        assert_eq!(
+            curvicast_picker_f64_init(&mut *picker, &*terrain, 0),
+            S::CURVICAST_OK
+        );
+        assert_eq!(
+            curvicast_picker_f64_pick(&*picker, &ray, &mut hit, null_mut()),
+            S::CURVICAST_OK
+        );
+        assert!(
+            (hit.lat_deg - 45.04).abs() < 1e-6 && (hit.lon_deg - 7.04).abs() < 1e-6,
+            "{hit:?}"
+        );
+        assert!(
+            (0.0..=300.0).contains(&hit.h) && (hit.t - (5000.0 - hit.h)).abs() < 1e-3,
+            "{hit:?}"
+        );
+        assert_eq!(
+            curvicast_picker_f64_pick_t(&*picker, &ray, &mut t, cell.as_mut_ptr(), null_mut()),
+            S::CURVICAST_OK
+        );
+        assert!((t - hit.t).abs() < 1e-6 && cell == hit.cell);
+        // Up: no hit.
+        let up = ray64(ray.origin, ray.dir.map(|d| -d));
+        assert_eq!(
+            curvicast_picker_f64_pick(&*picker, &up, &mut hit, null_mut()),
+            S::CURVICAST_NO_HIT
+        );
+        // The segment to just above the hit is clear, to just below it is not.
+        let at = |s: f64| [0, 1, 2].map(|k| ray.origin[k] + s * hit.t * ray.dir[k]);
+        let s = curvicast_picker_f64_line_of_sight(
+            &*picker,
+            ray.origin.as_ptr(),
+            at(0.999).as_ptr(),
+            &mut clear,
+            null_mut(),
+        );
+        assert_eq!((s, clear), (S::CURVICAST_OK, true));
+        let s = curvicast_picker_f64_line_of_sight(
+            &*picker,
+            ray.origin.as_ptr(),
+            at(1.001).as_ptr(),
+            &mut clear,
+            null_mut(),
+        );
+        assert_eq!((s, clear), (S::CURVICAST_OK, false));
+        let s = curvicast_picker_f64_line_of_sight(
+            &*picker,
+            null(),
+            at(1.001).as_ptr(),
+            &mut clear,
+            null_mut(),
+        );
+        assert_eq!(s, S::CURVICAST_NULL_POINTER);
+        let s = curvicast_picker_f64_line_of_sight(
+            &*picker,
+            ray.origin.as_ptr(),
+            at(1.001).as_ptr(),
+            null_mut(),
+            null_mut(),
+        );
+        assert_eq!(s, S::CURVICAST_NULL_POINTER);
+        assert_eq!(
+            curvicast_picker_f64_pick(&*picker, &ray, null_mut(), null_mut()),
+            S::CURVICAST_NULL_POINTER
+        );
+    }
+}
+
+#[test]
+fn short_or_missing_terrain_buffers_are_statuses() {
+    let (g, heights) = dem();
+    let slots = curvicast_node_slots(9, 9, 4);
+    let mut nodes = vec![
+        curvicast_node_record {
+            opaque: [0; CURVICAST_NODE_RECORD_WORDS]
+        };
+        slots
+    ];
+    let mut terrain = zeroed::<curvicast_terrain_f64>();
+    let mut picker = zeroed::<curvicast_picker_f64>();
+    let shape = curvicast_multires_f64 {
+        has_fine_region: false,
+        fine_region: [0.0; 4],
+        coarse_level: 1,
+    };
+    let resident = vec![true; slots];
+    // SAFETY: NULL, or valid arrays with lengths up to theirs.
+    unsafe {
+        let np = nodes.as_mut_ptr();
+        let build = |t: *mut _, h: *const f32, nh, n, nn| {
+            curvicast_terrain_f64_build(t, &g, h, nh, 4, n, nn)
+        };
+        assert_eq!(
+            build(&mut *terrain, heights.as_ptr(), 80, np, slots),
+            S::CURVICAST_BUILD_HEIGHTS_LENGTH
+        );
+        assert_eq!(
+            build(&mut *terrain, heights.as_ptr(), 81, np, slots - 1),
+            S::CURVICAST_BUILD_BUFFER_TOO_SMALL
+        );
+        assert_eq!(
+            build(&mut *terrain, null(), 81, np, slots),
+            S::CURVICAST_NULL_POINTER
+        );
+        assert_eq!(
+            build(&mut *terrain, heights.as_ptr(), 81, null_mut(), slots),
+            S::CURVICAST_NULL_POINTER
+        );
+        assert_eq!(
+            build(null_mut(), heights.as_ptr(), 81, np, slots),
+            S::CURVICAST_NULL_POINTER
+        );
+        let odd = heights.as_ptr().cast::<u8>().wrapping_add(2).cast::<f32>();
+        assert_eq!(
+            build(&mut *terrain, odd, 80, np, slots),
+            S::CURVICAST_MISALIGNED
+        );
+        // The failed builds left no terrain.
+        assert_eq!(
+            curvicast_picker_f64_init(&mut *picker, &*terrain, 0),
+            S::CURVICAST_NOT_INITIALIZED
+        );
+        let s = curvicast_terrain_f64_build_multires(
+            &mut *terrain,
+            &g,
+            heights.as_ptr(),
+            81,
+            4,
+            &shape,
+            np,
+            slots,
+            resident.as_ptr(),
+            1,
+        );
+        assert_eq!(s, S::CURVICAST_BUILD_BUFFER_LENGTH);
+        let s = curvicast_terrain_f64_build_multires(
+            &mut *terrain,
+            &g,
+            heights.as_ptr(),
+            81,
+            4,
+            null(),
+            np,
+            slots,
+            resident.as_ptr(),
+            slots,
+        );
+        assert_eq!(s, S::CURVICAST_NULL_POINTER);
+        let bad = curvicast_dem_grid_f64 { dlon_deg: 0.0, ..g };
+        let s =
+            curvicast_terrain_f64_build(&mut *terrain, &bad, heights.as_ptr(), 81, 4, np, slots);
+        assert_eq!(s, S::CURVICAST_BUILD_INVALID_GRID);
+        let s = curvicast_terrain_f64_build(&mut *terrain, &g, heights.as_ptr(), 81, 0, np, slots);
+        assert_eq!(s, S::CURVICAST_BUILD_INVALID_BLOCK);
+    }
+}
+
+#[test]
+fn a_multiresolution_pick_asks_for_each_missing_block_by_node_and_then_hits() {
+    let (g, heights) = dem();
+    let slots = curvicast_node_slots(9, 9, 2);
+    let mut nodes = vec![
+        curvicast_node_record {
+            opaque: [0; CURVICAST_NODE_RECORD_WORDS]
+        };
+        slots
+    ];
+    let mut resident = vec![false; slots];
+    let mut terrain = zeroed::<curvicast_terrain_f64>();
+    let mut picker = zeroed::<curvicast_picker_f64>();
+    let shape = curvicast_multires_f64 {
+        has_fine_region: false,
+        fine_region: [0.0; 4],
+        coarse_level: 0,
+    };
+    let ray = down(45.033, 7.051);
+    let mut hit = curvicast_hit_f64::default();
+    let mut asked = Vec::new();
+    // SAFETY: valid arrays and objects; the flags change only between calls.
+    unsafe {
+        let s = curvicast_terrain_f64_build_multires(
+            &mut *terrain,
+            &g,
+            heights.as_ptr(),
+            81,
+            2,
+            &shape,
+            nodes.as_mut_ptr(),
+            slots,
+            resident.as_ptr(),
+            slots,
+        );
+        assert_eq!(s, S::CURVICAST_OK);
+        // min_level 2: blocks of the two levels nearest the zones never stand in for finer ones.
+        assert_eq!(
+            curvicast_picker_f64_init(&mut *picker, &*terrain, 2),
+            S::CURVICAST_OK
+        );
+        let mut node = u32::MAX;
+        loop {
+            match curvicast_picker_f64_pick(&*picker, &ray, &mut hit, &mut node) {
+                S::CURVICAST_TERRAIN_NEEDS_BLOCK => {
+                    assert!(
+                        !asked.contains(&node) && (node as usize) < slots,
+                        "{node} {asked:?}"
+                    );
+                    asked.push(node);
+                    *resident.as_mut_ptr().add(node as usize) = true;
+                }
+                s => {
+                    assert_eq!(s, S::CURVICAST_OK);
+                    break;
+                }
+            }
+            assert!(asked.len() <= slots);
+        }
+    }
+    assert!(!asked.is_empty());
+    assert_eq!(hit.stride, 1);
+    assert!(
+        (hit.lat_deg - 45.033).abs() < 1e-6 && (hit.lon_deg - 7.051).abs() < 1e-6,
+        "{hit:?}"
+    );
+}
+
+#[test]
+fn levels_and_bevels_answer_through_the_boundary_with_statuses_for_bad_buffers() {
+    let mut level = 99;
+    let sphere = [1.0f64; 3];
+    // SAFETY: NULL or valid arrays.
+    unsafe {
+        assert_eq!(
+            curvicast_level_for_deviation_f64(sphere.as_ptr(), 1e-2, &mut level),
+            S::CURVICAST_OK
+        );
+        let want = curvicast::tessellate::lod::min_level(
+            curvicast::tessellate::lod::Shape::Sphere(1.0),
+            curvicast::tessellate::lod::Bound::MaxDeviation(1e-2),
+        );
+        assert_eq!(Ok(level), want);
+        assert_eq!(
+            curvicast_level_for_deviation_f64(null(), 1e-2, &mut level),
+            S::CURVICAST_NULL_POINTER
+        );
+        assert_eq!(
+            curvicast_level_for_deviation_f64(sphere.as_ptr(), 1e-2, null_mut()),
+            S::CURVICAST_NULL_POINTER
+        );
+        assert_eq!(
+            curvicast_level_for_dihedral_f64(sphere.as_ptr(), 4.0, &mut level),
+            S::CURVICAST_TESSELLATE_INVALID_BOUND
+        );
+        assert_eq!(
+            curvicast_level_for_screen_f64(sphere.as_ptr(), 0.5, 1e-3, &mut level),
+            S::CURVICAST_TESSELLATE_INVALID_BOUND
+        );
+    }
+    let (nv, nf) = (
+        curvicast_bevel_vertex_count(1),
+        curvicast_bevel_face_count(1),
+    );
+    assert_eq!((nv, nf), (32, 18));
+    assert_eq!(
+        (
+            curvicast_bevel_vertex_count(13),
+            curvicast_bevel_face_count(13)
+        ),
+        (0, 0)
+    );
+    let mut v = vec![curvicast_vec3_f32::default(); nv];
+    let mut f = vec![curvicast_face_f32::default(); nf];
+    let axes = [3.0f32, 2.0, 1.0];
+    // SAFETY: valid arrays with lengths up to theirs.
+    unsafe {
+        let (vp, fp) = (v.as_mut_ptr(), f.as_mut_ptr());
+        assert_eq!(
+            curvicast_bevel_ellipsoid_f32(1, axes.as_ptr(), vp, nv - 1, fp, nf),
+            S::CURVICAST_TESSELLATE_BUFFER_TOO_SMALL
+        );
+        assert_eq!(
+            curvicast_bevel_ellipsoid_f32(1, axes.as_ptr(), vp, nv, fp, nf - 1),
+            S::CURVICAST_TESSELLATE_BUFFER_TOO_SMALL
+        );
+        assert_eq!(
+            curvicast_bevel_ellipsoid_f32(1, axes.as_ptr(), null_mut(), nv, fp, nf),
+            S::CURVICAST_NULL_POINTER
+        );
+        assert_eq!(
+            curvicast_bevel_ellipsoid_f32(13, axes.as_ptr(), vp, nv, fp, nf),
+            S::CURVICAST_TESSELLATE_LEVEL_TOO_DEEP
+        );
+        let odd = fp.cast::<u8>().wrapping_add(1).cast();
+        assert_eq!(
+            curvicast_bevel_ellipsoid_f32(1, axes.as_ptr(), vp, nv, odd, nf - 1),
+            S::CURVICAST_MISALIGNED
+        );
+        assert_eq!(
+            curvicast_bevel_ellipsoid_f32(1, axes.as_ptr(), vp, nv, fp, nf),
+            S::CURVICAST_OK
+        );
+    }
+    // Every face's center lies on the ellipsoid, every face has 4 or 6 vertices.
+    for face in &f {
+        let c = face.center;
+        let on = (c.x / 3.0).powi(2) + (c.y / 2.0).powi(2) + c.z.powi(2);
+        assert!(
+            (on - 1.0).abs() < 1e-5 && (face.len == 4 || face.len == 6),
+            "{face:?}"
+        );
+    }
+}
