@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Builds the firmwares (opt-level 3 for the instruction counts, opt-level "s" for the code sizes), runs each under
+# Builds the firmwares, the Rust ones here and the C ones of kernel/ffi/c/firmware (opt-level 3 for the
+# instruction counts, opt-level "s" for the code sizes), runs each under
 # QEMU's mps2-an386 (Cortex-M4F) with instruction counting, checks the f32 march firmware's code (VSQRT.F32
 # present, no soft double precision), splits the march firmware's kernel code into what the benchmark's rays
 # execute and what they never reach (profile.sh), prints the table and writes it to `embedded.md` next to this
 # script.
 #
-# Needs: the thumbv7em-none-eabihf target, qemu-system-arm, llvm-objdump / llvm-nm (rustup's llvm-tools
+# Needs: the thumbv7em-none-eabihf target, arm-none-eabi-gcc with newlib (the C firmwares), qemu-system-arm, llvm-objdump / llvm-nm (rustup's llvm-tools
 # component, or the system's) and binutils' addr2line (for text-by-function.sh). Exits non-zero if a firmware
 # fails its own checks or a code check fails.
 set -euo pipefail
@@ -28,13 +29,24 @@ NM=$(tool llvm-nm)
 cargo build --release --bins
 cargo build --profile release-s --bins
 cargo build --profile release-z --bins
+# The C firmwares: the same workloads through the C interface (kernel/ffi), built with arm-none-eabi-gcc.
+../ffi/c/firmware/build.sh
+CFW=../ffi/staticlib/target/c-firmware
+C_FIRMWARES=(c-empty c-march-f32 c-march-next-f32 c-pick-f32)
 
 text() { size -A "target/$TARGET/$1/$2" | awk '$1 == ".text" { print $2 }'; }
+ctext() { size -A "$CFW/$1/$2" | awk '$1 == ".text" { print $2 }'; }
 
 declare -A OUT
 status=0
 for f in "${FIRMWARES[@]}"; do
     log=$(timeout 600 "${QEMU[@]}" "target/$TARGET/release/$f") || status=1
+    echo "$log"
+    OUT[$f]=$log
+    grep -q "^m4f-bench $f: status ok$" <<<"$log" || { echo "!!! $f failed"; status=1; }
+done
+for f in "${C_FIRMWARES[@]}"; do
+    log=$(timeout 600 "${QEMU[@]}" "$CFW/release/$f") || status=1
     echo "$log"
     OUT[$f]=$log
     grep -q "^m4f-bench $f: status ok$" <<<"$log" || { echo "!!! $f failed"; status=1; }
@@ -105,6 +117,18 @@ verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "me
              "| $(( $(text release pick-f32) - empty_3 )) B" \
              "| $(field pick-f32 per_pick) per pick ($(field pick-f32 picks) picks, $(field pick-f32 hits) hits) | $(field pick-f32 stack_bytes) B |"
     fi
+    cempty_s=$(ctext release-s c-empty)
+    cempty_3=$(ctext release c-empty)
+    for f in c-march-f32 c-march-next-f32; do
+        how="\`curvicast_march_f32_fill\`, batches of 32"
+        [[ $f == c-march-next-f32 ]] && how="\`curvicast_march_f32_next\`"
+        echo "| $f (C: $how), 16³ / 32³ / both grids | $(( $(ctext release-s "$f") - cempty_s )) B | – | $(( $(ctext release "$f") - cempty_3 )) B" \
+             "| $(grid "$f" '16\^3' per_crossing) / $(grid "$f" '32\^3' per_crossing) / $(grid "$f" both per_crossing) per crossing" \
+             "(set-up $(grid "$f" both setup) per ray; $(grid "$f" both rays) rays, $(grid "$f" both crossings) crossings)" \
+             "| $(field "$f" march_stack_bytes) B |"
+    done
+    echo "| c-pick-f32 (C) | $(( $(ctext release-s c-pick-f32) - cempty_s )) B | – | $(( $(ctext release c-pick-f32) - cempty_3 )) B" \
+         "| $(field c-pick-f32 per_pick) per pick ($(field c-pick-f32 picks) picks, $(field c-pick-f32 hits) hits) | $(field c-pick-f32 stack_bytes) B |"
     echo "| bevel-f32, level $(field bevel-f32 level) ($(field bevel-f32 faces) faces) | $(( $(text release-s bevel-f32) - empty_s )) B" \
          "| $(( $(text release-z bevel-f32) - empty_z )) B" \
          "| $(( $(text release bevel-f32) - empty_3 )) B | $(field bevel-f32 per_bevel) per bevel | $(field bevel-f32 stack_bytes) B |"
@@ -120,6 +144,20 @@ verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "me
          "The f32 march firmware holds $vsqrt \`vsqrt.f32\` and $softf64 soft double-precision routines, the f32" \
          "pick firmware $pick_softf64." \
          "$(grep -oE 'checked [0-9]+ mismatches [0-9]+' <<<"${OUT[sqrt-check]}" | sed 's/^/VSQRT.F32 against libm: /')."
+    echo
+    echo "The C firmwares (\`kernel/ffi/c/firmware\`, arm-none-eabi-gcc -O2 / -Os against \`libcurvicast.a\` at" \
+         "opt 3 / \"s\") run the Rust firmwares' workloads (the same rays) through the C interface, minus their own" \
+         "empty firmware ($cempty_s B at -Os). The C boundary costs" \
+         "$(awk -v c="$(grid c-march-f32 both per_crossing)" -v r="$per_crossing" 'BEGIN { printf "%+.1f %%", 100 * (c / r - 1) }')" \
+         "per crossing in batches (fill) and" \
+         "$(awk -v c="$(grid c-march-next-f32 both per_crossing)" -v r="$per_crossing" 'BEGIN { printf "%+.1f %%", 100 * (c / r - 1) }')" \
+         "one crossing per call (next) against march-f32's fold, and" \
+         "$(awk -v c="$(field c-pick-f32 per_pick)" -v r="$(field pick-f32 per_pick)" 'BEGIN { printf "%+.1f %%", 100 * (c / r - 1) }')" \
+         "per pick against pick-f32 (whose storage has no paging and whose picker holds 4 zones; the C picker" \
+         "holds 32 and pages); \`.text\` at opt \"s\" $(( $(ctext release-s c-march-f32) - cempty_s - march_s )) B" \
+         "more for the march and $(( $(ctext release-s c-pick-f32) - cempty_s - $(text release-s pick-f32) + empty_s )) B" \
+         "more for the pick, of which the libraries the C harness does not share with the kernel (compiler-builtins'" \
+         "memcpy and 64-bit division, in the Rust empty firmware already) are part."
     echo
     echo "Targets for f32 marching: at most 150 instructions per crossing ($per_crossing on both grids:" \
          "$(verdict "$per_crossing" 150)); march-only firmware at most 12 KiB of \`.text\` at opt \"s\" or smaller" \

@@ -2,7 +2,9 @@
 # The C interface on the host, as CI runs it (from anywhere):
 #   1. the header: cbindgen regenerates include/curvicast.h, which must equal the checked-in copy;
 #   2. the header compiles clean as C99 (-std=c99 -Wall -Wextra -Werror -pedantic);
-#   3. cases.c, linked against the host's libcurvicast.a with --gc-sections, answers the shared cases
+#   3. the example of docs/c-interface.md is c/example.c as it is, compiles with the strict flags, and prints
+#      the output the page shows;
+#   4. cases.c, linked against the host's libcurvicast.a with --gc-sections, answers the shared cases
 #      (`c_cases emit`) through the C interface; `c_cases run` answers them through the kernel's Rust API;
 #      the two outputs must be identical, byte for byte. The link itself is the panic-path proof for every
 #      function of the header (all_functions.h references each one; see staticlib/src/lib.rs).
@@ -28,8 +30,20 @@ cc "${CFLAGS[@]}" "$WORK/empty.c" -o "$WORK/empty"
 bash c/all-functions.sh include/curvicast.h >"$WORK/all_functions.h"
 echo "--- $(grep -c '(curvicast_fn)' "$WORK/all_functions.h") functions in the header"
 
-echo "--- libcurvicast.a for the host, and the C cases against it"
+echo "--- libcurvicast.a for the host"
 (cd staticlib && cargo build --release --quiet)
+
+echo "--- docs/c-interface.md: its example is c/example.c, and prints what the page shows"
+DOC=$ROOT/docs/c-interface.md
+# The first c block of the page, and the text block after it.
+awk '/^```c$/ { on = 1; next } on && /^```$/ { exit } on' "$DOC" >"$WORK/doc-example.c"
+awk '/^```c$/ { c = 1 } c && /^```text$/ { on = 1; next } on && /^```$/ { exit } on' "$DOC" >"$WORK/doc-output.txt"
+diff -u c/example.c "$WORK/doc-example.c" || { echo "docs/c-interface.md does not show c/example.c as it is"; exit 1; }
+cc "${CFLAGS[@]}" c/example.c staticlib/target/release/libcurvicast.a -Wl,--gc-sections -lm -o "$WORK/example"
+"$WORK/example" >"$WORK/example-output.txt"
+diff -u "$WORK/doc-output.txt" "$WORK/example-output.txt" || { echo "the example's output differs from the page's"; exit 1; }
+
+echo "--- the C cases against libcurvicast.a"
 cc "${CFLAGS[@]}" c/cases.c staticlib/target/release/libcurvicast.a -Wl,--gc-sections -o "$WORK/cases"
 
 echo "--- the same cases through the Rust API"

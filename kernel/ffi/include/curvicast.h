@@ -884,6 +884,23 @@ curvicast_status curvicast_march_f64_fill(curvicast_march_f64 *march,
 const char *curvicast_status_message(uint32_t status);
 
 /**
+ * The ECEF point (metres, 3 scalars into `ecef`) of geodetic latitude and longitude (degrees) and height
+ * above the WGS84 ellipsoid (metres): where to start a ray above the terrain.
+ *
+ * # Safety
+ * `ecef` is NULL or points to 3 writable floats.
+ */
+curvicast_status curvicast_wgs84_to_ecef_f32(float lat_deg, float lon_deg, float h, float *ecef);
+
+/**
+ * [`curvicast_wgs84_to_ecef_f32`] in double precision.
+ *
+ * # Safety
+ * `ecef` is NULL or points to 3 writable doubles.
+ */
+curvicast_status curvicast_wgs84_to_ecef_f64(double lat_deg, double lon_deg, double h, double *ecef);
+
+/**
  * The length of the node array for a DEM of `rows × cols` vertices and leaf blocks of `block × block` cells
  * (0 for fewer than 2 rows or columns or a block of 0).
  */

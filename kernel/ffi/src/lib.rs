@@ -24,7 +24,7 @@
 //! [`curvicast_status::CURVICAST_NOT_INITIALIZED`], found from a tag word each `init` writes. Lengths are
 //! counts of elements, never bytes.
 //!
-//! The unsafe of raw pointers lives in this module's helpers ([`Holds`], `get`, `slice`, …), each block with
+//! The unsafe of raw pointers lives in this module's helpers (`Holds`, `get`, `slice`, …), each block with
 //! its safety argument; the modules [`march`], [`terrain`] and [`tessellate`] call them and the kernel's safe
 //! API.
 #![no_std]

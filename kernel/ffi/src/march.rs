@@ -431,8 +431,30 @@ pub unsafe extern "C" fn curvicast_march_f64_begin(
     unsafe { init(march, || Ok(get(grid)?.march(&read(ray)?.ray()?))) }
 }
 
-/// The next crossing of a march: `CURVICAST_OK` with `*crossing` written, `CURVICAST_DONE` when the ray has
-/// left the grid (or its interval ended), or the error that stopped it (after the crossings before it).
+/// Up to `crossings.len()` crossings into `crossings` (the kernel's batch loop), their number into
+/// `*written`: `CURVICAST_OK` when the array is full (more may follow), `CURVICAST_DONE` when the march is over,
+/// or the error that stopped it.
+fn fill<T: Real, C: From<CellCrossing<T>>>(
+    march: &mut SerialMarch<'static, T>,
+    crossings: &mut [C],
+    written: &mut usize,
+) -> curvicast_status {
+    if crossings.is_empty() {
+        *written = 0;
+        return curvicast_status::CURVICAST_ZERO_CAPACITY;
+    }
+    *written = march.next_into(crossings);
+    if *written == crossings.len() {
+        curvicast_status::CURVICAST_OK
+    } else {
+        march
+            .error()
+            .map_or(curvicast_status::CURVICAST_DONE, Into::into)
+    }
+}
+
+/// One crossing into `crossing`: `CURVICAST_OK`, `CURVICAST_DONE` when the march is over, or the error that
+/// stopped it.
 fn next<T: Real, C: From<CellCrossing<T>>>(
     march: &mut SerialMarch<'static, T>,
     crossing: &mut C,
@@ -446,29 +468,6 @@ fn next<T: Real, C: From<CellCrossing<T>>>(
             .error()
             .map_or(curvicast_status::CURVICAST_DONE, Into::into),
     }
-}
-
-/// Up to `capacity` crossings into `crossings`, their number into `*written`: `CURVICAST_OK` when the array
-/// is full (more may follow), `CURVICAST_DONE` when the march is over, or the error that stopped it.
-fn fill<T: Real, C: From<CellCrossing<T>>>(
-    march: &mut SerialMarch<'static, T>,
-    crossings: &mut [C],
-    written: &mut usize,
-) -> curvicast_status {
-    *written = 0;
-    if crossings.is_empty() {
-        return curvicast_status::CURVICAST_ZERO_CAPACITY;
-    }
-    for slot in crossings.iter_mut() {
-        let Some(c) = march.next() else {
-            return march
-                .error()
-                .map_or(curvicast_status::CURVICAST_DONE, Into::into);
-        };
-        *slot = c.into();
-        *written = written.saturating_add(1);
-    }
-    curvicast_status::CURVICAST_OK
 }
 
 impl From<CellCrossing<f32>> for curvicast_crossing_f32 {

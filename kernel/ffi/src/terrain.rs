@@ -329,6 +329,51 @@ impl Scalar for f64 {
     }
 }
 
+/// # Safety
+/// `ecef` is NULL or points to 3 writable scalars.
+unsafe fn to_ecef<T: Real>(lat_deg: T, lon_deg: T, h: T, ecef: *mut T) -> curvicast_status {
+    // SAFETY: the contract.
+    match unsafe { slice_mut(ecef, 3) } {
+        Ok(out) => {
+            let p = Ellipsoid::<T>::wgs84().geodetic_deg_to_ecef(lat_deg, lon_deg, h);
+            out.copy_from_slice(&[p.x, p.y, p.z]);
+            curvicast_status::CURVICAST_OK
+        }
+        Err(e) => e,
+    }
+}
+
+/// The ECEF point (metres, 3 scalars into `ecef`) of geodetic latitude and longitude (degrees) and height
+/// above the WGS84 ellipsoid (metres): where to start a ray above the terrain.
+///
+/// # Safety
+/// `ecef` is NULL or points to 3 writable floats.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn curvicast_wgs84_to_ecef_f32(
+    lat_deg: f32,
+    lon_deg: f32,
+    h: f32,
+    ecef: *mut f32,
+) -> curvicast_status {
+    // SAFETY: the contract above.
+    unsafe { to_ecef(lat_deg, lon_deg, h, ecef) }
+}
+
+/// [`curvicast_wgs84_to_ecef_f32`] in double precision.
+///
+/// # Safety
+/// `ecef` is NULL or points to 3 writable doubles.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn curvicast_wgs84_to_ecef_f64(
+    lat_deg: f64,
+    lon_deg: f64,
+    h: f64,
+    ecef: *mut f64,
+) -> curvicast_status {
+    // SAFETY: the contract above.
+    unsafe { to_ecef(lat_deg, lon_deg, h, ecef) }
+}
+
 /// The length of the node array for a DEM of `rows × cols` vertices and leaf blocks of `block × block` cells
 /// (0 for fewer than 2 rows or columns or a block of 0).
 #[unsafe(no_mangle)]

@@ -712,3 +712,27 @@ fn levels_and_bevels_answer_through_the_boundary_with_statuses_for_bad_buffers()
         );
     }
 }
+
+#[test]
+fn wgs84_to_ecef_is_the_kernels_conversion_and_null_is_a_status() {
+    let mut p = [0.0f64; 3];
+    // SAFETY: NULL or a valid array of 3.
+    unsafe {
+        assert_eq!(
+            curvicast_wgs84_to_ecef_f64(45.04, 7.04, 5000.0, p.as_mut_ptr()),
+            S::CURVICAST_OK
+        );
+        assert_eq!(
+            curvicast_wgs84_to_ecef_f64(45.04, 7.04, 5000.0, null_mut()),
+            S::CURVICAST_NULL_POINTER
+        );
+    }
+    let q = Ellipsoid::<f64>::wgs84().geodetic_deg_to_ecef(45.04, 7.04, 5000.0);
+    assert_eq!(p, [q.x, q.y, q.z]);
+    let mut p32 = [0.0f32; 3];
+    // SAFETY: a valid array of 3.
+    let s = unsafe { curvicast_wgs84_to_ecef_f32(-80.0, 179.5, 0.0, p32.as_mut_ptr()) };
+    assert_eq!(s, S::CURVICAST_OK);
+    let q = Ellipsoid::<f32>::wgs84().geodetic_deg_to_ecef(-80.0, 179.5, 0.0);
+    assert_eq!(p32, [q.x, q.y, q.z]);
+}

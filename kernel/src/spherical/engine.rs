@@ -628,6 +628,53 @@ impl<T: Real> SerialMarch<'_, T> {
         acc
     }
 
+    /// The next crossings into `out`, in order, as many as fit or remain; returns how many were written (fewer
+    /// than `out.len()` only when the march is over: then [`SerialMarch::error`] says whether it ended or
+    /// stopped). Internal iteration in batches, for callers that take crossings into a buffer (the C interface,
+    /// a firmware's DMA list): the loop runs inside the march, as in [`SerialMarch::fold_in_place`].
+    ///
+    /// ```
+    /// use curvicast::{ray::Ray, spherical::{CellCrossing, SphericalGrid}};
+    /// use core::f64::consts::PI;
+    /// let (r, theta, phi) = ([0.0, 0.5, 1.0], [0.0, PI / 2.0, PI], [0.0, PI, 2.0 * PI]);
+    /// let mut ws = [0.0; SphericalGrid::<f64>::workspace_len(3, 3, 3)];
+    /// let grid = SphericalGrid::new(&r, &theta, &phi, &mut ws)?;
+    /// let ray = Ray::new([-2.0, 0.25, 0.25], [1.0, 0.0, 0.0])?;
+    /// let mut march = grid.march(&ray);
+    /// let mut batch = [CellCrossing { cell: [0; 3], t_enter: 0.0, t_exit: 0.0 }; 2];
+    /// assert_eq!(march.next_into(&mut batch), 2); // outer shell, inner ball
+    /// assert_eq!(march.next_into(&mut batch), 1); // outer shell again, and the march is over
+    /// assert_eq!((batch[0].cell, march.error()), ([1, 0, 0], None));
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn next_into<C: From<CellCrossing<T>>>(&mut self, out: &mut [C]) -> usize {
+        let mut slots = out.iter_mut();
+        let mut n = 0usize;
+        if slots.len() > 0 {
+            // Each crossing taken has a slot: the loop stops after filling the last one.
+            self.for_each_while(|c| match slots.next() {
+                Some(slot) => {
+                    *slot = c.into();
+                    n = n.saturating_add(1);
+                    slots.len() > 0
+                }
+                None => false,
+            });
+        }
+        n
+    }
+
+    /// Calls `f` on the remaining crossings in order until it returns `false` (internal iteration with an early
+    /// stop; the loop runs inside the march, as in [`SerialMarch::fold_in_place`]).
+    #[inline(always)]
+    pub fn for_each_while(&mut self, mut f: impl FnMut(CellCrossing<T>) -> bool) {
+        while let Some(c) = self.step() {
+            if !f(c) {
+                break;
+            }
+        }
+    }
+
     /// The next crossing (the body of `next`, inlined into `fold` as well).
     #[inline(always)]
     fn step(&mut self) -> Option<CellCrossing<T>> {
