@@ -12,6 +12,11 @@
 #include <stdint.h>
 
 /**
+ * The alignment of every storage object (`curvicast_grid_f32`, …): they are arrays of `uint64_t`.
+ */
+#define CURVICAST_STORAGE_ALIGN 8
+
+/**
  * The storage words of a grid (any kind): a tag, the kind, and the grid's borrowed axes.
  */
 #define CURVICAST_GRID_WORDS 32
@@ -1159,6 +1164,33 @@ curvicast_status curvicast_bevel_ellipsoid_f32(uint32_t level,
                                                size_t vertices_len,
                                                curvicast_face_f32 *faces,
                                                size_t faces_len);
+
+/**
+ * Writes the level-`level` edge-beveled polyhedron of the sphere of radius `radius` about the origin (§4.3):
+ * [`curvicast_bevel_ellipsoid_f32`] with three equal semi-axes.
+ *
+ * # Safety
+ * `vertices` and `faces` are NULL or valid for their lengths.
+ */
+curvicast_status curvicast_bevel_sphere_f32(uint32_t level,
+                                            float radius,
+                                            curvicast_vec3_f32 *vertices,
+                                            size_t vertices_len,
+                                            curvicast_face_f32 *faces,
+                                            size_t faces_len);
+
+/**
+ * [`curvicast_bevel_sphere_f32`] in double precision.
+ *
+ * # Safety
+ * `vertices` and `faces` are NULL or valid for their lengths.
+ */
+curvicast_status curvicast_bevel_sphere_f64(uint32_t level,
+                                            double radius,
+                                            curvicast_vec3_f64 *vertices,
+                                            size_t vertices_len,
+                                            curvicast_face_f64 *faces,
+                                            size_t faces_len);
 
 /**
  * [`curvicast_bevel_ellipsoid_f32`] in double precision.

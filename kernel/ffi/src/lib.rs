@@ -108,6 +108,9 @@ impl CRay<f64> for curvicast_ray_f64 {
     }
 }
 
+/// The alignment of every storage object (`curvicast_grid_f32`, …): they are arrays of `uint64_t`.
+pub const CURVICAST_STORAGE_ALIGN: usize = 8;
+
 /// A kernel object as it sits in caller storage: a tag word, then the object.
 #[repr(C)]
 struct Slot<V> {
@@ -128,7 +131,8 @@ pub(crate) unsafe trait Holds: Sized {
     /// The object fits, at the storage's alignment: a compile-time error otherwise (evaluated per target).
     const FITS: () = assert!(
         size_of::<Slot<Self::Value>>() <= size_of::<Self>()
-            && align_of::<Slot<Self::Value>>() <= align_of::<Self>(),
+            && align_of::<Slot<Self::Value>>() <= align_of::<Self>()
+            && align_of::<Self>() == CURVICAST_STORAGE_ALIGN,
         "a kernel object outgrew its C storage: raise the storage's size in the header"
     );
 }

@@ -280,6 +280,57 @@ pub unsafe extern "C" fn curvicast_bevel_ellipsoid_f32(
     unsafe { bevel(level, axes, (vertices, vertices_len), (faces, faces_len)) }
 }
 
+/// Writes the level-`level` edge-beveled polyhedron of the sphere of radius `radius` about the origin (§4.3):
+/// [`curvicast_bevel_ellipsoid_f32`] with three equal semi-axes.
+///
+/// # Safety
+/// `vertices` and `faces` are NULL or valid for their lengths.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn curvicast_bevel_sphere_f32(
+    level: u32,
+    radius: f32,
+    vertices: *mut curvicast_vec3_f32,
+    vertices_len: usize,
+    faces: *mut curvicast_face_f32,
+    faces_len: usize,
+) -> curvicast_status {
+    let axes = [radius; 3];
+    // SAFETY: the contract above; `axes` is 3 floats.
+    unsafe {
+        bevel(
+            level,
+            axes.as_ptr(),
+            (vertices, vertices_len),
+            (faces, faces_len),
+        )
+    }
+}
+
+/// [`curvicast_bevel_sphere_f32`] in double precision.
+///
+/// # Safety
+/// `vertices` and `faces` are NULL or valid for their lengths.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn curvicast_bevel_sphere_f64(
+    level: u32,
+    radius: f64,
+    vertices: *mut curvicast_vec3_f64,
+    vertices_len: usize,
+    faces: *mut curvicast_face_f64,
+    faces_len: usize,
+) -> curvicast_status {
+    let axes = [radius; 3];
+    // SAFETY: the contract above; `axes` is 3 doubles.
+    unsafe {
+        bevel(
+            level,
+            axes.as_ptr(),
+            (vertices, vertices_len),
+            (faces, faces_len),
+        )
+    }
+}
+
 /// [`curvicast_bevel_ellipsoid_f32`] in double precision.
 ///
 /// # Safety

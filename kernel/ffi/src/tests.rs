@@ -702,6 +702,27 @@ fn levels_and_bevels_answer_through_the_boundary_with_statuses_for_bad_buffers()
             S::CURVICAST_OK
         );
     }
+    // The sphere entry is the ellipsoid of three equal axes.
+    let mut v2 = vec![curvicast_vec3_f32::default(); nv];
+    let mut f2 = vec![curvicast_face_f32::default(); nf];
+    let mut v3 = v2.clone();
+    let mut f3 = f2.clone();
+    let sphere = [2.5f32; 3];
+    // SAFETY: valid arrays with their lengths.
+    unsafe {
+        let s = curvicast_bevel_sphere_f32(1, 2.5, v2.as_mut_ptr(), nv, f2.as_mut_ptr(), nf);
+        assert_eq!(s, S::CURVICAST_OK);
+        let s = curvicast_bevel_ellipsoid_f32(
+            1,
+            sphere.as_ptr(),
+            v3.as_mut_ptr(),
+            nv,
+            f3.as_mut_ptr(),
+            nf,
+        );
+        assert_eq!(s, S::CURVICAST_OK);
+    }
+    assert_eq!((v2, f2), (v3, f3));
     // Every face's center lies on the ellipsoid, every face has 4 or 6 vertices.
     for face in &f {
         let c = face.center;
