@@ -1,4 +1,4 @@
-//! Fuzz target `block_subset`: integer block-subset indexing (`curvicast::terrain::subset`, seed 000 §5) on an
+//! Fuzz target `block_subset`: integer block-subset indexing (`curvicast::terrain::subset`, Wartell et al. §5) on an
 //! arbitrary block size (valid or not) and an arbitrary walk of up to 80 steps up (past `MAX_LEVELS`), plus the
 //! direct constructor on arbitrary indices.
 //!

@@ -1,4 +1,4 @@
-//! Fuzz target for spherical, cylindrical and polar marching (seed 001): arbitrary grids (valid and invalid)
+//! Fuzz target for spherical, cylindrical and polar marching (Hannasch): arbitrary grids (valid and invalid)
 //! and rays. Checks: no panic, no hang (the iteration bound is never hit), crossings ordered and non-negative,
 //! touching crossings differ in exactly one index by one step (φ wraps only on a full turn), the serial and
 //! separable engines agree exactly, and (f64, well-conditioned crossings) interior points lie in the cell

@@ -1,4 +1,4 @@
-//! Fuzz target for terrain picking (seed 000 §3–§4): small random DEMs (2–9 × 2–9 vertices, anywhere on the
+//! Fuzz target for terrain picking (Wartell et al. §3–§4): small random DEMs (2–9 × 2–9 vertices, anywhere on the
 //! globe, any spacing, nodata vertices, poles) and random rays. The kernel must not panic or hang, must return
 //! either a typed error or an answer, and must agree with an `f64` brute force over every triangle. Both checks
 //! are geometric (distances in metres, with coordinates taken relative to a triangle vertex), so that sliver

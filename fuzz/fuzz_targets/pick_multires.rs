@@ -1,4 +1,4 @@
-//! Fuzz target for multi-resolution terrain picking (seed 000 §5–§6): small random DEMs (3–17 × 3–17 vertices,
+//! Fuzz target for multi-resolution terrain picking (Wartell et al. §5–§6): small random DEMs (3–17 × 3–17 vertices,
 //! or 5–33 × 3–17, anywhere on the globe, poles and the antimeridian included, nodata vertices and nodata
 //! patches), the kernel's builder's multi-resolution tree over them (`build_multires_tree`: leaves of 1–4 cells
 //! under up to 8 × 4 zones, up to level 3, every node with a block at stride `2^(its level above the leaves)`,

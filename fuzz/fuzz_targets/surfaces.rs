@@ -334,7 +334,7 @@ fn run<T: Real>(input: &Input, k_tol: f64, l: i32) {
 
     match built {
         Built::Spheroid(_, a, b) => {
-            // The sphere of radius a after scaling z by k = a/b (the kernel's own reduction, seed 000 §3.1.2).
+            // The sphere of radius a after scaling z by k = a/b (the kernel's own reduction, Wartell et al. §3.1.2).
             let k = Dd::n(a).div(Dd::n(b));
             let scale = |x: V| [x[0], x[1], x[2].mul(k)];
             let (ps, ds) = (scale(p), scale(dvec));

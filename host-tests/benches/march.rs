@@ -1,4 +1,4 @@
-//! Criterion benchmarks of spherical marching (seed 001), on the report's marching scene
+//! Criterion benchmarks of spherical marching (Hannasch), on the report's marching scene
 //! (`curvicast_host::scenes::marching`): a 64³ grid and 256² parallel rays along (1, 0.15, 0.1), 3 units back,
 //! covering the ball.
 //!

@@ -1,4 +1,4 @@
-//! Terrain picking benchmarks (seed 000 §3–§5): the kernel's `Picker` over the host's `DemStorage` against
+//! Terrain picking benchmarks (Wartell et al. §3–§5): the kernel's `Picker` over the host's `DemStorage` against
 //! parry3d-f64's `TriMesh` BVH and brute force, on Trinidad (1201 × 2401) and a synthetic fractal terrain of
 //! 4096 × 4096 vertices (set `CURVICAST_TERRAIN_BENCH_N` for another size: parry's mesh needs about 170 bytes per
 //! triangle, 5.6 GB at 4096²), rays from a camera 2 km above ground and from orbit. Each iteration picks a batch

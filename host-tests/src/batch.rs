@@ -1,4 +1,4 @@
-//! Many rays at once: an image's rays marched across cores with rayon (seed 001 ch. 5's serial engine, one
+//! Many rays at once: an image's rays marched across cores with rayon (Hannasch ch. 5's serial engine, one
 //! iterator per ray).
 //!
 //! The kernel's part is a marcher that is cheap to construct and owns nothing but a few scalars; this module

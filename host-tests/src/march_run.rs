@@ -13,9 +13,9 @@ use curvicast::spherical::{CylindricalGrid, PolarGrid, SphericalGrid};
 /// Which kernel engine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Engine {
-    /// `grid.march(&ray)` (seed 001 ch. 5).
+    /// `grid.march(&ray)` (Hannasch ch. 5).
     Serial,
-    /// `grid.march_separable::<N>(&ray)` (seed 001 §3).
+    /// `grid.march_separable::<N>(&ray)` (Hannasch §3).
     Separable,
 }
 

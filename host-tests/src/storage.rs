@@ -56,7 +56,7 @@ impl Buffers<f64> for DemBuffers<'_> {
     }
 }
 
-/// The host's terrain storage for the kernel (seed 000 §3.5, §4, §5): a [`Dem`] and the vectors the kernel's
+/// The host's terrain storage for the kernel (Wartell et al. §3.5, §4, §5): a [`Dem`] and the vectors the kernel's
 /// builder fills ([`curvicast::terrain::build`]: the quadtree's node records with their boxes (shared-frame
 /// rule), the trigonometry tables, residency flags), behind the kernel's own
 /// [`curvicast::terrain::build::TreeStorage`]. The tree is the builder's: leaves of `block × block` cells,
@@ -74,7 +74,7 @@ pub struct DemStorage<'a> {
     refused: Option<build::BuildError>,
 }
 
-/// How [`DemStorage::multi_resolution`] shapes a multi-resolution tree (seed 000 §5, Fig. 11): every node has a
+/// How [`DemStorage::multi_resolution`] shapes a multi-resolution tree (Wartell et al. §5, Fig. 11): every node has a
 /// block of `block × block` cells that subsamples the DEM at `2^k` grid steps (`k` its pyramid level, 0 at the
 /// full-resolution leaves), and branches stop at pyramid level `coarse_level` outside `fine_region`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -432,7 +432,7 @@ impl curvicast::terrain::TerrainStorage<f64> for Paged<'_, '_> {
     }
 }
 
-/// Picks `ray` as a caller of a paging storage does (seed 000 §5): on `NeedsBlock` the node's block is paged in
+/// Picks `ray` as a caller of a paging storage does (Wartell et al. §5): on `NeedsBlock` the node's block is paged in
 /// (for this ray only: a [`Paged`] overlay of `storage`) and the ray asked again, until it is answered. Returns
 /// the answer and the number of blocks paged in.
 pub fn pick_paging_in(

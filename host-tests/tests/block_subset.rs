@@ -1,4 +1,4 @@
-//! Integer block-subset indexing (seed 000 §5, last paragraph) against exact rational arithmetic.
+//! Integer block-subset indexing (Wartell et al. §5, last paragraph) against exact rational arithmetic.
 //!
 //! The oracle shares nothing with the kernel's halving: it walks **down** from the ancestor to the leaf,
 //! subdividing the ancestor's unit side as exact rationals (`[lo/den, hi/den]`, numerators and denominator in

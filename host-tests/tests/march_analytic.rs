@@ -1,4 +1,4 @@
-//! Analytic validation of marching (seed 001, Hannasch, §6.1–6.2): projections through a ball of radius R = 1
+//! Analytic validation of marching (Hannasch §6.1–6.2): projections through a ball of radius R = 1
 //! computed from the kernel's crossings equal their closed forms to a relative error of 1e-12, in f64, with both
 //! engines.
 //!

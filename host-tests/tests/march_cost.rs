@@ -1,6 +1,6 @@
 //! The cost of marching, counted through an instrumented scalar: at most one square root per radius or zenith
 //! crossing and at most one division per azimuth crossing, on average over random rays through random
-//! non-uniform grids (seed 001: "both roots of one sphere from one square root"; the azimuth needs one
+//! non-uniform grids (Hannasch: "both roots of one sphere from one square root"; the azimuth needs one
 //! division per facet). The counts are exact (not timings).
 
 use curvicast::ray::Ray;

@@ -1,4 +1,4 @@
-//! Marching (seed 001, Hannasch) against the independent oracle: closed-form checks of the oracle itself, one
+//! Marching (Hannasch) against the independent oracle: closed-form checks of the oracle itself, one
 //! named test per hard case with both engines, and the random suite.
 //!
 //! Criterion (issue 3, item 7), in f64: the engine's list satisfies the contract's structural invariants; after

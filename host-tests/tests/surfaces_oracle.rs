@@ -18,7 +18,7 @@
 //! * count and side must agree for every crossing outside the band that is not within the mode's error of an
 //!   interval end or of the surface's edge (cone apex, half-plane axis).
 //!
-//! Asserted: f64 forward ≤ 16 ε S outside the band (the criterion) and backward ≤ 16 ε S everywhere; the
+//! Asserted: f64 forward ≤ 16 ε S outside the band (the project's accuracy target) and backward ≤ 16 ε S everywhere; the
 //! f32 modes against `forward_bound` / `backward_bound`; no count/side mismatch. Every bound and its measured
 //! value (largest forward error outside the band / largest backward error, in ε·S, on 100 000 rays per kind and
 //! mode) is in one table, `curvicast_host::report::surfaces::ERROR_BOUNDS`; `full_sweep_all_modes` re-measures

@@ -1,4 +1,4 @@
-//! Multi-resolution picking (seed 000 §5–§6) against the independent multi-resolution oracle
+//! Multi-resolution picking (Wartell et al. §5–§6) against the independent multi-resolution oracle
 //! ([`curvicast_host::oracle::multires`]): the surface that a tree, a residency pattern and a `min_level` select,
 //! brute force in 256 bits.
 //!

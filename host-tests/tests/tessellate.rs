@@ -1,4 +1,4 @@
-//! Host tests of the edge-beveled polyhedra (seed 004 §4.3–4.4), the a-priori level of detail (chapter 5), and
+//! Host tests of the edge-beveled polyhedra (the edge-beveling thesis §4.3–4.4), the a-priori level of detail (chapter 5), and
 //! the `curvicast tessellate` command.
 //!
 //! Every check here measures the built polyhedra with code of its own (plane distances from the true surface

@@ -6,18 +6,18 @@
 //! * [`surface`]: ray ∩ sphere/spheroid, axial cone, half-plane through the z axis, plane `z = c` — the one
 //!   geometry layer that every traversal shares.
 //! * [`geodesy`]: the ellipsoid, geodetic ↔ ECEF (GeographicLib-grade reverse conversion), latitude cones,
-//!   meridians and the conservative bounding volume of a spheroidal height-quad (seed 000 §3).
+//!   meridians and the conservative bounding volume of a spheroidal height-quad (Wartell et al. §3).
 //! * [`terrain`]: the nearest hit of a ray with a regular geodetic DEM through a height-augmented quadtree that
-//!   the caller stores behind [`terrain::TerrainStorage`] (seeds 000, 003), never missing a hit.
-//! * [`spherical`]: marching through spherical, cylindrical and polar grids (seed 001), serial and separable.
+//!   the caller stores behind [`terrain::TerrainStorage`] (Wartell et al.), never missing a hit.
+//! * [`spherical`]: marching through spherical, cylindrical and polar grids (Hannasch), serial and separable.
 //! * [`tessellate`]: rational corner-cutting and edge-beveling of circles, ellipses, spheres and ellipsoids at
-//!   the level a scene needs (seed 004).
+//!   the level a scene needs (the edge-beveling thesis).
 //! * [`ray`]: the ray and its invariants; [`real`]: the scalar trait (`f64`, `f32`, and a fast-math `f32`).
 //!
 //! The papers this crate implements are cited in each module's docs: Hannasch, *Spherical Ray-Tracing*
-//! (seed 001) for marching; Wartell, Ribarsky, Hodges, *Efficient Ray Intersection with Global Terrain using
-//! Spheroidal Height-Augmented Quadtrees* (seeds 000, 003) for terrain; a thesis on rational corner-cutting
-//! and edge-beveling (seed 004) for tessellation.
+//! for marching; Wartell, Ribarsky, Hodges, *Efficient Ray Intersection with Global Terrain using
+//! Spheroidal Height-Augmented Quadtrees* for terrain; a thesis on rational corner-cutting
+//! and edge-beveling ("the edge-beveling thesis") for tessellation.
 //!
 //! ```
 //! use curvicast::{ray::Ray, surface::{AxialCone, Surface}};

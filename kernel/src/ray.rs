@@ -1,6 +1,6 @@
 //! The ray `p + t d` for `t_min <= t <= t_max`, and its per-ray invariants.
 //!
-//! Seed 001 (Hannasch) writes every conversion in terms of `‖d‖²`, `⟨p|d⟩` and the closest approach
+//! Hannasch writes every conversion in terms of `‖d‖²`, `⟨p|d⟩` and the closest approach
 //! (Lemma 8); this type computes them once per ray. Two numerical choices are made here so that every surface
 //! solver inherits them:
 //!
@@ -308,12 +308,12 @@ impl<T: Real> Ray<T> {
         self.line.scale.t_to_scaled(t)
     }
 
-    /// The hinge of `r`: the `t` of the closest approach to the origin, `−⟨p|d⟩/‖d‖²` (seed 001, Lemma 8).
+    /// The hinge of `r`: the `t` of the closest approach to the origin, `−⟨p|d⟩/‖d‖²` (Hannasch, Lemma 8).
     #[inline]
     pub fn t_closest(&self) -> T {
         self.line.t_closest()
     }
-    /// The squared distance of the line from the origin, `|p × d|²/‖d‖²` (seed 001, Lemma 8, without cancellation).
+    /// The squared distance of the line from the origin, `|p × d|²/‖d‖²` (Hannasch, Lemma 8, without cancellation).
     #[inline]
     pub fn closest_distance_squared(&self) -> T {
         self.line.w.length_squared() / self.line.dd

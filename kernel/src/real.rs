@@ -396,7 +396,7 @@ fn two_sum_f32(a: f32, b: f32) -> (f32, f32) {
     (s, (a - (s - bb)) + (b - bb))
 }
 
-/// `(sin x, cos x)` in `f32` arithmetic only, for the `f32` scalar (seed 001 §2 needs `(cos, sin)` of every θ and
+/// `(sin x, cos x)` in `f32` arithmetic only, for the `f32` scalar (Hannasch §2 needs `(cos, sin)` of every θ and
 /// φ breakpoint; libm's `sinf` and `cosf` compute in `f64`, which on a single-precision FPU is software and
 /// brings the soft double-precision routines into every `f32` firmware that builds a grid).
 ///

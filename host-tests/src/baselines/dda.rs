@@ -2,7 +2,7 @@
 //! the voxels with the Amanatides–Woo 3-D DDA (J. Amanatides and A. Woo, *A Fast Voxel Traversal Algorithm for
 //! Ray Tracing*, Eurographics 1987), and map each voxel back to the spherical cell of its center.
 //!
-//! This is what seed 001 (Hannasch, ch. 6) compares against: a user who converts the data to a box grid. The
+//! This is what Hannasch (ch. 6) compares against: a user who converts the data to a box grid. The
 //! resampling is done once per grid and not timed (as in §6.3); its accuracy cost is that a voxel straddling a
 //! spherical boundary carries one cell for its whole extent, so the cell sequence and the `t` values differ from
 //! the exact ones.

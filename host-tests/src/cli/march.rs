@@ -1,6 +1,6 @@
 //! `curvicast march --grid GRID.json [--rays RAYS.jsonl] [--engine serial|separable] [--precision f64|f32|f32-fast]`
 //!
-//! Marches every ray through a spherical, cylindrical or polar grid (seed 001) and prints one JSON line per ray:
+//! Marches every ray through a spherical, cylindrical or polar grid (Hannasch) and prints one JSON line per ray:
 //! `{"ray": i, "crossings": [{"cell": [i, j, k], "t_enter": .., "t_exit": ..}, ..]}` (polar cells have two
 //! indices), or `{"ray": i, "error": ".."}` for a ray that cannot be marched. A malformed grid file is a usage
 //! error (exit code 2, one line on stderr naming the file, nothing on stdout).
@@ -26,9 +26,9 @@ use std::path::{Path, PathBuf};
 /// Which engine marches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Engine {
-    /// The serial, constant-memory engine (seed 001 ch. 5).
+    /// The serial, constant-memory engine (Hannasch ch. 5).
     Serial,
-    /// The separable engine (seed 001 §3), buffers sized from the grid.
+    /// The separable engine (Hannasch §3), buffers sized from the grid.
     Separable,
 }
 
@@ -88,7 +88,7 @@ enum AnyGrid<'a, T> {
 }
 
 impl<T: Real + Send + Sync> AnyGrid<'_, T> {
-    /// The serial march (seed 001 ch. 5): an iterator of crossings with constant-size state.
+    /// The serial march (Hannasch ch. 5): an iterator of crossings with constant-size state.
     fn march(&self, ray: &Ray<T>) -> SerialMarch<'_, T> {
         match self {
             AnyGrid::S(g) => g.march(ray),

@@ -1,7 +1,7 @@
 //! `curvicast pick (--terrain TERRAIN.json | --dem FILE) [--rays RAYS.jsonl] [--min-level N] [--block B]`
 //! (command-line contract):
 //! the nearest intersection of each ray with a DEM's triangle surface, through the kernel's
-//! [`curvicast::terrain::Picker`] over the host's [`DemStorage`] (seed 000 §3–§4).
+//! [`curvicast::terrain::Picker`] over the host's [`DemStorage`] (Wartell et al. §3–§4).
 //!
 //! Output, one line per ray in input order:
 //! `{"ray": 0, "hit": {"t": .., "ecef": [x, y, z], "lat": .., "lon": .., "h": .., "cell": [i, j], "level": L,
@@ -13,7 +13,7 @@
 //! directly, with the georeference from the file ([`crate::scenes::dem_files`]); it builds the same model as
 //! `--terrain`, so the same heights give the same answers.
 //!
-//! Multi-resolution experiments (seed 000 §5): `--fine-region` and `--coarse-level` shape a tree whose branches
+//! Multi-resolution experiments (Wartell et al. §5): `--fine-region` and `--coarse-level` shape a tree whose branches
 //! end early outside a box, `--non-resident-levels` and `--non-resident-region` mark blocks as not in memory,
 //! and `--min-level` limits which coarser blocks may stand in for missing ones. With any of the first four, every
 //! node has its own block (the DEM subsampled at 2^k grid steps, k its height above the full-resolution
@@ -56,7 +56,7 @@ pub struct PickArgs {
     pub terrain: TerrainSource,
     /// The rays file (JSON Lines); standard input when `None`.
     pub rays: Option<PathBuf>,
-    /// The coarsest quadtree level whose blocks may stand in for missing finer ones (seed 000 §5). Without the
+    /// The coarsest quadtree level whose blocks may stand in for missing finer ones (Wartell et al. §5). Without the
     /// multi-resolution options every block is resident and full resolution, so it does not change the
     /// answers; values deeper than the tree are rejected.
     pub min_level: u32,

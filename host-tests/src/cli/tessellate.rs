@@ -1,5 +1,5 @@
 //! `curvicast tessellate (--sphere R | --ellipsoid A B C) (--level K | --max-angle-deg X | --max-deviation E)
-//! --out FILE.obj`: the edge-beveled polyhedron (seed 004 §4.3–4.4) as Wavefront OBJ, and a one-line JSON summary
+//! --out FILE.obj`: the edge-beveled polyhedron (the edge-beveling thesis §4.3–4.4) as Wavefront OBJ, and a one-line JSON summary
 //! `{"level": k, "faces": n, "vertices": m, "min_dihedral_deg": x, "max_deviation": e}` on stdout.
 //!
 //! * `--level K` builds level K; `--max-angle-deg X` asks for the smallest level whose adjacent faces' normals are

@@ -1,4 +1,4 @@
-//! Brute-force reference for ray marching through spherical, cylindrical and polar grids (seed 001, Hannasch,
+//! Brute-force reference for ray marching through spherical, cylindrical and polar grids (Hannasch,
 //! *Spherical Ray-Tracing*, §3.1 and the half-open cell convention of the command-line contract).
 //!
 //! # Method
@@ -1180,7 +1180,7 @@ fn cells_match(a: &OracleCell, b: &OracleCell) -> bool {
         .all(|(x, y)| x.is_none() || y.is_none() || x == y)
 }
 
-/// The comparison criterion of the issue.
+/// The comparison criterion of the marching tests: the order of cells exact, each t within a tolerance.
 ///
 /// 1. `kernel` must satisfy [`MarchOracle::check_structure`].
 /// 2. After dropping crossings shorter than `1e-7·L` from both lists (and merging neighbours that then agree),

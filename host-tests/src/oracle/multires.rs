@@ -1,4 +1,4 @@
-//! The multi-resolution terrain oracle (seed 000 §5–§6): the nearest intersection of a ray with the surface that
+//! The multi-resolution terrain oracle (Wartell et al. §5–§6): the nearest intersection of a ray with the surface that
 //! a multi-resolution tree, a residency pattern and a `min_level` select, by brute force over every triangle of
 //! that surface, decided in arbitrary precision.
 //!

@@ -1,6 +1,6 @@
 //! Arbitrary-precision reference answers for ray ∩ surface: spheroid (a sphere when `a = b`), axial cone (one
 //! nappe), half-plane bounded by the z axis, plane `z = c` — the four families of the kernel's `surface` layer
-//! (seed 001 §4.3–§4.6, seed 000 §3.1–§3.4).
+//! (Hannasch §4.3–§4.6, Wartell et al. §3.1–§3.4).
 //!
 //! Everything is computed with [`astro_float`] at [`PRECISION`] bits from the exact `f64` inputs. The logic is the
 //! oracle's own and deliberately naive, because in high precision naivety costs nothing:

@@ -1,7 +1,7 @@
 //! The terrain picking oracle: the nearest intersection of a ray with the contract's triangle surface of a DEM,
 //! by brute force over every triangle, decided in arbitrary precision.
 //!
-//! Independence: this module shares no code path with the kernel's terrain traversal (seed 000 §3–§4). It does not
+//! Independence: this module shares no code path with the kernel's terrain traversal (Wartell et al. §3–§4). It does not
 //! use zones, quads, bounding spheroids, cones or meridian planes. It works in three stages:
 //!
 //! 1. **Filter (f64, conservative).** Every triangle lies inside the convex hull of its three vertices, hence

@@ -1,4 +1,4 @@
-//! The Cartesian-resampling baseline of `curvicast render` (seed 001 §6.1–6.3): the cells resampled once onto
+//! The Cartesian-resampling baseline of `curvicast render` (Hannasch §6.1–6.3): the cells resampled once onto
 //! `N³` voxels covering the grid's bounding cube — each voxel takes the value of the native cell containing its
 //! center, 0 outside the domain — then marched with the Amanatides–Woo DDA
 //! ([`crate::baselines::dda::VoxelCube::traverse`]). The bounding cube of a spherical grid is centred on the

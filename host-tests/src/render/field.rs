@@ -1,5 +1,5 @@
 //! Fields on curved grids for `curvicast render`: the grid's breakpoints (spherical, cylindrical or polar) and one
-//! value per cell, the analytic fields of seed 001 §6.1 as exact cell averages (closed forms in the cell's radii),
+//! value per cell, the analytic fields of Hannasch §6.1 as exact cell averages (closed forms in the cell's radii),
 //! the closed-form truths of their projections (§6.1 and the remark of §6.3), and the coarser spherical grids of
 //! §6.3 that discard every other breakpoint.
 //!
@@ -57,7 +57,7 @@ impl SphericalCells {
             * (self.phi[k + 1] - self.phi[k])
     }
 
-    /// The grid of seed 001 §6.3's ladder one level coarser: every other breakpoint discarded along each axis
+    /// The grid of Hannasch §6.3's ladder one level coarser: every other breakpoint discarded along each axis
     /// (the first and, when their count is odd, the last are kept; an axis of one cell stays), and each coarse
     /// cell's value the volume-weighted mean of the finite values of the fine cells it covers (NaN when it covers
     /// none). For the analytic fields this is again the exact cell average.
@@ -105,7 +105,7 @@ impl SphericalCells {
     }
 }
 
-/// A cylindrical grid (seed 001 §3.3): breakpoints in ρ (distance from the axis), φ (azimuth) and z (height
+/// A cylindrical grid (Hannasch §3.3): breakpoints in ρ (distance from the axis), φ (azimuth) and z (height
 /// relative to `center[2]`). Cell `[i, k, m]` has the flat index `(i · nφ + k) · nz + m`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CylindricalCells {
@@ -119,7 +119,7 @@ pub struct CylindricalCells {
     pub z: Vec<f64>,
 }
 
-/// A 2-D polar grid (seed 001 §3.4): breakpoints in r and φ around `center` in the xy plane; the rays' z
+/// A 2-D polar grid (Hannasch §3.4): breakpoints in r and φ around `center` in the xy plane; the rays' z
 /// components are ignored, so its cells are prisms unbounded in z. Cell `[i, k]` (the kernel's `[i, k, 0]`) has
 /// the flat index `i · nφ + k`.
 #[derive(Debug, Clone, PartialEq)]
@@ -226,7 +226,7 @@ fn fifth_difference(a: f64, b: f64) -> f64 {
     (b - a) * (b2 * b2 + b2 * b * a + b2 * a2 + b * a2 * a + a2 * a2)
 }
 
-/// The analytic fields of seed 001 §6.1; each depends on the distance r from the grid's center only (on a
+/// The analytic fields of Hannasch §6.1; each depends on the distance r from the grid's center only (on a
 /// cylindrical or polar grid: the distance ρ from its axis), and is 0 beyond its radius `R` and outside the grid's
 /// domain.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize)]

@@ -1,4 +1,4 @@
-//! Images of fields on spherical, cylindrical and polar grids (`curvicast render`, seed 001 ch. 6): a camera
+//! Images of fields on spherical, cylindrical and polar grids (`curvicast render`, Hannasch ch. 6): a camera
 //! casts one ray per pixel, the ray is marched through the grid natively (the kernel's serial engine, in f64, f32
 //! or f32-fast) or through the Cartesian-resampling baseline, and a sampler folds the `(value, length)` of each
 //! cell crossed into the pixel's value. Rows are rendered across the cores; memory is the image plus the field

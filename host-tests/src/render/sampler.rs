@@ -1,5 +1,5 @@
 //! Samplers of `curvicast render`: what a pixel makes of the cells its ray crosses, one `(value, length)` pair per
-//! cell in increasing `t` (seed 001 §6.1 uses the projection sampler, which "multiplies the cell value by the
+//! cell in increasing `t` (Hannasch §6.1 uses the projection sampler, which "multiplies the cell value by the
 //! length of the intersection of the ray with the cell", without interpolation; so do the others here).
 //!
 //! * projection: `Σ value · length` (empty cells, NaN, contribute 0);

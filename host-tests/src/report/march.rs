@@ -1,4 +1,4 @@
-//! Report section: marching (seed 001, Hannasch, ch. 3, 5 and 6) — speed of the serial and separable engines in
+//! Report section: marching (Hannasch, ch. 3, 5 and 6) — speed of the serial and separable engines in
 //! f64, f32 and f32-fast on a 64³ full-sphere grid, side by side with their measured errors against the oracle,
 //! and the Cartesian-resampling baseline (Amanatides–Woo DDA over an n³ voxel grid).
 
@@ -312,7 +312,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
         )?;
     }
     Ok(Section {
-        title: "Marching through spherical grids (seed 001)".into(),
+        title: "Marching through spherical grids (Hannasch)".into(),
         markdown: md,
     })
 }

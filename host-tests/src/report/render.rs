@@ -1,4 +1,4 @@
-//! Report section: error against runtime, native against Cartesian (seed 001 §6.2–6.3, Fig. 6.13 and 6.14).
+//! Report section: error against runtime, native against Cartesian (Hannasch §6.2–6.3, Fig. 6.13 and 6.14).
 //!
 //! For each scene, the same camera's rays are cast through a ladder of native grids (each rung discards every
 //! other breakpoint of the one above, §6.3, the coarse cells holding the volume-weighted mean of the fine ones)
@@ -666,7 +666,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
     let reps = if quick { 2 } else { 3 };
     let mut md = String::new();
     md.push_str(
-        "Seed 001 §6.2–6.3 (Fig. 6.13, 6.14): native spherical marching costs more per cell than a Cartesian \
+        "Hannasch §6.2–6.3 (Fig. 6.13, 6.14): native spherical marching costs more per cell than a Cartesian \
          voxel walk but reaches a given error with a much coarser grid. Each scene is cast with one camera \
          through a ladder of native grids (each rung discards every other breakpoint of the one above, its cells \
          holding the volume-weighted mean of the finer cells) and a ladder of Cartesian N³ resamplings of the \

@@ -144,7 +144,7 @@ pub struct ErrorBound {
     pub measured_forward: f64,
     /// The largest backward error measured on the same rays.
     pub measured_backward: f64,
-    /// The asserted forward bound: the criterion, 16, in `f64`; 1.5 × the measured value (rounded up to
+    /// The asserted forward bound: the project's accuracy target, 16, in `f64`; 1.5 × the measured value (rounded up to
     /// a half) in `f32` and `F32Fast`.
     pub forward: f64,
     /// The asserted backward bound, likewise.

@@ -1,4 +1,4 @@
-//! The report's terrain section (seed 000 §3–§5): picking speed of the kernel's spheroidal height-augmented
+//! The report's terrain section (Wartell et al. §3–§5): picking speed of the kernel's spheroidal height-augmented
 //! quadtree against parry3d-f64's triangle-mesh BVH and against brute force, on the same ECEF triangles, in the
 //! same run, with the memory of each structure.
 

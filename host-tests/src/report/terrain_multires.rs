@@ -1,4 +1,4 @@
-//! The report's multi-resolution section (seed 000 §5): what `min_level` trades. On a Trinidad tree whose every
+//! The report's multi-resolution section (Wartell et al. §5): what `min_level` trades. On a Trinidad tree whose every
 //! node has its own block (the DEM subsampled at 2^k grid steps), with the blocks of a camera's cache resident
 //! (the zones and level 1 everywhere, deeper levels only near the camera), the same rays are picked at every
 //! `min_level`: time per ray, how many rays need blocks paged in, and how far the answers are from the

@@ -1,4 +1,4 @@
-//! Report section: the edge-beveled sphere and ellipsoid per level (seed 004 §4.3–4.4, chapter 5), next to a
+//! Report section: the edge-beveled sphere and ellipsoid per level (the edge-beveling thesis §4.3–4.4, chapter 5), next to a
 //! UV-sphere of about the same face count.
 //!
 //! Columns per level: faces, the largest deviation from the true surface and the smallest dihedral angle, both
@@ -94,7 +94,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
     let top = if opts.quick { 5 } else { 8 };
     let mut md = String::new();
     md.push_str(
-        "Edge-beveled polyhedra (seed 004 §4.3.4, §4.4): every face tangent to the surface at its center point. \
+        "Edge-beveled polyhedra (the edge-beveling thesis §4.3.4, §4.4): every face tangent to the surface at its center point. \
          Deviation and dihedral angle are measured on the built mesh; \"a priori\" is `lod::worst_case` \
          (chapter 5), which `lod::min_level` follows without building anything. The UV-sphere has vertices on \
          the surface and the nearest face count.\n\n",

@@ -1,4 +1,4 @@
-//! Grids and rays for testing the marchers (seed 001, Hannasch, ch. 3 and 5) against the oracle: random
+//! Grids and rays for testing the marchers (Hannasch, ch. 3 and 5) against the oracle: random
 //! non-uniform full and partial grids with rays aimed at them and one generator per named hard case, as
 //! [`GridSpec`]s and [`RaySpec`]s (data only: [`crate::march_run`] feeds them to the kernel's engines).
 //!

@@ -1,4 +1,4 @@
-//! The marching scene of the report, the `march` criterion bench and the `march_count` example (seed 001 ch. 5–6:
+//! The marching scene of the report, the `march` criterion bench and the `march_count` example (Hannasch ch. 5–6:
 //! the cost of a crossing): a 64³ spherical grid in three forms — uniform over the unit ball, random (seeded)
 //! non-uniform breakpoints, and a partial domain (shell, zenith band and wedge) — seen by `m²` parallel rays along
 //! (1, 0.15, 0.1) covering the ball, or by an `m²` perspective camera at distance 3R.

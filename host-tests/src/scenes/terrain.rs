@@ -1,7 +1,7 @@
 //! Terrain scenes: the `TERRAIN.json` format of `curvicast pick` (command-line contract), its validation and the
 //! regular latitude/longitude DEM model (the quadtree the host builds over it is in [`crate::storage`]).
 //!
-//! The surface (contract, and seed 000 §4): vertex V(i, j) is the geodetic point
+//! The surface (contract, and Wartell et al. §4): vertex V(i, j) is the geodetic point
 //! (lat0 + i·dlat, lon0 + j·dlon, h(i, j)) converted to ECEF on the given ellipsoid; grid cell (i, j) is the two
 //! triangles (V(i,j), V(i,j+1), V(i+1,j+1)) and (V(i,j), V(i+1,j+1), V(i+1,j)). A vertex whose height is the
 //! file's `nodata` value or NaN makes its adjacent triangles absent; in the model such vertices are stored as NaN.
@@ -90,7 +90,7 @@ pub struct TerrainFileSpec {
 ///
 /// Invariants (checked by [`Dem::new`]): `a ≥ b > 0` finite; `rows, cols ≥ 2`; `dlat ≠ 0`, `dlon > 0`, all
 /// finite; every row latitude within [−90, 90]; the longitude span `(cols − 1)·dlon ≤ 360`; `heights.len() =
-/// rows·cols`; every height is NaN (missing) or finite and above −b²/a (seed 000, Appendix A2).
+/// rows·cols`; every height is NaN (missing) or finite and above −b²/a (Wartell et al., Appendix A2).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Dem {
     /// Equatorial semi-axis (m).

@@ -1,7 +1,7 @@
 //! The single-precision square root of a hard-float ARM core, `VSQRT.F32`, behind a safe function.
 //!
 //! The curvicast kernel is `#![forbid(unsafe_code)]`, and on a Cortex-M4F it spends a square root per radius or
-//! zenith crossing (seed 001, ch. 4: one square root per sphere or cone crossing). Stable Rust offers no
+//! zenith crossing (Hannasch, ch. 4: one square root per sphere or cone crossing). Stable Rust offers no
 //! `no_std` square root (`f32::sqrt` lives in `std`; `core::f32::math::sqrt` is unstable), and libm has no
 //! 32-bit ARM path, so `libm::sqrtf` is its portable software routine there. This crate holds the one
 //! instruction instead, so that the kernel's own code stays free of `unsafe`.

@@ -1,4 +1,4 @@
-//! The bounding volume of a spheroidal height-quad (seed 000 §3.1–3.4), made conservative for the
+//! The bounding volume of a spheroidal height-quad (Wartell et al. §3.1–3.4), made conservative for the
 //! *triangles* of the quad, and the ray–volume test of §3.5.
 //!
 //! A quad covers the DEM cells with latitudes in `[ψ_S, ψ_N]`, longitudes in `[λ_W, λ_E]` and vertex heights in

@@ -1,4 +1,4 @@
-//! Geodesy on an oblate spheroid (seed 000 §2, §3.1–3.4 and Appendix A2): the ellipsoid, geodetic
+//! Geodesy on an oblate spheroid (Wartell et al. §2, §3.1–3.4 and Appendix A2): the ellipsoid, geodetic
 //! (latitude ψ, longitude λ, height h) ↔ ECEF, the surface normal, the latitude cone of §3.4 and the meridian
 //! half-planes of §3.3.
 //!
@@ -52,7 +52,7 @@ pub enum GeodesyError {
     NonFinite,
     /// The axes do not satisfy `a ≥ b > 0`.
     BadAxes,
-    /// A height at or below `−b²/a`: the parallel surface degenerates there (seed 000 Appendix A2), so no bound
+    /// A height at or below `−b²/a`: the parallel surface degenerates there (Wartell et al. Appendix A2), so no bound
     /// of §3.1 exists.
     HeightTooLow,
     /// A latitude outside `[−π/2, π/2]`.

@@ -1,4 +1,4 @@
-//! The breakpoint tables of one grid axis, in the pseudospherical form of seed 001 §2 (r², (cos θ, sin θ),
+//! The breakpoint tables of one grid axis, in the pseudospherical form of Hannasch §2 (r², (cos θ, sin θ),
 //! (cos φ, sin φ)), with their validation and the location of a point ("which band is it in", §3.1.3).
 //!
 //! Zenith angles are kept as `(cos θ, sin θ)`, not as §2's `sgnSqrCos θ = cos θ |cos θ|`: within about 1e-8
@@ -136,7 +136,7 @@ pub(crate) fn unit_scaled<T: Real>(q: V3<T>) -> V3<T> {
 /// Radius breakpoints (`r` of a sphere grid, `ρ` of a cylinder grid, `r` of a polar grid) with their squares.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct RadialAxis<'a, T> {
-    /// `r²`, the pseudospherical form (seed 001 §2, §4.1).
+    /// `r²`, the pseudospherical form (Hannasch §2, §4.1).
     pub r2: &'a [T],
     /// Number of breakpoints.
     pub len: u32,
@@ -263,7 +263,7 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
 /// With `m + 1` breakpoints, the domain has `m` sectors. When the breakpoints span a full turn (2π) the last
 /// boundary is the first one again, there are `nb = m` boundaries and every sector is inside; otherwise there are
 /// `nb = m + 1` boundaries and sector `m` (from `φ_m` round to `φ_0 + 2π`) is the outside of the wedge. A wedge
-/// wider than π is the union of two half-spaces (seed 001 §3.1.3); the sector logic here never needs to say so.
+/// wider than π is the union of two half-spaces (Hannasch §3.1.3); the sector logic here never needs to say so.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct AzimuthAxis<'a, T> {
     /// `(cos φ_j, sin φ_j)`.

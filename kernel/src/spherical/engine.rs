@@ -1,4 +1,4 @@
-//! The two engines over the per-coordinate streams: the serial one (seed 001 ch. 5, constant memory, lazy) and
+//! The two engines over the per-coordinate streams: the serial one (Hannasch ch. 5, constant memory, lazy) and
 //! the separable one (§3: each coordinate's crossings listed first, then interleaved in linear time), plus the
 //! shared part that turns band changes into cell crossings.
 //!
@@ -508,7 +508,7 @@ impl CellRule {
     }
 }
 
-/// The serial marcher (seed 001 ch. 5): an `Iterator` of [`CellCrossing`]s in increasing `t`, computed lazily in
+/// The serial marcher (Hannasch ch. 5): an `Iterator` of [`CellCrossing`]s in increasing `t`, computed lazily in
 /// constant memory. Each coordinate's next crossing is computed once and cached until that coordinate's index
 /// changes.
 ///
@@ -734,7 +734,7 @@ impl<T: Real> SerialMarch<'_, T> {
     }
 }
 
-/// The separable marcher (seed 001 §3): each coordinate's crossings are listed into a `heapless` buffer of
+/// The separable marcher (Hannasch §3): each coordinate's crossings are listed into a `heapless` buffer of
 /// capacity `N`, then interleaved in linear time. Iterates the same [`CellCrossing`]s as [`SerialMarch`].
 ///
 /// Built by `SphericalGrid::march_separable::<N>` (and the other grids'); a buffer that would overflow is
@@ -776,7 +776,7 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
         Ok(m)
     }
 
-    /// Lists the crossings of `ray` into `self`'s buffers in place (seed 001 §3), replacing what they held: the
+    /// Lists the crossings of `ray` into `self`'s buffers in place (Hannasch §3), replacing what they held: the
     /// buffers are not moved or copied, so one march can be reused for many rays. On an error `self` is left
     /// empty (it yields nothing).
     pub(crate) fn fill(&mut self, axes: &Axes<'_, T>, ray: &Ray<T>) -> Result<(), MarchError> {

@@ -23,7 +23,7 @@ fn check_workspace(got: usize, needed: usize) -> Result<(), GridError> {
     }
 }
 
-/// A spherical grid (seed 001): radius `r`, zenith angle θ from +z in [0, π], azimuth φ from +x toward +y.
+/// A spherical grid (Hannasch): radius `r`, zenith angle θ from +z in [0, π], azimuth φ from +x toward +y.
 ///
 /// Cell `[i, j, k]` is `r[i] <= r < r[i+1]`, `theta[j] <= θ < theta[j+1]`, `phi[k] <= φ < phi[k+1]` (φ taken
 /// modulo 2π). Breakpoints are borrowed, strictly increasing and non-uniform as the caller likes; the domain may
@@ -119,7 +119,7 @@ impl<'a, T: Real> SphericalGrid<'a, T> {
         self.axes.azimuth.full
     }
 
-    /// March `ray` through the grid with the serial engine (seed 001 ch. 5): a lazy iterator of the cells in
+    /// March `ray` through the grid with the serial engine (Hannasch ch. 5): a lazy iterator of the cells in
     /// increasing `t`, in constant memory.
     ///
     /// ```
@@ -138,7 +138,7 @@ impl<'a, T: Real> SphericalGrid<'a, T> {
         SerialMarch::new(&self.axes, ray)
     }
 
-    /// March `ray` with the separable engine (seed 001 §3): each coordinate's crossings are listed into
+    /// March `ray` with the separable engine (Hannasch §3): each coordinate's crossings are listed into
     /// buffers of capacity `N` first. Agrees exactly with [`SphericalGrid::march`]; a buffer that would overflow
     /// is [`MarchError::BufferFull`].
     pub fn march_separable<const N: usize>(
@@ -161,7 +161,7 @@ impl<'a, T: Real> SphericalGrid<'a, T> {
 }
 
 /// A cylindrical grid: radius ρ from the z axis, azimuth φ, height z; cell `[i, k, m]` is
-/// `rho[i] <= ρ < rho[i+1]`, `phi[k] <= φ < phi[k+1]` (modulo 2π), `z[m] <= z < z[m+1]` (seed 001 §3.3).
+/// `rho[i] <= ρ < rho[i+1]`, `phi[k] <= φ < phi[k+1]` (modulo 2π), `z[m] <= z < z[m+1]` (Hannasch §3.3).
 ///
 /// Workspace: [`CylindricalGrid::workspace_len`]`(rho.len(), phi.len())` scalars (ρ² and (cos φ, sin φ)).
 ///
@@ -256,7 +256,7 @@ impl<'a, T: Real> CylindricalGrid<'a, T> {
     }
 }
 
-/// A 2-D polar grid (seed 001 §3.4): radius r and azimuth φ in the plane; the rays' z components are ignored.
+/// A 2-D polar grid (Hannasch §3.4): radius r and azimuth φ in the plane; the rays' z components are ignored.
 /// Cell `[i, k, 0]` is `r[i] <= r < r[i+1]`, `phi[k] <= φ < phi[k+1]` (the CLI prints `[i, k]`).
 ///
 /// Workspace: [`PolarGrid::workspace_len`]`(r.len(), phi.len())` scalars.

@@ -1,4 +1,4 @@
-//! Ray marching through spherical, cylindrical and 2-D polar grids (seed 001: Hannasch, *Spherical
+//! Ray marching through spherical, cylindrical and 2-D polar grids (Hannasch: Hannasch, *Spherical
 //! Ray-Tracing*).
 //!
 //! Given a grid with non-uniform breakpoints and a ray, the marchers list every cell the ray crosses, in

@@ -1,4 +1,4 @@
-//! One coordinate's sequence of boundary crossings along a ray (seed 001 §3.1.1–3.1.2 for the separable form,
+//! One coordinate's sequence of boundary crossings along a ray (Hannasch §3.1.1–3.1.2 for the separable form,
 //! ch. 5 for the serial one): each stream yields `(t, new band)` events in nondecreasing `t`, one band step each.
 //!
 //! A stream's state is a few scalars; its next crossing is computed only when the previous one has been consumed
@@ -21,7 +21,7 @@
 //!
 //! **Degenerate lines.** A line through the center (`p × d = 0`) keeps θ constant except for a jump from θ to
 //! π − θ at the center; a line meeting the z axis keeps φ constant except for a jump by π there. Both jumps are
-//! emitted as one band step per crossed boundary, all at the same `t` (zero-length crossings, seed 001 §3.1.4).
+//! emitted as one band step per crossed boundary, all at the same `t` (zero-length crossings, Hannasch §3.1.4).
 //! For the azimuth jump the walk goes the way round that stays inside a wedge when one does (a full turn: the
 //! shorter way, counter-clockwise on a tie). A line parallel to the z axis keeps φ constant.
 
@@ -37,7 +37,7 @@ use crate::vec3::V3;
 pub(crate) type Event<T> = (T, u32);
 
 /// The parameter `t = num / den` of a plane crossing given in the scaled parameter of `ray` (`den > 0`): one
-/// division (seed 001 §4.6). The exact rescaling is folded into the denominator (`den·2^e`, exact) when that
+/// division (Hannasch §4.6). The exact rescaling is folded into the denominator (`den·2^e`, exact) when that
 /// stays in the normal range, so the quotient is the correctly rounded `t` with no second rounding; otherwise
 /// the scaled quotient is rescaled exactly.
 #[inline(always)]
@@ -194,7 +194,7 @@ enum Kind<T> {
     /// A zenith stream that exceeded its event bound: no further events, and the march stops with
     /// `MarchError::IterationBound`.
     Overrun,
-    /// A run of band steps all at one `t`, the jump of θ through the center or of φ across the z axis (seed 001
+    /// A run of band steps all at one `t`, the jump of θ through the center or of φ across the z axis (Hannasch
     /// §3.1.4), after which the stream ends: `remaining` steps up or down (`cyclic`: sectors, modulo the
     /// azimuth's boundary count).
     Walk {
@@ -206,7 +206,7 @@ enum Kind<T> {
 }
 
 /// The line as the radius stream sees it: the invariants of the sphere quadratic `‖d‖² s² + 2⟨p|d⟩ s + ‖p‖² − r²`
-/// (seed 001 §4.1, Lemma 8) in the ray's scaled parameter, formed once per ray, and the exact rescaling to `t`.
+/// (Hannasch §4.1, Lemma 8) in the ray's scaled parameter, formed once per ray, and the exact rescaling to `t`.
 /// For the cylinder and the polar grid it is the line's projection on z = 0, with its own rescaling.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct RadialLine<T> {

@@ -1,7 +1,7 @@
 //! Ray ∩ axial cone: the points whose zenith angle, seen from an apex `(0, 0, k)` on the z axis, is θ.
 //!
-//! With `k = 0` this is Hannasch's zenith cone (seed 001 §4.4, Lemma 10; §4.5 notes that a single nappe is what a
-//! grid needs). With `θ = π/2 − ψ` and `k = −N(ψ) e² sin ψ` it is Wartell's latitude cone `z = m r + k` of seed 000
+//! With `k = 0` this is Hannasch's zenith cone (Hannasch §4.4, Lemma 10; §4.5 notes that a single nappe is what a
+//! grid needs). With `θ = π/2 − ψ` and `k = −N(ψ) e² sin ψ` it is Wartell's latitude cone `z = m r + k` of Wartell et al.
 //! §3.4 (eq. 3.4-1: `m = tan ψ`, `k = Z_ψ − X_ψ m`), the locus of the spheroid normals at geodetic latitude ψ.
 //! Only the cone's own nappe counts: `z > k` for θ < π/2, `z < k` for θ > π/2; θ = π/2 is the plane `z = k`.
 //!
@@ -92,7 +92,7 @@ impl<T: Real> AxialCone<T> {
 
     /// The cone with apex at the origin from a `(cos θ, sin θ)` pair taken from a cone that was already built
     /// and validated (its [`AxialCone::cos`] and [`AxialCone::sin`]): no check and no renormalisation, so no square
-    /// root and no division. The spherical marcher keeps its zenith breakpoints in this form (seed 001 §2) and
+    /// root and no division. The spherical marcher keeps its zenith breakpoints in this form (Hannasch §2) and
     /// rebuilds the cone it needs per crossing at the cost of two multiplications.
     #[inline]
     pub(crate) fn from_validated_unit_parts(cos: T, sin: T) -> Self {
@@ -122,7 +122,7 @@ impl<T: Real> AxialCone<T> {
     }
 
     /// The leading coefficient `A = c²(d_x² + d_y²) − s² d_z²` of the crossing quadratic for the direction `d`
-    /// (seed 001 §4.4), and whether it is clear of its own rounding, `|A| > 8ε (c²(d_x² + d_y²) + s² d_z²)`:
+    /// (Hannasch §4.4), and whether it is clear of its own rounding, `|A| > 8ε (c²(d_x² + d_y²) + s² d_z²)`:
     /// when it is not, `d` is parallel to a generator of the double cone as far as the arithmetic can tell.
     #[inline]
     pub(crate) fn leading_coefficient(&self, d: V3<T>) -> (T, bool) {
@@ -253,7 +253,7 @@ impl<T: Real> AxialCone<T> {
     }
 
     /// The crossings of the line `q + s d` (`q` relative to the apex, `w = q × d ≠ 0`) in the scaled parameter:
-    /// the body of [`AxialCone::scaled_crossings`] (seed 001 §4.4, Lemma 10).
+    /// the body of [`AxialCone::scaled_crossings`] (Hannasch §4.4, Lemma 10).
     #[inline(always)]
     fn crossings_past_apex(&self, q: V3<T>, w: V3<T>, d: V3<T>) -> ConeRoots<T> {
         let no_roots = ConeRoots::NONE;

@@ -1,6 +1,6 @@
 //! Ray ∩ half-plane bounded by the z axis at azimuth φ: `{(ρ cos φ, ρ sin φ, z) : ρ ≥ 0}`.
 //!
-//! Seed 001 §4.6 intersects the azimuth facet `sin φ x = cos φ y` with one division, and seed 000 §3.3 bounds a
+//! Hannasch §4.6 intersects the azimuth facet `sin φ x = cos φ y` with one division, and Wartell et al. §3.3 bounds a
 //! quad by the meridian plane `cos λ x + sin λ y = 0` (its eq. 3.3-1 has the roles of sin and cos swapped for a
 //! plane *containing* the meridian; the plane containing azimuth λ has normal `(−sin λ, cos λ, 0)`). With that
 //! normal `n`, the full plane is crossed at `t = −⟨n|p⟩ / ⟨n|d⟩`. Which half the crossing lies on needs no second
@@ -57,7 +57,7 @@ impl<T: Real> HalfPlane<T> {
 
     /// The half-plane from a `(cos φ, sin φ)` pair taken from a half-plane that was already built and validated
     /// (its [`HalfPlane::cos`] and [`HalfPlane::sin`]): no check, no renormalisation, no square root or division.
-    /// The spherical marcher keeps its azimuth breakpoints in this form (seed 001 §2).
+    /// The spherical marcher keeps its azimuth breakpoints in this form (Hannasch §2).
     #[inline]
     pub(crate) fn from_validated_unit_parts(cos: T, sin: T) -> Self {
         HalfPlane { cos, sin }
@@ -89,7 +89,7 @@ impl<T: Real> HalfPlane<T> {
     }
 
     /// The crossing in the ray's scaled parameter as the fraction `num / den` with `den > 0`, not yet divided:
-    /// the marcher divides it itself, folding the ray's exact rescaling into the denominator (seed 001 §4.6: one
+    /// the marcher divides it itself, folding the ray's exact rescaling into the denominator (Hannasch §4.6: one
     /// division per azimuth crossing). `num / den` is bit for bit the value [`HalfPlane::scaled_root`] returns
     /// (the sign is moved to the numerator exactly).
     #[inline]
@@ -114,7 +114,7 @@ impl<T: Real> HalfPlane<T> {
 impl<T: Real> HalfPlane<T> {
     /// [`HalfPlane::scaled_root_fraction`] for a line already known to meet this half-plane (not the opposite
     /// one) going toward the side `sign` (`+1` positive, `-1` negative) with `sign·⟨n|d⟩ > 0`, as the azimuth
-    /// stream's arc test establishes (seed 001 §4.6, Lemma 6): `(num, den)` with `den > 0`, the same bits.
+    /// stream's arc test establishes (Hannasch §4.6, Lemma 6): `(num, den)` with `den > 0`, the same bits.
     #[inline(always)]
     pub(crate) fn scaled_root_fraction_ahead(&self, ray: &Line<T>, sign: T) -> (T, T) {
         let nd = self.normal_dot(ray.scaled_dir());

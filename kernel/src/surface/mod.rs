@@ -1,7 +1,7 @@
-//! Ray ∩ one surface: every boundary surface that the spherical marcher (seed 001) and the terrain traversal
-//! (seed 000) need, each in its own file behind one API shape, the [`Surface`] trait.
+//! Ray ∩ one surface: every boundary surface that the spherical marcher (Hannasch) and the terrain traversal
+//! (Wartell et al.) need, each in its own file behind one API shape, the [`Surface`] trait.
 //!
-//! | surface | file | seed 001 (Hannasch) | seed 000 (Wartell et al.) |
+//! | surface | file | Hannasch | Wartell et al. |
 //! | --- | --- | --- | --- |
 //! | [`Spheroid`] (a sphere when a = b) | `spheroid.rs` | radius shells r² (§4.3, Lemma 9) | upper bound B^h (§3.1.2), lower sphere (§3.2) |
 //! | [`AxialCone`] | `cone.rs` | zenith cones (§4.4, Lemma 10) | latitude cones (§3.4, eq. 3.4-1) |

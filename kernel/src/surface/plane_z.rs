@@ -1,4 +1,4 @@
-//! Ray ∩ plane `z = c`: the z facets of the cylindrical grid (seed 001 §3.3) and any horizontal plane.
+//! Ray ∩ plane `z = c`: the z facets of the cylindrical grid (Hannasch §3.3) and any horizontal plane.
 //!
 //! `t = (c − p_z) / d_z`: one subtraction and one division, so the computed point is within `ε(|c| + |p_z|)` of
 //! the plane in z (backward error ≤ 2ε·S), and the crossing side is the sign of `d_z`.

@@ -1,6 +1,6 @@
 //! Ray ∩ spheroid `(x² + y²)/a² + z²/b² = 1` centred at the origin, `a ≥ b > 0`; a sphere when `a = b`.
 //!
-//! Seed 001 §4.3 (Lemma 9) gives the sphere's roots as `t = −⟨p|d⟩/‖d‖² ± sqrt(...)`; we use the same pair in the
+//! Hannasch §4.3 (Lemma 9) gives the sphere's roots as `t = −⟨p|d⟩/‖d‖² ± sqrt(...)`; we use the same pair in the
 //! cancellation-free form. With the half-discriminant written through the closest approach,
 //!
 //! ```text
@@ -9,7 +9,7 @@
 //!
 //! the square root is taken of `‖d‖²R² − |p × d|²` (never of `⟨p|d⟩² − ‖d‖²‖p‖² + …`), and the two roots come from
 //! one square root and two divisions by the stable formula. A spheroid is the sphere of radius `a` after scaling
-//! z by `a/b` (seed 000 §3.1.2 builds its bounds B^h this way), which leaves `t` unchanged.
+//! z by `a/b` (Wartell et al. §3.1.2 builds its bounds B^h this way), which leaves `t` unchanged.
 //!
 //! **Error bound** (f64 or f32, correctly rounded sqrt; ε the unit roundoff of the type, S = max(|p|, |p + t d|, R)):
 //! the inputs of the square root carry absolute errors below `6ε·‖d‖²·S²`, and each root is the exact root of a
@@ -98,7 +98,7 @@ impl<T: Real> Spheroid<T> {
 
 /// The roots of the ray with the origin-centred sphere of squared radius `r2 > 0` (finite), in the ray's scaled
 /// parameter: [`Spheroid::scaled_roots`] for a sphere, bit for bit, without building the surface (the spherical
-/// marcher keeps its radii squared, seed 001 §2, and solves one sphere per radius crossing).
+/// marcher keeps its radii squared, Hannasch §2, and solves one sphere per radius crossing).
 #[inline]
 pub(crate) fn sphere_scaled_roots<T: Real>(r2: T, ray: &Line<T>) -> Option<(T, T)> {
     quadratic_roots(r2, ray.origin(), ray.dd(), ray.pd(), ray.p_cross_d())

@@ -1,4 +1,4 @@
-//! The `no_std` quadtree builder (seed 000 §3.5, §4): from a DEM's heights, its [`Grid`] and a block size, the
+//! The `no_std` quadtree builder (Wartell et al. §3.5, §4): from a DEM's heights, its [`Grid`] and a block size, the
 //! node records of a spheroidal height-augmented quadtree, written into a buffer the caller provides, and
 //! [`SliceStorage`], the [`TerrainStorage`] over those slices.
 //!
@@ -251,7 +251,7 @@ impl Tree {
         u32::from(self.top)
     }
     /// The block stride of a node at depth `level` below its zone in a multi-resolution tree, `2^(depth −
-    /// level)` (seed 000 §5: the pyramid's subsampling; at most `2^31`), 1 in a single-resolution one.
+    /// level)` (Wartell et al. §5: the pyramid's subsampling; at most `2^31`), 1 in a single-resolution one.
     pub fn stride(&self, level: u8) -> u32 {
         if !self.multires {
             return 1;
@@ -271,7 +271,7 @@ pub const fn col_table_len(cols: u32) -> usize {
     cols as usize
 }
 
-/// The shape of a multi-resolution tree ([`build_multires_tree`]; seed 000 §5, Fig. 11): branches stop at
+/// The shape of a multi-resolution tree ([`build_multires_tree`]; Wartell et al. §5, Fig. 11): branches stop at
 /// `coarse_level` levels above the leaves outside `fine_region`, whose nodes go down to full resolution.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct MultiRes<T> {
@@ -419,7 +419,7 @@ pub fn build_tree<T: Real, H: Real, X: BoxSlot>(
     build(heights, grid, block, None, nodes)
 }
 
-/// Builds the multi-resolution quadtree of a DEM into `nodes` (seed 000 §5): the tree of [`build_tree`]
+/// Builds the multi-resolution quadtree of a DEM into `nodes` (Wartell et al. §5): the tree of [`build_tree`]
 /// (same arguments, same records and ids), whose every node has its own block, a regular sub-grid of the DEM's
 /// vertices at `2^k` grid steps, `k` its level above the leaves (the pyramid of §5: coarse blocks subsample the
 /// finest data), and whose branches end at level `shape.coarse_level` outside `shape.fine_region`. A storage

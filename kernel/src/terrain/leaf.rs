@@ -1,4 +1,4 @@
-//! Leaf tracing (seed 000 §4): a traced unit's cells walked column by column, clipped against their meridian and
+//! Leaf tracing (Wartell et al. §4): a traced unit's cells walked column by column, clipped against their meridian and
 //! row planes, culled by height, and their triangles tested.
 //!
 //! In a leaf, each cell (triangle pair) has its own volume bounded by four *planes*: the meridian planes of its

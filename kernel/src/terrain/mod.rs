@@ -1,4 +1,4 @@
-//! Global terrain picking on a spheroid (seeds 000 and 003, Wartell, Ribarsky, Hodges): the nearest
+//! Global terrain picking on a spheroid (Wartell, Ribarsky, Hodges): the nearest
 //! intersection of a ray with a regular geodetic DEM's triangles, through a spheroidal height-augmented quadtree.
 //!
 //! The caller owns the terrain: a [`TerrainStorage`] gives the grid ([`Grid`]), the heights and the quadtree's
@@ -437,7 +437,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         Ok(picker)
     }
 
-    /// The picker with another `min_level` (seed 000 §5): blocks of nodes shallower than `min_level` never stand
+    /// The picker with another `min_level` (Wartell et al. §5): blocks of nodes shallower than `min_level` never stand
     /// in for missing finer ones. 0 (the default) uses whatever is resident; the tree's depth asks for the
     /// finest blocks only. The module docs ("Multi-resolution") summarise the rules, `traverse.rs` gives them
     /// in full.
@@ -473,7 +473,7 @@ impl<'s, T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
         self.half_cells.get(k).copied().unwrap_or((T::ZERO, T::ONE))
     }
 
-    /// The nearest hit of `ray` with the terrain for `t_min ≤ t ≤ t_max`, or `None` (seed 000 §3.5, §4; the
+    /// The nearest hit of `ray` with the terrain for `t_min ≤ t ≤ t_max`, or `None` (Wartell et al. §3.5, §4; the
     /// docs of `traverse.rs` state what is proven).
     ///
     /// ```

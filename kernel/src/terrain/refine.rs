@@ -125,7 +125,7 @@ fn diff<T: Real>(a: &[Dd<T>; 3], b: &[Dd<T>; 3]) -> V3<T> {
     )
 }
 
-/// The latitude-dependent factors of geodetic → ECEF for one parallel, in pairs (seed 000 §2):
+/// The latitude-dependent factors of geodetic → ECEF for one parallel, in pairs (Wartell et al. §2):
 /// `X = (N + h) cos φ cos λ`, `Y = (N + h) cos φ sin λ`, `Z = (N b²/a² + h) sin φ` with
 /// `N = a²/D`, `N b²/a² = b²/D`, `D = √(a² cos²φ + b² sin²φ)` (the form without `e²`: every term is a sum of
 /// positive quantities, so no digit is lost to cancellation).

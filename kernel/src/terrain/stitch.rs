@@ -1,4 +1,4 @@
-//! Crack stitching between blocks of different resolution (seed 000 §6).
+//! Crack stitching between blocks of different resolution (Wartell et al. §6).
 //!
 //! **Continuity.** Where a region traced with coarse cells borders a finer one (`traverse.rs`, "Which blocks
 //! are traced"), the finer side's vertices on the shared border are T-junctions of the coarse edge, and a ray

@@ -1,4 +1,4 @@
-//! The storage trait: the kernel does not own terrain (seed 000 §3, §5). A storage gives the kernel the DEM's
+//! The storage trait: the kernel does not own terrain (Wartell et al. §3, §5). A storage gives the kernel the DEM's
 //! regular latitude/longitude grid, its vertex heights, and a height-augmented quadtree over the grid's cells.
 
 use super::Parallel;
@@ -108,7 +108,7 @@ impl<T> Node<T> {
     }
 }
 
-/// Terrain storage for the kernel's traversal (seed 000 §3.5, §4).
+/// Terrain storage for the kernel's traversal (Wartell et al. §3.5, §4).
 ///
 /// The kernel never allocates and never owns terrain: it asks the storage for the grid, for the zones (the roots
 /// of the quadtrees, §3.5; e.g. 8 × 4 = 32 zones bounded by meridians and parallels for a global DEM, or the
@@ -116,7 +116,7 @@ impl<T> Node<T> {
 /// heights. Zones and quads are ranges of the DEM's own cells, so nothing is resampled and the surface the
 /// kernel intersects is exactly the contract's triangles.
 ///
-/// Multi-resolution and paging (seed 000 §5): every node may have a *block*, its own regular sub-grid of the DEM's
+/// Multi-resolution and paging (Wartell et al. §5): every node may have a *block*, its own regular sub-grid of the DEM's
 /// vertices at a spacing of [`TerrainStorage::block_stride`] grid steps, resident in memory or not
 /// ([`TerrainStorage::is_resident`]). A single-resolution storage keeps the defaults (stride 1, always
 /// resident) and the kernel traces every leaf's full-resolution cells. The surface a multi-resolution storage

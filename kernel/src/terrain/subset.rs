@@ -1,4 +1,4 @@
-//! Integer block-subset indexing (seed 000 §5, last paragraph).
+//! Integer block-subset indexing (Wartell et al. §5, last paragraph).
 //!
 //! When a leaf's block is not resident, the picker walks up to a resident ancestor and traces only the rectangle
 //! of the ancestor's block that covers the original leaf. The paper computes that rectangle incrementally with
@@ -61,7 +61,7 @@ pub const MAX_BLOCK_CELLS: u32 = 1 << 15;
 /// within a `u64` ([`BlockSubset::of_descendant`]).
 pub const MAX_LEVELS: u32 = 64;
 
-/// Which quarter of its parent a node covers, in index terms (seed 000 §5's west/east, south/north child).
+/// Which quarter of its parent a node covers, in index terms (Wartell et al. §5's west/east, south/north child).
 ///
 /// `x_high` is true when the node covers the second (higher-index) half of its parent's cell **columns**,
 /// `y_high` when it covers the second half of its parent's cell **rows**. In a grid whose columns run eastwards
@@ -115,7 +115,7 @@ impl fmt::Display for SubsetError {
 
 impl core::error::Error for SubsetError {}
 
-/// The rectangle of an ancestor's block that covers a leaf `levels` steps below it (seed 000 §5): the half-open
+/// The rectangle of an ancestor's block that covers a leaf `levels` steps below it (Wartell et al. §5): the half-open
 /// cell range `[x_min, x_max) × [y_min, y_max)` of a block of `B × B` cells (`x` = columns, `y` = rows).
 ///
 /// Always `0 ≤ x_min < x_max ≤ B` and `0 ≤ y_min < y_max ≤ B`, with `x_max − x_min = y_max − y_min =`

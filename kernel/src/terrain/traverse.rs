@@ -1,4 +1,4 @@
-//! The traversal (seed 000 §3.5, §5): the global clip and the zones in order of entry (`nearest`); a zone's
+//! The traversal (Wartell et al. §3.5, §5): the global clip and the zones in order of entry (`nearest`); a zone's
 //! quadtree visited depth first, nearest child first, with an explicit stack; what to do at a node under
 //! multi-resolution paging; the traced unit that covers a cell.
 //!

@@ -1,4 +1,4 @@
-//! Edge-beveling a cube into its inscribed sphere, and a box into its inscribed ellipsoid (seed 004 §4.3–4.4).
+//! Edge-beveling a cube into its inscribed sphere, and a box into its inscribed ellipsoid (the edge-beveling thesis §4.3–4.4).
 //!
 //! # The construction (§4.3.4)
 //!

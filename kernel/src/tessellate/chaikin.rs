@@ -1,4 +1,4 @@
-//! Rational Chaikin refinement: polygons that converge to circles, ellipses and sheared ellipses (seed 004
+//! Rational Chaikin refinement: polygons that converge to circles, ellipses and sheared ellipses (the edge-beveling thesis
 //! chapter 3).
 //!
 //! A closed control polygon is a cycle of *arcs* (§3.2.2 "second method", §3.3): arc `i` runs from the tangent

@@ -1,4 +1,4 @@
-//! The a-priori level of detail (seed 004, chapter 5): "model only what a scene needs".
+//! The a-priori level of detail (the edge-beveling thesis, chapter 5): "model only what a scene needs".
 //!
 //! Chapter 5 observes that the smallest dihedral angle `φ` of a beveled polyhedron "may always be found by
 //! following the worst case (smallest `φ`) from one refinement to the next". For the sphere the worst case is the

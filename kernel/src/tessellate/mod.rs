@@ -1,4 +1,4 @@
-//! Rational corner-cutting and edge-beveling (seed 004): circles and ellipses from a square's control polygon,
+//! Rational corner-cutting and edge-beveling (the edge-beveling thesis): circles and ellipses from a square's control polygon,
 //! spheres and ellipsoids from a cube, at exactly the level of detail a scene needs, in fixed memory.
 //!
 //! * [`chaikin`]: the 2-D rational Chaikin refinement (§3.2–3.3) with the non-stationary parameter

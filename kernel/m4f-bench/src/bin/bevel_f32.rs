@@ -1,4 +1,4 @@
-//! Edge-bevels the unit sphere at level 2 in `f32` (seed 004, ch. 4): instructions per bevel and its stack
+//! Edge-bevels the unit sphere at level 2 in `f32` (the edge-beveling thesis, ch. 4): instructions per bevel and its stack
 //! high-water mark; checks that every face's center lies on the sphere.
 
 #![no_std]

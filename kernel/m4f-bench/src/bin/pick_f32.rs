@@ -1,4 +1,4 @@
-//! The terrain pick in `f32` (seeds 000/003) on a small DEM without node boxes: 9 × 9 vertices at 0.01° near
+//! The terrain pick in `f32` (Wartell et al.) on a small DEM without node boxes: 9 × 9 vertices at 0.01° near
 //! (45° N, 7° E) on WGS84, one zone that is a single leaf of 8 × 8 cells (built by the kernel's builder), heights
 //! 0–300 m from a fixed pattern.
 //! 32 rays from 5 km above the DEM down to points inside it: the mean instructions per pick (with the hit

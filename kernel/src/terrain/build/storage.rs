@@ -1,5 +1,5 @@
 //! [`TreeStorage`]: the one [`TerrainStorage`] over a tree [`build_tree`](super::build_tree) or
-//! [`build_multires_tree`](super::build_multires_tree) wrote (seed 000 §3.5, §4, §5), with the node boxes its
+//! [`build_multires_tree`](super::build_multires_tree) wrote (Wartell et al. §3.5, §4, §5), with the node boxes its
 //! records may keep ([`build_boxes`](super::build_boxes)), per-row and per-column trigonometry
 //! ([`trig_tables`](super::trig_tables)) and residency flags of the multi-resolution tree. The buffers are
 //! borrowed slices ([`SliceStorage`]: a static array will do) or owned by the caller's own type
@@ -26,7 +26,7 @@ pub struct Parts<'a, T, H, X = (), R = ()> {
     /// The tables of [`trig_tables`](super::trig_tables), or `None`.
     pub trig: Option<TrigTables<'a, T>>,
     /// Per-node residency of a multi-resolution tree's blocks ([`node_slots`](super::node_slots) flags, indexed
-    /// by node id), or empty (all resident). The caller pages blocks in and out by setting them (seed 000 §5);
+    /// by node id), or empty (all resident). The caller pages blocks in and out by setting them (Wartell et al. §5);
     /// the picker reports a block it needs that is not resident as
     /// [`super::super::TerrainError::NeedsBlock`].
     pub resident: &'a [R],

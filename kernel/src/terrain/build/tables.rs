@@ -1,4 +1,4 @@
-//! What a storage may precompute beyond the node records (seed 000 §3.5; Wartell et al. cache the trigonometry
+//! What a storage may precompute beyond the node records (Wartell et al. §3.5; Wartell et al. cache the trigonometry
 //! of the grid lines, §5 the per-block data of the paged pyramid): the per-row and per-column trigonometry the
 //! kernel asks for ([`trig_tables`]; exactly the values the [`TerrainStorage`] docs require) and the per-node
 //! boxes in local frames ([`build_boxes`]; beyond the paper, [`super::super::boxes`]), the tables into buffers

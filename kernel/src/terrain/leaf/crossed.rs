@@ -1,4 +1,4 @@
-//! Which columns and rows of a traced unit the ray can cross (beyond the paper; seed 000 §4's walk visits the
+//! Which columns and rows of a traced unit the ray can cross (beyond the paper; Wartell et al. §4's walk visits the
 //! same cells): the columns between those of the segment's two ends (`unit_columns`), and at full resolution,
 //! away from the axis, the rows between those of a column segment's two ends (`crossed_rows`), so that the
 //! leaf walk skips the rest.

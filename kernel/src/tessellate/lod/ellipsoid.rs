@@ -1,4 +1,4 @@
-//! The level of detail of an ellipsoid (seed 004 §4.4, chapter 5): its exact worst case at a level, the
+//! The level of detail of an ellipsoid (the edge-beveling thesis §4.4, chapter 5): its exact worst case at a level, the
 //! cheap witnesses and guarantees that decide most levels, and the exhaustive octant walk for the rest (the
 //! steps of the [`super`] module docs).
 
