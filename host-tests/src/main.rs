@@ -1,5 +1,5 @@
 //! The `curvicast` command: `report`, `tessellate`, `pick`, `march` and `march-oracle`.
-//! See the command-line contract in the README.
+//! See the command-line contract, docs/formats.md.
 //!
 //! Exit codes: 0 done (also when standard output is a closed pipe), 2 a malformed argument or input file (one line
 //! on stderr), 1 an error writing the output of `report`, `tessellate` or `march-oracle`, or `march-oracle` failing its

@@ -1,5 +1,5 @@
 //! `curvicast render` on cylindrical and polar grids: the analytic fields are functions of the distance from the
-//! grid's axis, cell averages weighted by the area element `ρ dρ` (README, `curvicast render`). Pixel values are
+//! grid's axis, cell averages weighted by the area element `ρ dρ` (docs/formats.md, `curvicast render`). Pixel values are
 //! held to closed forms derived here from the contract's pixel geometry: the chord of the constant "ball" (an
 //! infinite cylinder, cut by the cylindrical grid's height range), the exact sum over annuli of the piecewise
 //! constant r² field, its convergence to the continuous `(2/3)h(R² + 2d²)`, an oblique view of a polar wedge (a

@@ -166,8 +166,8 @@ verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "me
          "$(verdict "$march_stack" 1024)). Of the kernel's code in the march-f32 firmware at opt \"s\"," \
          "${kernel_ran:-?} B ran on the benchmark's rays and ${kernel_never:-?} B never did: the paths for what" \
          "these rays do not meet (rays through the centre or along the z axis, repairs near the axis, errors," \
-         "other grid kinds; \`BYTES=1 ./profile.sh march-f32 release-s\` by function). The README's \"How far the" \
-         "targets are\" and \"The M4F firmwares\" give the floor of the instructions per crossing, measured."
+         "other grid kinds; \`BYTES=1 ./profile.sh march-f32 release-s\` by function). docs/performance.md's \"How far the" \
+         "targets are\" and docs/embedded.md's \"The M4F firmwares\" give the floor of the instructions per crossing, measured."
     echo
     echo "Where the march-f32 firmware's \`.text\` goes (opt \"s\"; each instruction charged to the outermost kernel" \
          "function it was inlined from, by \`text-by-function.sh\`; functions of 256 B or more):"

@@ -3,31 +3,46 @@
 //! Ray casting through curved coordinate systems, for constrained targets: `#![no_std]`, no `alloc`, no
 //! `unsafe`, no panics, fixed memory.
 //!
-//! * [`surface`]: ray ∩ sphere/spheroid, axial cone, half-plane through the z axis, plane `z = c` — the one
-//!   geometry layer that every traversal shares.
-//! * [`geodesy`]: the ellipsoid, geodetic ↔ ECEF (GeographicLib-grade reverse conversion), latitude cones,
-//!   meridians and the conservative bounding volume of a spheroidal height-quad (Wartell et al. §3).
+//! ```
+//! use curvicast::{ray::Ray, spherical::SphericalGrid};
+//! use core::f64::consts::PI;
+//! // The cells of a ball of radius 1 (split at r = 0.5, the equator and the xz plane) that a ray crosses.
+//! let (r, theta, phi) = ([0.0, 0.5, 1.0], [0.0, PI / 2.0, PI], [0.0, PI, 2.0 * PI]);
+//! let mut workspace = [0.0; SphericalGrid::<f64>::workspace_len(3, 3, 3)];
+//! let grid = SphericalGrid::new(&r, &theta, &phi, &mut workspace)?;
+//! let ray = Ray::new([-2.0, 0.25, 0.25], [1.0, 0.0, 0.0])?;
+//! let path: f64 = grid.march(&ray).map(|c| c.t_exit - c.t_enter).sum();
+//! assert!((path - 2.0 * 0.875f64.sqrt()).abs() < 1e-15); // the chord through the ball
+//! # Ok::<(), Box<dyn core::error::Error>>(())
+//! ```
+//!
+//! * [`spherical`]: marching through spherical, cylindrical and polar grids (Hannasch), serial and separable.
 //! * [`terrain`]: the nearest hit of a ray with a regular geodetic DEM through a height-augmented quadtree that
 //!   the caller stores behind [`terrain::TerrainStorage`] (Wartell et al.), never missing a hit.
-//! * [`spherical`]: marching through spherical, cylindrical and polar grids (Hannasch), serial and separable.
 //! * [`tessellate`]: rational corner-cutting and edge-beveling of circles, ellipses, spheres and ellipsoids at
 //!   the level a scene needs (the edge-beveling thesis).
+//! * [`geodesy`]: the ellipsoid, geodetic ↔ ECEF (GeographicLib-grade reverse conversion), latitude cones,
+//!   meridians and the conservative bounding volume of a spheroidal height-quad (Wartell et al. §3).
+//! * [`surface`]: ray ∩ sphere/spheroid, axial cone, half-plane through the z axis, plane `z = c` — the one
+//!   geometry layer that every traversal shares.
 //! * [`ray`]: the ray and its invariants; [`real`]: the scalar trait (`f64`, `f32`, and a fast-math `f32`).
+//!
+//! **Units.** `t` is in units of the ray's direction (which need not be unit length). Grid angles are radians
+//! (θ from +z, φ from +x toward +y); geodetic latitude and longitude are degrees; lengths are the caller's (metres
+//! on WGS84, whose ECEF frame the terrain uses).
+//!
+//! **Accuracy.** The order of cells and the identity of the nearest triangle are exact on the tested hard cases;
+//! then each crossing's `t` is within 16 ε of the crossed surface's scale in `f64` away from tangency, where the
+//! backward error keeps that bound (asserted on 100 000 rays per surface kind by the host's oracle suite; the
+//! report gives the measured values and the `f32` bounds), and a
+//! terrain hit from [`terrain::Picker::pick`] is refined in double-double from the exact triangle (its `t` as
+//! accurate as the arithmetic allows; [`terrain::Picker::pick_t`] skips that step and errs by about 1e-9 m over
+//! the sine of the ray's elevation at Earth scale).
 //!
 //! The papers this crate implements are cited in each module's docs: Hannasch, *Spherical Ray-Tracing*
 //! for marching; Wartell, Ribarsky, Hodges, *Efficient Ray Intersection with Global Terrain using
 //! Spheroidal Height-Augmented Quadtrees* for terrain; a thesis on rational corner-cutting
 //! and edge-beveling ("the edge-beveling thesis") for tessellation.
-//!
-//! ```
-//! use curvicast::{ray::Ray, surface::{AxialCone, Surface}};
-//! // Where does a ray cross the 60° zenith cone?
-//! let ray = Ray::new([-4.0_f64, 0.0, 1.0], [1.0, 0.0, 0.0])?;
-//! let cone = AxialCone::from_zenith_rad(0.0, core::f64::consts::FRAC_PI_3)?;
-//! let ts: Vec<f64> = cone.crossings(&ray).iter().map(|c| c.t).collect();
-//! assert_eq!(ts.len(), 2);
-//! # Ok::<(), Box<dyn core::error::Error>>(())
-//! ```
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(
@@ -50,7 +65,7 @@
         clippy::arithmetic_side_effects
     )
 )]
-#![warn(missing_docs)]
+#![deny(missing_docs)]
 
 #[cfg(test)]
 extern crate std;
@@ -73,6 +88,11 @@ pub use ray::{Ray, RayError};
 pub use real::F32Fast;
 pub use real::Real;
 pub use vec3::V3;
+
+/// The README's Rust examples, compiled and run as doctests (so that the README cannot drift from the API).
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+pub struct ReadmeDoctests;
 
 /// Helpers shared by the kernel's unit tests.
 #[cfg(test)]

@@ -1,4 +1,4 @@
-//! The subcommands of the `curvicast` command (see the command-line contract in the README).
+//! The subcommands of the `curvicast` command (see the command-line contract, docs/formats.md).
 //!
 //! Shared rules: JSON in, JSON Lines out; one output line per input ray, in order; a malformed file or argument is
 //! a one-line message on stderr naming the file, exit code 2, and nothing on stdout. An error on output (a full

@@ -236,7 +236,7 @@ mod tests {
         let grid = b.grid().unwrap();
         let rays = rays_in::<f64>(&parallel_rays(64)).unwrap();
         let n: usize = rays.iter().map(|r| grid.march(r).count()).sum();
-        // the figure the README's instruction counts are divided by
+        // the figure docs/performance.md's instruction counts are divided by
         assert_eq!(n, 222_784);
     }
 

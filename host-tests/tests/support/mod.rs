@@ -1,13 +1,24 @@
 //! What the integration tests share: one way to run the `curvicast` binary.
 
 use std::io::Write;
+use std::path::Path;
 use std::process::{Command, Stdio};
 
 /// Runs `curvicast ARGS` to the end with `stdin` as its input, written from a thread (so that a child whose
 /// stdout pipe is full cannot block the write): (exit code, stdout, stderr). A child that exits without reading
 /// all of its input (it rejected its files) leaves a broken pipe, which is not an error.
+#[allow(dead_code)] // each test binary uses one of the two
 pub fn run(args: &[&str], stdin: &str) -> (i32, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_curvicast"))
+    run_in(None, args, stdin)
+}
+
+/// [`run`] in the working directory `cwd` (`None`: the test's own).
+pub fn run_in(cwd: Option<&Path>, args: &[&str], stdin: &str) -> (i32, String, String) {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_curvicast"));
+    if let Some(dir) = cwd {
+        command.current_dir(dir);
+    }
+    let mut child = command
         .args(args)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())

@@ -506,7 +506,7 @@ fn size_of_the_serial_iterator() {
     std::println!("size_of SerialMarch: f64 {s64} bytes, f32 {s32} bytes");
     // measured: 480 and 288 (the ray's line in the grid's frame is 112 bytes of it in f64, the radius stream's
     // line 64, each stream 40, the zenith stream's kept second roots 88); the design goal of 192 and 128 is not
-    // reached: what a march must carry is about 170 and 110 bytes, the rest saves work per crossing (the README's
+    // reached: what a march must carry is about 170 and 110 bytes, the rest saves work per crossing (docs/performance.md's
     // "How far the targets are")
     assert!(s64 <= 480 && s32 <= 288, "{s64} {s32}");
 }
