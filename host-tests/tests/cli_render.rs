@@ -142,6 +142,32 @@ fn constant_ball_native_projection_is_the_chord_in_f64_orthographic() {
         (info.info().width, info.info().height),
         (w as u32, h as u32)
     );
+    let (image, iw, _) = read_rgb(&d.join("out/image.png"));
+    // figure.png: the same picture enlarged by a whole factor to at least 256 pixels, with a colour bar beside it.
+    let (figure, fw, fh) = read_rgb(&d.join("out/figure.png"));
+    assert!(fw >= 512 && fh >= 256 + 16, "figure {fw}×{fh}");
+    let k = 256_usize.div_ceil(h);
+    let (x0, y0) = (16, 16 + 2 * 16); // the margin, and the title's line above the picture
+    for (row, col) in [(0, 0), (h / 2, w / 2), (h - 1, w - 1)] {
+        let src = &image[(row * iw + col) * 3..][..3];
+        let (fx, fy) = (x0 + col * k + k / 2, y0 + row * k + k / 2);
+        assert_eq!(
+            &figure[(fy * fw + fx) * 3..][..3],
+            src,
+            "pixel ({row}, {col})"
+        );
+    }
+}
+
+/// The RGB bytes, width and height of a PNG.
+fn read_rgb(path: &std::path::Path) -> (Vec<u8>, usize, usize) {
+    let mut reader = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()))
+        .read_info()
+        .unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    buf.truncate(info.buffer_size());
+    (buf, info.width as usize, info.height as usize)
 }
 
 #[test]

@@ -7,7 +7,7 @@
 //! time of the Cartesian baseline). A bad scene or data file is a one-line message naming the file, exit code 2,
 //! and nothing written.
 
-use crate::render::image::{ColorMap, colorize, finite_range, write_png};
+use crate::render::image::{ColorMap, Panel, Scale, colorize, figure, finite_range, write_png};
 use crate::render::sampler::Mode;
 use crate::render::scene::load_scene;
 use crate::render::{Method, Rendered, Scene, render};
@@ -46,7 +46,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     write_outputs(&args.out, &scene, &out)
 }
 
-/// Writes `image.png`, `values.f32` and `render.json` of a render into `dir` (created if missing).
+/// Writes `image.png` (the picture, one pixel per ray), `figure.png` (the same with its colour bar, the range and
+/// what the values are), `values.f32` and `render.json` of a render into `dir` (created if missing).
 pub fn write_outputs(dir: &Path, scene: &Scene, out: &Rendered) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?;
     let [w, h] = scene.pixels;
@@ -55,9 +56,25 @@ pub fn write_outputs(dir: &Path, scene: &Scene, out: &Rendered) -> anyhow::Resul
         _ => ColorMap::Viridis,
     };
     let range = finite_range(&out.values);
+    let image = colorize(&out.values, w, h, range, map);
+    write_png(&dir.join("image.png"), &image)?;
+    let (title, unit) = match scene.mode {
+        Mode::Projection => ("projection", "sum of value × length"),
+        Mode::TravelTime => ("travel time", "sum of length / value"),
+        Mode::EmissionAbsorption(_) => ("emission-absorption", "intensity"),
+    };
+    let method = match scene.method {
+        Method::Native => "native".to_string(),
+        Method::Cartesian(n) => format!("Cartesian {n}^3"),
+    };
+    let title = format!("{title}, {method}");
+    let panels = [Panel {
+        image: &image,
+        title: &title,
+    }];
     write_png(
-        &dir.join("image.png"),
-        &colorize(&out.values, w, h, range, map),
+        &dir.join("figure.png"),
+        &figure(&[(&panels, Scale { range, map, unit })]),
     )?;
     let bytes: Vec<u8> = out
         .values

@@ -49,6 +49,16 @@ fn log_bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
     )
 }
 
+/// The label of a log axis's key point: `1e-3` at each power of ten, nothing between (the grid lines there stay).
+fn decade_label(v: &f64) -> String {
+    let e = v.log10();
+    if (e - e.round()).abs() < 1e-9 {
+        format!("1e{}", e.round() as i64)
+    } else {
+        String::new()
+    }
+}
+
 /// Draws `series` on log–log axes into the SVG file `path` (800 × 520).
 pub fn loglog_svg(path: &Path, labels: Labels, series: &[Series]) -> anyhow::Result<()> {
     let err = |e: &dyn std::fmt::Display| anyhow::anyhow!("{}: {e}", path.display());
@@ -58,18 +68,8 @@ pub fn loglog_svg(path: &Path, labels: Labels, series: &[Series]) -> anyhow::Res
             .flat_map(|s| s.points.iter().map(f))
             .collect::<Vec<_>>()
     };
-    // x: the data's span with a margin (a decade or two of runtimes; plotters then labels inside it)
-    let (x0, x1) = {
-        let (lo, hi) = pts(|p| p.0)
-            .into_iter()
-            .filter(|v| v.is_finite() && *v > 0.0)
-            .fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
-        if lo > hi {
-            (0.1, 10.0)
-        } else {
-            (lo / 1.6, hi * 1.6)
-        }
-    };
+    // Both axes span whole decades around the data, so that each axis has at least two labelled decades.
+    let (x0, x1) = log_bounds(pts(|p| p.0).into_iter());
     let (y0, y1) = log_bounds(pts(|p| p.1).into_iter());
     // a free decade on top for the legend
     let y1 = y1 * 10.0;
@@ -86,11 +86,11 @@ pub fn loglog_svg(path: &Path, labels: Labels, series: &[Series]) -> anyhow::Res
         .configure_mesh()
         .x_desc(labels.x)
         .y_desc(labels.y)
-        .x_labels(6)
-        .y_labels(10)
+        .x_labels(24)
+        .y_labels(24)
         .light_line_style(BLACK.mix(0.05))
-        .x_label_formatter(&|v| format!("{v:.1e}"))
-        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .x_label_formatter(&decade_label)
+        .y_label_formatter(&decade_label)
         .draw()
         .map_err(|e| err(&e))?;
     for (i, s) in series.iter().enumerate() {

@@ -15,7 +15,7 @@ use crate::render::cartesian::VoxelValues;
 use crate::render::data::{self, EARTH_RADIUS_M};
 use crate::render::field::{Analytic, SphericalCells, closest_distance};
 use crate::render::image::{
-    ColorMap, Rgb, colorize, finite_range, quantile_range, side_by_side, write_png,
+    ColorMap, Panel, Rgb, Scale, colorize, figure, finite_range, quantile_range, write_png,
 };
 use crate::render::sampler::{Mode, Transfer};
 use crate::render::{Method, Rendered, Scene, render, render_cartesian};
@@ -279,13 +279,47 @@ fn comparison_image(
         .map(|(v, t)| (v - t).abs())
         .collect();
     let emax = quantile_range(&en, 0.99)[1].max(quantile_range(&ec, 0.99)[1]);
-    let panels: [Rgb; 4] = [
+    let images: [Rgb; 4] = [
         colorize(&native.values, w, h, range, ColorMap::Viridis),
         colorize(&cart.values, w, h, range, ColorMap::Viridis),
         colorize(&en, w, h, [0.0, emax], ColorMap::Magma),
         colorize(&ec, w, h, [0.0, emax], ColorMap::Magma),
     ];
-    write_png(path, &side_by_side(&panels.iter().collect::<Vec<_>>(), 6))
+    let [vn, vc, errn, errc] = &images;
+    let values = [
+        Panel {
+            image: vn,
+            title: "native",
+        },
+        Panel {
+            image: vc,
+            title: "Cartesian",
+        },
+    ];
+    let errors = [
+        Panel {
+            image: errn,
+            title: "|native - truth|",
+        },
+        Panel {
+            image: errc,
+            title: "|Cartesian - truth|",
+        },
+    ];
+    let value_scale = Scale {
+        range,
+        map: ColorMap::Viridis,
+        unit: st.unit,
+    };
+    let error_scale = Scale {
+        range: [0.0, emax],
+        map: ColorMap::Magma,
+        unit: st.unit,
+    };
+    write_png(
+        path,
+        &figure(&[(&values, value_scale), (&errors, error_scale)]),
+    )
 }
 
 fn study_markdown(st: &Study, runs: &[Run], opts: &Options) -> anyhow::Result<String> {
@@ -592,16 +626,18 @@ fn real_renders(opts: &Options) -> anyhow::Result<String> {
             precision: Precision::F64,
         };
         let out = render(&scene, &|| {});
-        write_png(
-            &opts.out_dir.join(file),
-            &colorize(
-                &out.values,
-                pixels[0],
-                pixels[1],
-                finite_range(&out.values),
-                ColorMap::Inferno,
-            ),
-        )?;
+        let range = finite_range(&out.values);
+        let image = colorize(&out.values, pixels[0], pixels[1], range, ColorMap::Inferno);
+        let panels = [Panel {
+            image: &image,
+            title: "ocean temperature, emission-absorption",
+        }];
+        let scale = Scale {
+            range,
+            map: ColorMap::Inferno,
+            unit: "intensity",
+        };
+        write_png(&opts.out_dir.join(file), &figure(&[(&panels, scale)]))?;
         let _ = writeln!(
             md,
             "![ocean temperature, {what}]({file})\n\nOcean temperature, {what}: emission–absorption (−2 °C to 30 °C \
@@ -637,15 +673,20 @@ fn real_renders(opts: &Options) -> anyhow::Result<String> {
         precision: Precision::F64,
     };
     let out = render(&scene, &|| {});
+    let range = finite_range(&out.values);
+    let image = colorize(&out.values, side, side, range, ColorMap::Viridis);
+    let panels = [Panel {
+        image: &image,
+        title: "PREM, P travel time",
+    }];
+    let scale = Scale {
+        range,
+        map: ColorMap::Viridis,
+        unit: "s",
+    };
     write_png(
         &opts.out_dir.join("prem_travel_time.png"),
-        &colorize(
-            &out.values,
-            side,
-            side,
-            finite_range(&out.values),
-            ColorMap::Viridis,
-        ),
+        &figure(&[(&panels, scale)]),
     )?;
     let [lo, hi] = finite_range(&out.values);
     let _ = writeln!(
