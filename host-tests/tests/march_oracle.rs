@@ -9,6 +9,8 @@
 //! The full random suite (≥ 200 000 rays) is `cargo test -p curvicast-host --test march_oracle -- --ignored`, or
 //! `curvicast march-oracle --rays 200000`.
 
+mod support;
+
 use curvicast_host::march_run::{self as run, Engine, Precision};
 use curvicast_host::oracle::march::{KernelCrossing, MarchOracle, compare};
 use curvicast_host::scenes::march_cases::{self as mc, Case};
@@ -353,7 +355,10 @@ fn direction_length_1e30() {
 }
 
 fn random_suite(n: usize, seed: u64) {
-    let inputs = mc::random_suite_inputs(n, seed);
+    random_suite_of(mc::random_suite_inputs(n, seed));
+}
+
+fn random_suite_of(inputs: Vec<(GridSpec, Vec<RaySpec>)>) {
     let rows = run::run_suite(&inputs, &run::ALL_MODES);
     let mut failures = Vec::new();
     for r in &rows {
@@ -397,7 +402,8 @@ fn random_rays_over_random_grids_subset() {
 #[test]
 #[ignore = "the full random suite: 200 000 rays over 10 000 random grids (minutes)"]
 fn random_rays_over_random_grids_full_200k() {
-    random_suite(200_000, 7);
+    // CI's long step runs one shard of it per commit (support::long_shard).
+    random_suite_of(support::long_shard(mc::random_suite_inputs(200_000, 7)));
 }
 
 /// Both engines, f64: the backward error on this ray is at most `limit` eps·L (and the full criterion holds in

@@ -197,4 +197,70 @@ mod tests {
         assert_eq!(h.side_of(V3::new(-1.0, -0.1, 0.0)), None);
         assert_eq!(h.side_of(V3::new(2.0, 0.0, 7.0)), None);
     }
+
+    #[test]
+    fn a_non_unit_direction_is_renormalised_and_a_unit_one_kept_as_given() {
+        let h = HalfPlane::from_cos_sin(3.0, 4.0).unwrap();
+        assert_eq!((h.cos(), h.sin()), (0.6, 0.8));
+        let u = HalfPlane::from_cos_sin(0.6, 0.8).unwrap();
+        assert_eq!((u.cos(), u.sin()), (0.6, 0.8));
+    }
+
+    #[test]
+    fn a_zero_overflowing_or_non_finite_direction_is_refused() {
+        assert_eq!(
+            HalfPlane::from_cos_sin(0.0, 0.0),
+            Err(SurfaceError::AngleOutOfRange)
+        );
+        assert_eq!(
+            HalfPlane::from_cos_sin(1e200, 1e200),
+            Err(SurfaceError::AngleOutOfRange)
+        );
+        assert_eq!(
+            HalfPlane::from_cos_sin(f64::NAN, 1.0),
+            Err(SurfaceError::NonFinite)
+        );
+        assert_eq!(
+            HalfPlane::from_cos_sin(1.0, f64::INFINITY),
+            Err(SurfaceError::NonFinite)
+        );
+    }
+
+    #[test]
+    fn a_ray_parallel_to_the_plane_has_no_root_fraction() {
+        // The half-plane φ = 0 (normal +y); a ray along x at y = 1 never reaches it.
+        let h = HalfPlane::from_cos_sin(1.0, 0.0).unwrap();
+        let r = Ray::new([-2.0, 1.0, 0.0], [1.0, 0.0, 0.0]).unwrap();
+        assert_eq!(h.scaled_root_fraction(r.line()), None);
+    }
+
+    #[test]
+    fn a_ray_crossing_the_opposite_half_from_either_side_is_not_a_crossing() {
+        // φ = 0: the plane y = 0 is crossed at x = −1, behind the axis, going −y and going +y.
+        let h = HalfPlane::from_cos_sin(1.0, 0.0).unwrap();
+        for (origin, dir) in [
+            ([-1.0, 1.0, 0.0], [0.0, -1.0, 0.0]),
+            ([-1.0, -1.0, 0.0], [0.0, 1.0, 0.0]),
+        ] {
+            let r = Ray::new(origin, dir).unwrap();
+            assert_eq!(h.scaled_root_fraction(r.line()), None, "{origin:?}");
+            assert!(h.crossings(&r).is_empty());
+        }
+    }
+
+    #[test]
+    fn side_of_points_in_front_of_behind_and_square_to_the_axis() {
+        // φ = π/4 with cos = sin exactly.
+        let h = HalfPlane::from_cos_sin(1.0, 1.0).unwrap();
+        assert_eq!(h.cos(), h.sin());
+        let side = |x: f64, y: f64| h.side_of(V3::new(x, y, 0.3));
+        assert_eq!(side(1.0, 0.5), Some(Side::Negative)); // in front, below φ = π/4
+        assert_eq!(side(0.5, 1.0), Some(Side::Positive)); // in front, above
+        assert_eq!(side(-1.0, 1.0), Some(Side::Positive)); // square to the axis (along = 0 exactly): in front
+        assert_eq!(side(-1.0, 2.0), Some(Side::Positive)); // in front (along > 0) though x < 0
+        assert_eq!(side(-2.0, 1.0), None); // behind the axis
+        assert_eq!(side(1.0, -2.0), None); // behind
+        assert_eq!(side(0.5, -0.6), None); // just behind
+        assert_eq!(side(1.0, 1.0), None); // on the half-plane
+    }
 }

@@ -239,3 +239,32 @@ pub(crate) fn stable_quadratic_signed<T: Real>(a: T, b: T, c: T, root_d: T, sign
         (near, far)
     }
 }
+
+#[cfg(test)]
+mod unit_tests {
+    use super::*;
+
+    #[test]
+    fn every_surface_error_has_its_own_message() {
+        use std::string::ToString;
+        let all = [
+            SurfaceError::NonFinite,
+            SurfaceError::BadAxes,
+            SurfaceError::AngleOutOfRange,
+        ];
+        let texts: std::vec::Vec<std::string::String> =
+            all.iter().map(ToString::to_string).collect();
+        assert!(texts.iter().all(|t| t.len() > 10), "{texts:?}");
+        assert!(texts[0] != texts[1] && texts[1] != texts[2] && texts[0] != texts[2]);
+    }
+
+    #[test]
+    fn a_double_root_at_zero_and_a_vanishing_quadratic() {
+        // b = 0 and root_d = 0 (so a·c = 0): the double root s = 0 when a ≠ 0, none when a = 0 too.
+        assert_eq!(stable_quadratic(2.0, 0.0, 0.0, 0.0), (0.0, 0.0));
+        let (x, y) = stable_quadratic(0.0, 0.0, 0.0, 0.0);
+        assert!(x.is_nan() && y.is_nan());
+        // s² − 4 = 0 (b = 0): the roots in the order (decreasing, increasing).
+        assert_eq!(stable_quadratic(1.0, 0.0, -4.0, 2.0), (-2.0, 2.0));
+    }
+}

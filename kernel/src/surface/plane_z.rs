@@ -85,4 +85,14 @@ mod tests {
         let r = Ray::new([1.0, 1.0, 2.0], [0.0, 0.0, -1.0]).unwrap();
         assert_eq!(p.crossings(&r)[0].t, 0.0);
     }
+
+    #[test]
+    fn height_and_a_crossing_whose_direction_is_not_a_power_of_two() {
+        let p = PlaneZ::new(3.0).unwrap();
+        assert_eq!(p.z(), 3.0);
+        // dz = 3 is rescaled to 1.5, not 1: the root must divide by it.
+        let r = Ray::new([0.0, 0.0, 0.0], [0.0, 0.0, 3.0]).unwrap();
+        let c = p.crossings(&r);
+        assert_eq!((c.len(), c[0].t), (1, 1.0));
+    }
 }
