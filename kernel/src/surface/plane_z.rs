@@ -95,4 +95,15 @@ mod tests {
         let c = p.crossings(&r);
         assert_eq!((c.len(), c[0].t), (1, 1.0));
     }
+
+    #[test]
+    fn a_horizontal_ray_has_no_root_and_points_lie_above_below_or_on_the_plane() {
+        let p = PlaneZ::new(1.0).unwrap();
+        let flat = Ray::new([0.0, 0.0, 0.5], [1.0, 2.0, 0.0]).unwrap();
+        assert_eq!(p.scaled_root_fraction(flat.line()), None);
+        assert!(p.crossings(&flat).is_empty());
+        assert_eq!(p.side_of(V3::new(0.0, 0.0, 2.0)), Some(Side::Positive));
+        assert_eq!(p.side_of(V3::new(0.0, 0.0, 0.0)), Some(Side::Negative));
+        assert_eq!(p.side_of(V3::new(5.0, -3.0, 1.0)), None);
+    }
 }

@@ -340,4 +340,35 @@ mod tests {
         assert!(c[0].t <= c[1].t, "{c:?}");
         assert_eq!((c[0].into, c[1].into), (Side::Negative, Side::Positive));
     }
+
+    #[test]
+    fn near_tangent_roots_in_reverse_order_are_reported_as_a_touch_at_their_midpoint() {
+        // The fuzz-found grazing ray above: the stable formula's two roundings put the roots in reverse order.
+        let r = Ray::new(
+            [1.0_f32, 0.0, -0.5],
+            [-core::f32::consts::PI, 10922.5, 4.885_607_7e29],
+        )
+        .unwrap();
+        let line = r.line();
+        let (pp, dd, pd) = (line.origin().length_squared(), line.dd(), line.pd());
+        let ww = line.p_cross_d().length_squared();
+        let disc = dd - ww;
+        let (s_in, s_out) = super::super::stable_quadratic_signed(
+            dd,
+            pd,
+            pp - 1.0,
+            disc.sqrt(),
+            super::super::sign_of(pd),
+        );
+        assert!(s_in > s_out, "not a reversed pair: {s_in} {s_out}");
+        let mid = s_in * 0.5 + s_out * 0.5;
+        assert_eq!(sphere_roots_of(1.0, pp, dd, pd, ww), Some((mid, mid)));
+        assert!(s_out <= mid && mid <= s_in);
+    }
+
+    #[test]
+    fn a_sphere_knows_it_is_one_and_a_spheroid_does_not() {
+        assert!(Spheroid::sphere(2.0_f64).unwrap().is_sphere());
+        assert!(!Spheroid::new(2.0_f64, 1.5).unwrap().is_sphere());
+    }
 }
