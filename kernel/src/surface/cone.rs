@@ -653,4 +653,86 @@ mod tests {
             assert!(x.abs() <= 0.2, "touch at x = {x}");
         }
     }
+
+    #[test]
+    fn zenith_angles_outside_zero_to_pi_are_refused_even_where_their_sine_is_positive() {
+        // sin(−4) and sin(7) are positive: only the range test refuses these.
+        for theta in [-4.0, 7.0, -0.1, 3.2] {
+            assert_eq!(
+                AxialCone::from_zenith_rad(0.0, theta),
+                Err(SurfaceError::AngleOutOfRange),
+                "{theta}"
+            );
+        }
+        assert_eq!(
+            AxialCone::from_zenith_rad(0.0, f64::NAN),
+            Err(SurfaceError::NonFinite)
+        );
+        assert_eq!(
+            AxialCone::from_zenith_rad(f64::INFINITY, 1.0),
+            Err(SurfaceError::NonFinite)
+        );
+    }
+
+    #[test]
+    fn each_non_finite_part_of_a_cos_sin_cone_is_refused_alone() {
+        assert_eq!(
+            AxialCone::from_cos_sin(0.0, f64::NAN, 1.0),
+            Err(SurfaceError::NonFinite)
+        );
+        assert_eq!(
+            AxialCone::from_cos_sin(0.0, 0.5, f64::INFINITY),
+            Err(SurfaceError::NonFinite)
+        );
+        assert_eq!(
+            AxialCone::from_cos_sin(f64::NAN, 0.5, 0.5),
+            Err(SurfaceError::NonFinite)
+        );
+        assert_eq!(
+            AxialCone::from_cos_sin(0.0, 0.5, -0.5),
+            Err(SurfaceError::AngleOutOfRange)
+        );
+        assert_eq!(
+            AxialCone::from_cos_sin(0.0, 0.0, 0.0),
+            Err(SurfaceError::AngleOutOfRange)
+        );
+    }
+
+    #[test]
+    fn a_non_unit_cos_sin_pair_is_renormalised_and_a_unit_one_kept() {
+        let c = AxialCone::from_cos_sin(0.0, 3.0, 4.0).unwrap();
+        assert_eq!((c.cos(), c.sin()), (0.6, 0.8));
+        let u = AxialCone::from_cos_sin(0.0, 0.6, 0.8).unwrap();
+        assert_eq!((u.cos(), u.sin()), (0.6, 0.8));
+    }
+
+    #[test]
+    fn a_direction_is_parallel_to_a_generator_only_within_rounding_of_its_size() {
+        // θ = 45°: the generator (1, 0, 1), at a scale of 1000; A ≈ −1e6 δ against the bound 8ε · 1e6.
+        let cone = AxialCone::from_cos_sin(0.0, 1.0, 1.0).unwrap();
+        let flag = |delta: f64| {
+            cone.leading_coefficient(V3::new(1e3, 0.0, 1e3 * (1.0 + delta)))
+                .1
+        };
+        assert!(!flag(4e-16), "within rounding: parallel");
+        assert!(flag(1e-13), "clear of rounding: not parallel");
+        assert!(flag(-1e-13));
+    }
+
+    #[test]
+    fn side_of_points_for_the_degenerate_cones_theta_zero_and_pi() {
+        // θ = 0 is the +z half-axis, θ = π the −z half-axis: every other point has a larger, resp. smaller, θ.
+        let up = AxialCone::from_zenith_rad(0.0, 0.0).unwrap();
+        assert_eq!((up.cos(), up.sin()), (1.0, 0.0));
+        assert_eq!(up.side_of(V3::new(0.0, 0.0, 1.0)), None);
+        assert_eq!(up.side_of(V3::new(0.0, 0.0, -1.0)), Some(Side::Positive));
+        assert_eq!(up.side_of(V3::new(1.0, 0.0, 1.0)), Some(Side::Positive));
+        assert_eq!(up.side_of(V3::new(0.0, 0.0, 0.0)), None); // the apex
+        let down = AxialCone::from_zenith_rad(0.0, PI).unwrap();
+        assert_eq!((down.cos(), down.sin()), (-1.0, 0.0));
+        assert_eq!(down.side_of(V3::new(0.0, 0.0, -1.0)), None);
+        assert_eq!(down.side_of(V3::new(0.0, 0.0, 1.0)), Some(Side::Negative));
+        assert_eq!(down.side_of(V3::new(1.0, 0.0, 0.0)), Some(Side::Negative));
+        assert_eq!(down.side_of(V3::new(1.0, 0.0, -1.0)), Some(Side::Negative));
+    }
 }
