@@ -735,4 +735,48 @@ mod tests {
         assert_eq!(down.side_of(V3::new(1.0, 0.0, 0.0)), Some(Side::Negative));
         assert_eq!(down.side_of(V3::new(1.0, 0.0, -1.0)), Some(Side::Negative));
     }
+
+    #[test]
+    fn side_of_points_for_cones_opening_up_flat_and_down() {
+        let p = |x: f64, z: f64| V3::new(x, 0.0, z);
+        // θ = π/4: larger θ (outside, below) is positive.
+        let up = AxialCone::from_zenith_rad(0.0, FRAC_PI_4).unwrap();
+        assert_eq!(up.side_of(p(1.0, 0.0)), Some(Side::Positive));
+        assert_eq!(up.side_of(p(0.1, 1.0)), Some(Side::Negative));
+        assert_eq!(up.side_of(p(1.0, -1.0)), Some(Side::Positive));
+        // θ = π/2 is the plane z = apex: above is the smaller θ.
+        let flat = AxialCone::from_zenith_rad(1.0, FRAC_PI_2).unwrap();
+        assert_eq!(flat.side_of(p(3.0, 2.0)), Some(Side::Negative));
+        assert_eq!(flat.side_of(p(3.0, 0.0)), Some(Side::Positive));
+        // θ = 3π/4: points above it (θ smaller) are negative, inside the lower nappe positive.
+        let down = AxialCone::from_zenith_rad(0.0, 3.0 * FRAC_PI_4).unwrap();
+        assert_eq!(down.side_of(p(1.0, 0.0)), Some(Side::Negative));
+        assert_eq!(down.side_of(p(0.1, -1.0)), Some(Side::Positive));
+        assert_eq!(down.side_of(p(1.0, 1.0)), Some(Side::Negative));
+        assert_eq!(down.side_of(p(1.0, -0.5)), Some(Side::Negative));
+    }
+
+    #[test]
+    fn a_ray_through_the_apex_changes_side_there_at_its_own_parameter() {
+        // Inside the upper nappe after the apex (θ ≈ 14°), outside before it: the apex is a crossing at t = 3.
+        // Every product here is exact, so the line passes through the apex exactly (q × d = 0).
+        let cone = AxialCone::from_zenith_rad(0.0, FRAC_PI_4).unwrap();
+        let r = Ray::new([-0.75, 0.0, -3.0], [0.25, 0.0, 1.0]).unwrap();
+        let c = cone.crossings(&r);
+        assert_eq!(c.len(), 1, "{c:?}");
+        assert!(
+            (c[0].t - 3.0).abs() < 1e-12 && c[0].into == Side::Negative,
+            "{c:?}"
+        );
+    }
+
+    #[test]
+    fn a_ray_tangent_to_a_generator_reports_only_finite_crossings_at_the_touch() {
+        // θ = π/4, the line (1, y, 1) touches the generator (1, 0, 1) at y = 0: Q = y²/2, a double root where the
+        // slope is 0 (the Newton step there is 0/0 and must not be taken).
+        let cone = AxialCone::from_cos_sin(0.0, 1.0, 1.0).unwrap();
+        let r = Ray::new([1.0, -1.0, 1.0], [0.0, 1.0, 0.0]).unwrap();
+        let c = cone.crossings(&r);
+        assert!(c.iter().all(|x| (x.t - 1.0).abs() < 1e-9), "{c:?}");
+    }
 }
