@@ -96,17 +96,18 @@ pub(crate) trait CRay<T: Real> {
     fn ray(&self) -> Result<Ray<T>, curvicast_status>;
 }
 
-impl CRay<f32> for curvicast_ray_f32 {
-    fn ray(&self) -> Result<Ray<f32>, curvicast_status> {
-        Ok(Ray::new(self.origin, self.dir)?.with_interval(self.t_min, self.t_max)?)
-    }
+/// [`CRay`] for one precision.
+macro_rules! c_ray {
+    ($t:ty, $ray:ident) => {
+        impl CRay<$t> for $ray {
+            fn ray(&self) -> Result<Ray<$t>, curvicast_status> {
+                Ok(Ray::new(self.origin, self.dir)?.with_interval(self.t_min, self.t_max)?)
+            }
+        }
+    };
 }
-
-impl CRay<f64> for curvicast_ray_f64 {
-    fn ray(&self) -> Result<Ray<f64>, curvicast_status> {
-        Ok(Ray::new(self.origin, self.dir)?.with_interval(self.t_min, self.t_max)?)
-    }
-}
+c_ray!(f32, curvicast_ray_f32);
+c_ray!(f64, curvicast_ray_f64);
 
 /// The alignment of every storage object (`curvicast_grid_f32`, …): they are arrays of `uint64_t`.
 pub const CURVICAST_STORAGE_ALIGN: usize = 8;

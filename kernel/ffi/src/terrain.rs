@@ -215,119 +215,88 @@ unsafe impl Holds for curvicast_picker_f64 {
     const TAG: u64 = 0x6375_7276_6963_0704;
 }
 
-/// The C grid and hit of a scalar type.
+/// The C types of a scalar type: its DEM grid, multi-resolution shape, hit and picker storage.
 pub(crate) trait Scalar: Real {
     type DemGrid: Copy;
     type MultiRes: Copy;
     type Hit;
+    type Picker: Holds<Value = CPicker<Self>>;
     fn grid(g: &Self::DemGrid) -> Grid<Self>;
     fn shape(s: &Self::MultiRes) -> MultiRes<Self>;
     fn hit(h: Hit<Self>) -> Self::Hit;
 }
 
-impl Scalar for f32 {
-    type DemGrid = curvicast_dem_grid_f32;
-    type MultiRes = curvicast_multires_f32;
-    type Hit = curvicast_hit_f32;
-    fn grid(g: &curvicast_dem_grid_f32) -> Grid<f32> {
-        let &curvicast_dem_grid_f32 {
-            lat0_deg,
-            lon0_deg,
-            dlat_deg,
-            dlon_deg,
-            rows,
-            cols,
-        } = g;
-        Grid {
-            lat0_deg,
-            lon0_deg,
-            dlat_deg,
-            dlon_deg,
-            rows,
-            cols,
+/// [`Scalar`] for one precision: the C structs mirror the kernel's field by field.
+macro_rules! scalar {
+    ($t:ty, $grid:ident, $multires:ident, $hit:ident, $picker:ident) => {
+        impl Scalar for $t {
+            type DemGrid = $grid;
+            type MultiRes = $multires;
+            type Hit = $hit;
+            type Picker = $picker;
+            fn grid(g: &$grid) -> Grid<$t> {
+                let &$grid {
+                    lat0_deg,
+                    lon0_deg,
+                    dlat_deg,
+                    dlon_deg,
+                    rows,
+                    cols,
+                } = g;
+                Grid {
+                    lat0_deg,
+                    lon0_deg,
+                    dlat_deg,
+                    dlon_deg,
+                    rows,
+                    cols,
+                }
+            }
+            fn shape(s: &$multires) -> MultiRes<$t> {
+                MultiRes {
+                    fine_region: s.has_fine_region.then_some(s.fine_region),
+                    coarse_level: s.coarse_level,
+                }
+            }
+            fn hit(h: Hit<$t>) -> $hit {
+                let Hit {
+                    t,
+                    ecef,
+                    lat_deg,
+                    lon_deg,
+                    h,
+                    cell,
+                    level,
+                    stride,
+                } = h;
+                $hit {
+                    t,
+                    ecef,
+                    lat_deg,
+                    lon_deg,
+                    h,
+                    cell,
+                    stride,
+                    level,
+                }
+            }
         }
-    }
-    fn shape(s: &curvicast_multires_f32) -> MultiRes<f32> {
-        MultiRes {
-            fine_region: s.has_fine_region.then_some(s.fine_region),
-            coarse_level: s.coarse_level,
-        }
-    }
-    fn hit(h: Hit<f32>) -> curvicast_hit_f32 {
-        let Hit {
-            t,
-            ecef,
-            lat_deg,
-            lon_deg,
-            h,
-            cell,
-            level,
-            stride,
-        } = h;
-        curvicast_hit_f32 {
-            t,
-            ecef,
-            lat_deg,
-            lon_deg,
-            h,
-            cell,
-            stride,
-            level,
-        }
-    }
+    };
 }
-
-impl Scalar for f64 {
-    type DemGrid = curvicast_dem_grid_f64;
-    type MultiRes = curvicast_multires_f64;
-    type Hit = curvicast_hit_f64;
-    fn grid(g: &curvicast_dem_grid_f64) -> Grid<f64> {
-        let &curvicast_dem_grid_f64 {
-            lat0_deg,
-            lon0_deg,
-            dlat_deg,
-            dlon_deg,
-            rows,
-            cols,
-        } = g;
-        Grid {
-            lat0_deg,
-            lon0_deg,
-            dlat_deg,
-            dlon_deg,
-            rows,
-            cols,
-        }
-    }
-    fn shape(s: &curvicast_multires_f64) -> MultiRes<f64> {
-        MultiRes {
-            fine_region: s.has_fine_region.then_some(s.fine_region),
-            coarse_level: s.coarse_level,
-        }
-    }
-    fn hit(h: Hit<f64>) -> curvicast_hit_f64 {
-        let Hit {
-            t,
-            ecef,
-            lat_deg,
-            lon_deg,
-            h,
-            cell,
-            level,
-            stride,
-        } = h;
-        curvicast_hit_f64 {
-            t,
-            ecef,
-            lat_deg,
-            lon_deg,
-            h,
-            cell,
-            stride,
-            level,
-        }
-    }
-}
+scalar!(
+    f32,
+    curvicast_dem_grid_f32,
+    curvicast_multires_f32,
+    curvicast_hit_f32,
+    curvicast_picker_f32
+);
+scalar!(
+    f64,
+    curvicast_dem_grid_f64,
+    curvicast_multires_f64,
+    curvicast_hit_f64,
+    curvicast_picker_f64
+);
 
 /// # Safety
 /// `ecef` is NULL or points to 3 writable scalars.
@@ -622,8 +591,8 @@ unsafe fn answer<V>(
 
 /// # Safety
 /// As [`curvicast_picker_f32_pick`].
-unsafe fn pick<T: HeldPicker, R: CRay<T>>(
-    picker: *const T::C,
+unsafe fn pick<T: Scalar, R: CRay<T>>(
+    picker: *const T::Picker,
     ray: *const R,
     hit: *mut T::Hit,
     needs_node: *mut u32,
@@ -640,21 +609,10 @@ unsafe fn pick<T: HeldPicker, R: CRay<T>>(
     }
 }
 
-/// The C picker storage of a scalar type.
-pub(crate) trait HeldPicker: Scalar {
-    type C: Holds<Value = CPicker<Self>>;
-}
-impl HeldPicker for f32 {
-    type C = curvicast_picker_f32;
-}
-impl HeldPicker for f64 {
-    type C = curvicast_picker_f64;
-}
-
 /// # Safety
 /// As [`curvicast_picker_f32_pick_t`].
-unsafe fn pick_t<T: HeldPicker, R: CRay<T>>(
-    picker: *const T::C,
+unsafe fn pick_t<T: Scalar, R: CRay<T>>(
+    picker: *const T::Picker,
     ray: *const R,
     t: *mut T,
     cell: *mut [u32; 2],
@@ -674,8 +632,8 @@ unsafe fn pick_t<T: HeldPicker, R: CRay<T>>(
 
 /// # Safety
 /// As [`curvicast_picker_f32_line_of_sight`].
-unsafe fn line_of_sight<T: HeldPicker>(
-    picker: *const T::C,
+unsafe fn line_of_sight<T: Scalar>(
+    picker: *const T::Picker,
     a: *const T,
     b: *const T,
     clear: *mut bool,
