@@ -140,7 +140,7 @@ pub struct ErrorBound {
     pub kind: Kind,
     /// The scalar mode.
     pub mode: Mode,
-    /// The largest forward error measured on [`MEASURED_RAYS`] rays (`surfaces_oracle::full_sweep_all_modes`).
+    /// The largest forward error measured on [`MEASURED_RAYS`] rays (`tests/surfaces/oracle.rs: full_sweep_all_modes`).
     pub measured_forward: f64,
     /// The largest backward error measured on the same rays.
     pub measured_backward: f64,
@@ -152,7 +152,7 @@ pub struct ErrorBound {
 }
 
 /// The sample behind [`ERROR_BOUNDS`]' measured values: 100 000 random rays per kind and mode
-/// ([`random_cases`] with the seed of `surfaces_oracle::full_sweep_all_modes`, which re-checks the table).
+/// ([`random_cases`] with the seed of `tests/surfaces/oracle.rs: full_sweep_all_modes`, which re-checks the table).
 pub const MEASURED_RAYS: usize = 100_000;
 
 const fn row(kind: Kind, mode: Mode, mf: f64, mb: f64, f: f64, b: f64) -> ErrorBound {

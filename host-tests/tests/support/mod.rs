@@ -1,21 +1,28 @@
-//! What the integration tests share: one way to run the `curvicast` binary, and the shard of a long suite.
+//! What the integration tests share, written once: the one way to run the `curvicast` binary, scratch files and
+//! directories, uniform breakpoints, the readers of the command's outputs, and the shard of a long suite. Each test
+//! binary (`tests/<subject>/main.rs`) includes this module; not every binary uses every item.
+#![allow(dead_code)]
 
 use std::io::Write;
 use std::path::Path;
 use std::process::{Command, Stdio};
 
-/// Runs `curvicast ARGS` to the end with `stdin` as its input, written from a thread (so that a child whose
-/// stdout pipe is full cannot block the write): (exit code, stdout, stderr). A child that exits without reading
-/// all of its input (it rejected its files) leaves a broken pipe, which is not an error.
-#[allow(dead_code)] // each test binary uses one of the two
-pub fn run(args: &[&str], stdin: &str) -> (i32, String, String) {
+/// The `curvicast` binary as a [`Command`] to configure, for a test that drives a live child (streaming, a closed
+/// pipe, a full disk). A test that runs the command to the end uses [`run`] or [`run_in`].
+pub fn command() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_curvicast"))
+}
+
+/// Runs `curvicast ARGS` to the end with `stdin` as its input: (exit code, stdout, stderr).
+pub fn run(args: &[&str], stdin: impl AsRef<[u8]>) -> (i32, String, String) {
     run_in(None, args, stdin)
 }
 
-/// [`run`] in the working directory `cwd` (`None`: the test's own).
-#[allow(dead_code)] // not every test binary runs the command
-pub fn run_in(cwd: Option<&Path>, args: &[&str], stdin: &str) -> (i32, String, String) {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_curvicast"));
+/// [`run`] in the working directory `cwd` (`None`: the test's own). The input is written from a thread, so that
+/// a child whose stdout pipe is full cannot block the write; a child that exits without reading all of its input
+/// (it rejected its files) leaves a broken pipe, which is not an error.
+pub fn run_in(cwd: Option<&Path>, args: &[&str], stdin: impl AsRef<[u8]>) -> (i32, String, String) {
+    let mut command = command();
     if let Some(dir) = cwd {
         command.current_dir(dir);
     }
@@ -27,8 +34,8 @@ pub fn run_in(cwd: Option<&Path>, args: &[&str], stdin: &str) -> (i32, String, S
         .spawn()
         .unwrap();
     let mut si = child.stdin.take().unwrap();
-    let input = stdin.to_owned();
-    let feeder = std::thread::spawn(move || si.write_all(input.as_bytes()));
+    let input = stdin.as_ref().to_vec();
+    let feeder = std::thread::spawn(move || si.write_all(&input));
     let out = child.wait_with_output().unwrap();
     if let Err(e) = feeder.join().unwrap() {
         assert_eq!(
@@ -44,10 +51,53 @@ pub fn run_in(cwd: Option<&Path>, args: &[&str], stdin: &str) -> (i32, String, S
     )
 }
 
+/// A fresh temporary directory named after `name`, removed with everything in it when the guard drops.
+pub fn temp_dir(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("curvicast-{name}-"))
+        .tempdir()
+        .unwrap()
+}
+
+/// A fresh file holding `text` whose name ends in `name` (so that its extension counts), removed when the returned
+/// path drops.
+pub fn temp_file(name: &str, text: impl AsRef<[u8]>) -> tempfile::TempPath {
+    let p = tempfile::Builder::new()
+        .prefix("curvicast-")
+        .suffix(&format!("-{name}"))
+        .tempfile()
+        .unwrap()
+        .into_temp_path();
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// `n + 1` breakpoints from `lo` to `hi`, evenly spaced.
+pub fn uniform(n: usize, lo: f64, hi: f64) -> Vec<f64> {
+    (0..=n)
+        .map(|i| lo + (hi - lo) * i as f64 / n as f64)
+        .collect()
+}
+
+/// A file of little-endian f64 values (`render`'s raw image, a per-cell data file).
+pub fn read_f64(p: &Path) -> Vec<f64> {
+    std::fs::read(p)
+        .unwrap()
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+        .collect()
+}
+
+/// Each line of the command's output as JSON.
+pub fn json_lines(out: &str) -> Vec<serde_json::Value> {
+    out.lines()
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{e}: {l}")))
+        .collect()
+}
+
 /// The shard of a long suite this run takes. `CURVICAST_LONG_SHARD=k/n` keeps the items whose index is `k`
 /// modulo `n` (CI's long step runs shard `commits mod n` of each full suite, so that every item runs once every
 /// `n` commits); unset, every item. A malformed value is an error, not a silent full run.
-#[allow(dead_code)] // not every test binary has a long suite
 pub fn long_shard<T>(items: Vec<T>) -> Vec<T> {
     let Ok(spec) = std::env::var("CURVICAST_LONG_SHARD") else {
         return items;

@@ -29,7 +29,7 @@
     clippy::unreadable_literal
 )]
 mod cases;
-// Generated on the host (`host-tests/tests/terrain_smoke_crop.rs`): a real DEM crop and oracle answers.
+// Generated on the host (`host-tests/tests/terrain/smoke_crop.rs`): a real DEM crop and oracle answers.
 #[allow(clippy::unreadable_literal)]
 mod dem_crop;
 
@@ -208,7 +208,7 @@ fn peak_grid<T: Real>() -> Grid<T> {
 }
 
 /// The oracle's answer for the slanted ray of [`pick_case`] in `f64`: its `t` and the hit's height (checked by
-/// `host-tests/tests/smoke_pick.rs` against the independent terrain oracle).
+/// `host-tests/tests/terrain/smoke_pick.rs` against the independent terrain oracle).
 const PEAK_SLOPE_T: f64 = 0.800_016_529_664_916_8;
 /// See [`PEAK_SLOPE_T`].
 const PEAK_SLOPE_H: f64 = 399.966_730_307_997_1;

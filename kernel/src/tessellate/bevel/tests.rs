@@ -87,7 +87,7 @@ fn level_one_has_the_papers_y_point_and_face_points() {
 }
 
 #[test]
-#[cfg_attr(miri, ignore)] // levels 0-8 are checked in host-tests/tests/tessellate.rs
+#[cfg_attr(miri, ignore)] // levels 0-8 are checked in host-tests/tests/tessellate/main.rs
 fn faces_are_tangent_and_closed_levels_0_to_3() {
     for level in 0..=3 {
         for axes in [[1.0, 1.0, 1.0], [3.0, 2.0, 0.5]] {

@@ -6,10 +6,10 @@
 //! lies within 16·eps·L of its boundary surface. f32 and f32-fast are measured and printed; for them only the
 //! structural invariants are asserted (the contract holds in every precision).
 //!
-//! The full random suite (≥ 200 000 rays) is `cargo test -p curvicast-host --test march_oracle -- --ignored`, or
+//! The full random suite (≥ 200 000 rays) is `cargo test -p curvicast-host --test march oracle -- --ignored`, or
 //! `curvicast march-oracle --rays 200000`.
 
-mod support;
+use crate::support;
 
 use curvicast_host::march_run::{self as run, Engine, Precision};
 use curvicast_host::oracle::march::{KernelCrossing, MarchOracle, compare};

@@ -3,24 +3,12 @@
 //! the grid is refined, per-cell data files and every mode work, and bad scene files exit 2 with one line naming
 //! the file and nothing written.
 
+use crate::support::{read_f64, run, temp_dir as dir, uniform};
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
-use std::process::Command;
-
-/// A fresh temporary directory, removed when dropped.
-fn dir(name: &str) -> tempfile::TempDir {
-    tempfile::Builder::new()
-        .prefix(&format!("curvicast-cli-render-{name}-"))
-        .tempdir()
-        .unwrap()
-}
-
-fn uniform(n: usize, hi: f64) -> Vec<f64> {
-    (0..=n).map(|i| hi * i as f64 / n as f64).collect()
-}
 
 fn grid(nr: usize, nt: usize, np: usize) -> serde_json::Value {
-    serde_json::json!({"kind": "spherical", "r": uniform(nr, 1.0), "theta": uniform(nt, PI), "phi": uniform(np, TAU)})
+    serde_json::json!({"kind": "spherical", "r": uniform(nr, 0.0, 1.0), "theta": uniform(nt, 0.0, PI), "phi": uniform(np, 0.0, TAU)})
 }
 
 const ORTHO_EYE: [f64; 3] = [-3.0, 0.4, 0.7];
@@ -29,34 +17,24 @@ fn ortho() -> serde_json::Value {
     serde_json::json!({"kind": "orthographic", "eye": ORTHO_EYE, "look_at": [0, 0, 0], "up": [0, 0, 1], "width": 2.2})
 }
 
-/// Runs `render` on `scene` written into `d`; returns (exit code, stderr).
-fn render(d: &Path, scene: &serde_json::Value) -> (i32, String) {
+/// Runs `render` on `scene` written into `d` (output in `d/out`); returns (exit code, stderr).
+pub(super) fn render(d: &Path, scene: &serde_json::Value) -> (i32, String) {
     let path = d.join("scene.json");
     std::fs::write(&path, scene.to_string()).unwrap();
     render_file(&path, &d.join("out"))
 }
 
 fn render_file(scene: &Path, out: &Path) -> (i32, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_curvicast"))
-        .args(["render", "--scene"])
-        .arg(scene)
-        .arg("--out")
-        .arg(out)
-        .output()
-        .unwrap();
-    assert!(o.stdout.is_empty());
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8(o.stderr).unwrap(),
-    )
-}
-
-fn read_f64(p: &Path) -> Vec<f64> {
-    std::fs::read(p)
-        .unwrap()
-        .chunks_exact(8)
-        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
-        .collect()
+    let args = [
+        "render",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let (code, stdout, stderr) = run(&args, "");
+    assert!(stdout.is_empty(), "{stdout}");
+    (code, stderr)
 }
 
 fn read_f32(p: &Path) -> Vec<f32> {

@@ -1,18 +1,12 @@
 //! `curvicast pick` end to end: the binary, its output lines, and its errors (command-line contract).
 
-mod support;
+use crate::support;
 
 use curvicast_host::oracle::terrain::TerrainOracle;
 use curvicast_host::scenes::spec::RaySpec;
 use curvicast_host::scenes::terrain_cases::{TerrainKind, random_rays, synthetic};
 
-/// A fresh temporary directory, removed with everything in it when the returned guard drops.
-fn dir(name: &str) -> tempfile::TempDir {
-    tempfile::Builder::new()
-        .prefix(&format!("curvicast-pick-{name}-"))
-        .tempdir()
-        .unwrap()
-}
+use crate::support::temp_dir as dir;
 
 /// [`support::run`] with no input for `None`.
 fn run(args: &[&str], stdin: Option<&str>) -> (i32, String, String) {

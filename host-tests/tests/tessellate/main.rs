@@ -5,6 +5,9 @@
 //! normal, a directed-edge map, Newell normals, a bisection for the distance to an ellipsoid), not with the
 //! kernel's.
 
+#[path = "../support/mod.rs"]
+mod support;
+
 use curvicast::V3;
 use curvicast::real::Real;
 use curvicast::tessellate::bevel::{self, Face};
@@ -574,12 +577,9 @@ fn parse_obj(text: &str) -> (Vec<[f64; 3]>, Vec<Vec<u32>>) {
     (v, f)
 }
 
-fn run_cli(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_curvicast"))
-        .arg("tessellate")
-        .args(args)
-        .output()
-        .unwrap()
+/// `curvicast tessellate ARGS`: (exit code, stdout, stderr).
+fn run_cli(args: &[&str]) -> (i32, String, String) {
+    support::run(&[&["tessellate"], args].concat(), "")
 }
 
 #[test]
@@ -601,13 +601,8 @@ fn cli_obj_loads_as_a_closed_outward_mesh() {
         let obj = dir.join("mesh.obj");
         let mut all = args.clone();
         all.extend(["--out", obj.to_str().unwrap()]);
-        let out = run_cli(&all);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let stdout = String::from_utf8(out.stdout).unwrap();
+        let (code, stdout, err) = run_cli(&all);
+        assert_eq!(code, 0, "{err}");
         assert_eq!(stdout.lines().count(), 1);
         let j: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
         let (v, f) = parse_obj(&std::fs::read_to_string(&obj).unwrap());
@@ -681,10 +676,9 @@ fn cli_bad_arguments_exit_2_with_one_line() {
             "/nonexistent-dir/x.obj",
         ],
     ] {
-        let out = run_cli(&args);
-        assert_eq!(out.status.code(), Some(2), "{args:?}");
-        assert!(out.stdout.is_empty(), "{args:?}");
-        let err = String::from_utf8(out.stderr).unwrap();
+        let (code, out, err) = run_cli(&args);
+        assert_eq!(code, 2, "{args:?}");
+        assert!(out.is_empty(), "{args:?}");
         assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
     }
 }

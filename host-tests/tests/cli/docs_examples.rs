@@ -6,7 +6,7 @@
 //! text (for the figures that vary from run to run, such as timings). The commands run in a fresh directory that
 //! holds a copy of `examples/`, so that what they write stays out of the repository.
 
-mod support;
+use crate::support;
 
 use std::path::{Path, PathBuf};
 

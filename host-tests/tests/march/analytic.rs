@@ -18,11 +18,7 @@ use std::f64::consts::{PI, TAU};
 
 const TOL: f64 = 1e-12;
 
-fn uniform(n: usize, lo: f64, hi: f64) -> Vec<f64> {
-    (0..=n)
-        .map(|i| lo + (hi - lo) * i as f64 / n as f64)
-        .collect()
-}
+use crate::support::uniform;
 
 struct Grid {
     r: Vec<f64>,

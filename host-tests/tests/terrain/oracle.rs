@@ -14,9 +14,9 @@
 //! closed-form conversion of its point within 1e-8 m (`geodesy_oracle` holds both to the exact inversion).
 //!
 //! The default run checks every suite on a reduced number of rays; the `#[ignore]`d `*_full` tests bring the
-//! total above 100 000 rays (`cargo test -p curvicast-host --release --test terrain_oracle -- --include-ignored`).
+//! total above 100 000 rays (`cargo test -p curvicast-host --release --test terrain oracle -- --include-ignored`).
 
-mod support;
+use crate::support;
 
 use curvicast::Ray;
 use curvicast::geodesy::Ellipsoid;

@@ -3,33 +3,20 @@
 //! error on output (a full disk) is one line and a non-zero exit, a closed pipe ends the command quietly, never a
 //! panic; `tessellate` answers extreme radii right.
 
+use crate::support::{command as cli, run};
 use std::io::Read;
-use std::process::{Command, Output, Stdio};
+use std::process::Stdio;
 use tempfile::TempPath;
-
-fn cli() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_curvicast"))
-}
-
-fn run(args: &[&str]) -> Output {
-    cli().args(args).output().unwrap()
-}
 
 /// A fresh empty file whose name ends in `name`, removed when the returned path drops.
 fn scratch(name: &str) -> TempPath {
-    tempfile::Builder::new()
-        .prefix("curvicast-cli-harness-")
-        .suffix(&format!("-{name}"))
-        .tempfile()
-        .unwrap()
-        .into_temp_path()
+    crate::support::temp_file(name, "")
 }
 
 fn assert_usage_error(args: &[&str]) -> String {
-    let out = run(args);
-    let err = String::from_utf8(out.stderr).unwrap();
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
-    assert!(out.stdout.is_empty(), "{args:?}");
+    let (code, out, err) = run(args, "");
+    assert_eq!(code, 2, "{args:?}: {err}");
+    assert!(out.is_empty(), "{args:?}");
     assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
     assert!(!err.contains("panicked"), "{err}");
     err
@@ -54,17 +41,12 @@ fn clap_errors_are_one_line_with_exit_2() {
 
 #[test]
 fn help_and_version_still_print_on_stdout() {
-    let out = run(&["--help"]);
-    assert!(out.status.success());
-    let text = String::from_utf8(out.stdout).unwrap();
+    let (code, text, _) = run(&["--help"], "");
+    assert_eq!(code, 0);
     assert!(text.contains("Usage") && text.lines().count() > 5, "{text}");
-    let out = run(&["--version"]);
-    assert!(out.status.success());
-    assert!(
-        String::from_utf8(out.stdout)
-            .unwrap()
-            .starts_with("curvicast ")
-    );
+    let (code, text, _) = run(&["--version"], "");
+    assert_eq!(code, 0);
+    assert!(text.starts_with("curvicast "), "{text}");
 }
 
 #[test]
@@ -124,16 +106,10 @@ fn tessellate_into_a_closed_pipe_ends_quietly() {
 /// The summary line of `tessellate` for `args` (with a scratch `--out`).
 fn tessellate(args: &[&str]) -> serde_json::Value {
     let obj = scratch("extreme.obj");
-    let out = cli()
-        .arg("tessellate")
-        .args(args)
-        .arg("--out")
-        .arg(&obj)
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{args:?}: {err}");
-    serde_json::from_slice(&out.stdout).unwrap()
+    let args = [&["tessellate"], args, &["--out", obj.to_str().unwrap()]].concat();
+    let (code, out, err) = run(&args, "");
+    assert_eq!(code, 0, "{args:?}: {err}");
+    serde_json::from_str(&out).unwrap()
 }
 
 #[test]
@@ -206,19 +182,17 @@ fn pick_on_wide_cells(dlon: f64, lon: f64) -> (i32, String, String) {
     );
     let rays = scratch(&format!("wide-{dlon}.jsonl"));
     std::fs::write(&rays, ray).unwrap();
-    let out = run(&[
-        "pick",
-        "--terrain",
-        json.to_str().unwrap(),
-        "--rays",
-        rays.to_str().unwrap(),
-        "--block",
-        "1",
-    ]);
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8(out.stdout).unwrap(),
-        String::from_utf8(out.stderr).unwrap(),
+    run(
+        &[
+            "pick",
+            "--terrain",
+            json.to_str().unwrap(),
+            "--rays",
+            rays.to_str().unwrap(),
+            "--block",
+            "1",
+        ],
+        "",
     )
 }
 

@@ -2,18 +2,11 @@
 //! bad lines are reported with their own line number, long answers stream, and errors on output end the command
 //! with one line (or silently for a closed pipe), never a panic.
 
+use crate::support::{command, json_lines, run, temp_dir as dir};
 use std::io::{BufRead, BufReader, Read, Write};
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Stdio};
 use std::sync::mpsc;
 use std::time::Duration;
-
-/// A fresh temporary directory, removed with everything in it when the returned guard drops.
-fn dir(name: &str) -> tempfile::TempDir {
-    tempfile::Builder::new()
-        .prefix(&format!("curvicast-cli-streaming-{name}-"))
-        .tempdir()
-        .unwrap()
-}
 
 fn write(d: &std::path::Path, name: &str, bytes: &[u8]) -> String {
     let p = d.join(name);
@@ -55,34 +48,13 @@ fn down_ray() -> String {
 }
 
 fn spawn(args: &[&str], stdout: Stdio) -> Child {
-    Command::new(env!("CARGO_BIN_EXE_curvicast"))
+    command()
         .args(args)
         .stdin(Stdio::piped())
         .stdout(stdout)
         .stderr(Stdio::piped())
         .spawn()
         .unwrap()
-}
-
-/// Runs to the end with `stdin` as input: (exit code, stdout, stderr).
-fn run(args: &[&str], stdin: &[u8]) -> (i32, String, String) {
-    let mut child = spawn(args, Stdio::piped());
-    let mut si = child.stdin.take().unwrap();
-    let input = stdin.to_vec();
-    let feeder = std::thread::spawn(move || si.write_all(&input));
-    let out = child.wait_with_output().unwrap();
-    let _ = feeder.join().unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8(out.stdout).unwrap(),
-        String::from_utf8(out.stderr).unwrap(),
-    )
-}
-
-fn json_lines(out: &str) -> Vec<serde_json::Value> {
-    out.lines()
-        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{e}: {l}")))
-        .collect()
 }
 
 /// Feeds one ray, waits for its answer, then feeds the next: the command must answer each ray while standard

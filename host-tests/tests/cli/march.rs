@@ -1,21 +1,9 @@
 //! `curvicast march` follows the command-line contract: answers per ray, error lines for bad rays, exit code 2
 //! with an empty stdout and one stderr line naming the file for a malformed grid.
 
-mod support;
+use crate::support;
 
-use support::run;
-
-/// A file holding `text` whose name ends in `name`, removed when the returned path drops.
-fn tmp(name: &str, text: &str) -> tempfile::TempPath {
-    let p = tempfile::Builder::new()
-        .prefix("curvicast-cli-march-")
-        .suffix(&format!("-{name}"))
-        .tempfile()
-        .unwrap()
-        .into_temp_path();
-    std::fs::write(&p, text).unwrap();
-    p
-}
+use support::{run, temp_file as tmp};
 
 const SPHERE: &str = r#"{"kind": "spherical", "center": [0, 0, 0], "r": [0.0, 0.5, 1.0], "theta": [0.0, 1.5707963267948966, 3.141592653589793], "phi": [0.0, 3.141592653589793, 6.283185307179586]}"#;
 

@@ -6,8 +6,8 @@
 //! shows: random 17-digit decimals, parsed both by such a two-rounding parser and by `str::parse` (correctly
 //! rounded), keeping those where the two differ. The commands must read each one to `str::parse`'s bits.
 
+use crate::support;
 use curvicast::terrain::Picker;
-mod support;
 
 use curvicast_host::cli::pick::answer;
 use curvicast_host::march_run::{Engine, Precision, run_engine};

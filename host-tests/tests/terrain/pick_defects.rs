@@ -3,8 +3,6 @@
 //! must work down to subnormal components).
 
 use curvicast_host::scenes::spec::RaySpec;
-use std::io::Write;
-use std::process::{Command, Stdio};
 
 /// A 3 × 3 DEM on a sphere of radius 6 371 km with a 100 m peak at vertex (1, 1), 11°N 21°E.
 const TERRAIN: &str = r#"{"ellipsoid": {"a": 6371000.0, "b": 6371000.0}, "grid": {"lat0": 10, "lon0": 20,
@@ -18,41 +16,17 @@ fn up() -> [f64; 3] {
 
 /// Picks each ray through the command; returns one JSON value per output line.
 fn pick(name: &str, rays: &[RaySpec]) -> Vec<serde_json::Value> {
-    let tmp = tempfile::Builder::new()
-        .prefix(&format!("curvicast-pick-{name}-"))
-        .tempdir()
-        .unwrap();
+    let tmp = crate::support::temp_dir(&format!("pick-{name}"));
     let json = tmp.path().join("terrain.json");
     std::fs::write(&json, TERRAIN).unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_curvicast"))
-        .args(["pick", "--terrain", json.to_str().unwrap(), "--block", "1"])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
     let text: String = rays
         .iter()
         .map(|r| serde_json::to_string(r).unwrap() + "\n")
         .collect();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(text.as_bytes())
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect()
+    let args = ["pick", "--terrain", json.to_str().unwrap(), "--block", "1"];
+    let (code, out, err) = crate::support::run(&args, text);
+    assert_eq!(code, 0, "{err}");
+    crate::support::json_lines(&out)
 }
 
 /// Straight down onto the peak from 1 000 km: with a direction of length 1e-308 the hit is at t ≈ 1e314, beyond

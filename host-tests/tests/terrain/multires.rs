@@ -618,7 +618,7 @@ fn min_level_at_full_depth_is_the_single_resolution_surface() {
     }
 }
 
-/// The long run (`cargo test -p curvicast-host --release --test terrain_multires -- --include-ignored`): more
+/// The long run (`cargo test -p curvicast-host --release --test terrain multires -- --include-ignored`): more
 /// residency patterns and rays on four terrains, every `min_level`.
 #[test]
 #[ignore = "long: about a minute"]

@@ -6,41 +6,10 @@
 //! polar grid ignores z: lengths grow by 1/|d_xy|), and the Cartesian baseline of a cylindrical grid, whose error
 //! falls as its voxels shrink. A polar grid has no bounding cube, so its Cartesian baseline is exit 2.
 
+use super::render::render;
+use crate::support::{read_f64, uniform};
 use std::f64::consts::{FRAC_PI_2, SQRT_2, TAU};
 use std::path::Path;
-use std::process::Command;
-
-fn uniform(n: usize, lo: f64, hi: f64) -> Vec<f64> {
-    (0..=n)
-        .map(|i| lo + (hi - lo) * i as f64 / n as f64)
-        .collect()
-}
-
-/// Runs `render` on `scene` written into `d`; returns (exit code, stderr).
-fn render(d: &Path, scene: &serde_json::Value) -> (i32, String) {
-    let path = d.join("scene.json");
-    std::fs::write(&path, scene.to_string()).unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_curvicast"))
-        .args(["render", "--scene"])
-        .arg(&path)
-        .arg("--out")
-        .arg(d.join("out"))
-        .output()
-        .unwrap();
-    assert!(o.stdout.is_empty());
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8(o.stderr).unwrap(),
-    )
-}
-
-fn read_f64(p: &Path) -> Vec<f64> {
-    std::fs::read(p)
-        .unwrap()
-        .chunks_exact(8)
-        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
-        .collect()
-}
 
 fn meta(d: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(d.join("out/render.json")).unwrap()).unwrap()

@@ -133,7 +133,7 @@ fn all_kinds_f32_and_f32_fast_10k_rays() {
 }
 
 /// The full sweep: 100 000 rays per kind in all three modes (a few minutes in a debug build, half a minute in
-/// release, where CI runs it: `cargo test --release -p curvicast-host --test surfaces_oracle -- --ignored`).
+/// release, where CI runs it: `cargo test --release -p curvicast-host --test surfaces oracle -- --ignored`).
 /// Besides the bounds, it re-measures the table `ERROR_BOUNDS`: no measured value may be exceeded, nor be more
 /// than twice the error seen now (a stale table).
 #[test]

@@ -3,7 +3,7 @@
 //! exactly as `--terrain` does on the same heights; every malformed file is exit 2 with one stderr line naming it
 //! and nothing on stdout.
 
-mod support;
+use crate::support;
 
 use curvicast_host::scenes::dem_files::{RasterType, read_dem, write_geotiff_i16};
 use curvicast_host::scenes::real_dem::{data_dir, encode, etopo20, trinidad};
@@ -11,13 +11,7 @@ use curvicast_host::scenes::terrain::{Dem, WGS84_A, WGS84_B, geodetic_to_ecef_f6
 use std::path::{Path, PathBuf};
 use support::run;
 
-/// A fresh temporary directory, removed when dropped.
-fn dir(name: &str) -> tempfile::TempDir {
-    tempfile::Builder::new()
-        .prefix(&format!("curvicast-pick-dem-{name}-"))
-        .tempdir()
-        .unwrap()
-}
+use crate::support::temp_dir as dir;
 
 /// Rays over the DEM's area: straight down from 6 km above points between vertices, and oblique ones from 6 km
 /// to 1 km above another point (ECEF, host f64).

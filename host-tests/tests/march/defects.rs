@@ -2,7 +2,7 @@
 //! at the ray's `t_max` bit for bit, and a ray whose crossings lie where `t` overflows (a tiny direction) is a
 //! typed error — in the kernel and as an error line of `curvicast march` — never a miss or a `null` t.
 
-mod support;
+use crate::support;
 
 use curvicast_host::march_run::{Engine, Precision, run_engine};
 use curvicast_host::scenes::march_cases::{partial_grid, random_grid, random_ray};
