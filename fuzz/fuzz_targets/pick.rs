@@ -11,7 +11,7 @@
 //!
 //! The tree is the kernel's builder's (`terrain::build`): with `split`, one-cell leaves under zones (two levels
 //! once a side has more than four cells), else one leaf over the whole grid. Bit 3 of `rows` (unused by the grid
-//! size) makes the storage provide node boxes (`TerrainStorage::node_box`, built into the node records by
+//! size) makes the storage provide node boxes (`TerrainCaches::node_box`, built into the node records by
 //! `build_boxes_sharing` from every vertex of each node; otherwise the records' box slots stay empty), so that half of the inputs run the traversal's box tests and half its spheroidal
 //! volumes (the shipped seeds keep the volumes); bits 4–7 choose which boxes are in their parent's box frame
 //! rather than their parent's own.

@@ -27,7 +27,7 @@
 //!   triangle (from every edge), the kernel must return a hit no farther than it (within 1 mm).
 //!
 //! Bit 3 of `fine` (unused by the spacing) doubles the grid's rows, so that trees reach level 3 (strides up
-//! to 8). Bit 4 makes the storage provide node boxes ([`TerrainStorage::node_box`], the builder's
+//! to 8). Bit 4 makes the storage provide node boxes ([`TerrainCaches::node_box`], the builder's
 //! `build_boxes_sharing`: each contains every vertex of its node's range, not only its block's samples), so
 //! that half of the inputs run the traversal's box tests and half its spheroidal volumes; bits 5–7 choose which
 //! boxes are in their parent's box frame rather than their parent's own.

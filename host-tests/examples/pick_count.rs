@@ -15,12 +15,21 @@
 //! Arguments: `RAYS` (`camera`, `orbit`, or `random`: the terrain oracle's random rays from above, half of them
 //! with a finite `t_max`), `BLOCK` (cells per leaf side), `N` (rays), `PASSES`, and optionally `multires`: a
 //! multi-resolution tree, full resolution only over the middle ninth of the DEM and blocks two levels coarser
-//! elsewhere, so that coarse cells are stitched to finer ones. The last line printed is a checksum of every
+//! elsewhere, so that coarse cells are stitched to finer ones; and optionally which of the storage's caches
+//! ([`TerrainCaches`]) the picker sees, to measure what each saves: `caches=all` (the default), `no-trig` (no
+//! per-row and per-column sines and cosines), `no-dd` (no double-double parallels and meridians), `no-boxes` (no
+//! node boxes: the spheroidal volumes, each built on every visit), `bounds` (no node boxes, the volumes cached
+//! per node) or `none`. The last line printed is a checksum of every
 //! answer of the first pass (each hit's `t`, ECEF point, geodetic coordinates, cell, level and stride, bit for
 //! bit), for comparing two builds of the kernel.
 
+use curvicast::dd::Dd;
+use curvicast::geodesy::{Ellipsoid, HeightQuadBounds};
 use curvicast::ray::Ray;
-use curvicast::terrain::Picker;
+use curvicast::terrain::boxes::NodeBox;
+use curvicast::terrain::{
+    Grid, Node, NodeId, Parallel, Picker, TerrainCaches, TerrainStorage, quad_bounds,
+};
 use curvicast_host::scenes::real_dem;
 use curvicast_host::scenes::terrain_cases::{camera_rays, orbit_rays, random_rays};
 use curvicast_host::storage::{DemStorage, MultiRes};
@@ -28,11 +37,21 @@ use std::hash::{DefaultHasher, Hash, Hasher};
 use std::hint::black_box;
 
 fn main() -> anyhow::Result<()> {
-    let args: Vec<String> = std::env::args().collect();
+    let mut args: Vec<String> = std::env::args().collect();
+    let caches = match args.last().and_then(|a| a.strip_prefix("caches=")) {
+        Some(v) => {
+            let v = v.to_string();
+            args.pop();
+            v
+        }
+        None => "all".to_string(),
+    };
     let (kind, block, n, passes, multires) = match args.as_slice() {
         [_, kind, block, n, passes] => (kind, block, n, passes, false),
         [_, kind, block, n, passes, tree] if tree == "multires" => (kind, block, n, passes, true),
-        _ => anyhow::bail!("usage: pick_count camera|orbit|random BLOCK N PASSES [multires]"),
+        _ => anyhow::bail!(
+            "usage: pick_count camera|orbit|random BLOCK N PASSES [multires] [caches=all|no-trig|no-dd|no-boxes|bounds|none]"
+        ),
     };
     let (block, n, passes): (usize, usize, usize) = (block.parse()?, n.parse()?, passes.parse()?);
     let dem = real_dem::trinidad()?;
@@ -60,11 +79,37 @@ fn main() -> anyhow::Result<()> {
     } else {
         DemStorage::new(&dem, block)
     };
-    let picker: Picker<'_, f64, DemStorage<'_>> = Picker::new(&storage)?;
+    let (hits, errors, checksum) = match caches.as_str() {
+        "all" => run(&Caches::<ALL>::of(&storage), &rays, passes)?,
+        "no-trig" => run(&Caches::<{ ALL & !TRIG }>::of(&storage), &rays, passes)?,
+        "no-dd" => run(&Caches::<{ ALL & !DD }>::of(&storage), &rays, passes)?,
+        "no-boxes" => run(&Caches::<{ ALL & !BOXES }>::of(&storage), &rays, passes)?,
+        "bounds" => run(
+            &Caches::<{ ALL & !BOXES | BOUNDS }>::of(&storage),
+            &rays,
+            passes,
+        )?,
+        "none" => run(&Caches::<0>::of(&storage), &rays, passes)?,
+        other => anyhow::bail!("unknown caches variant {other:?}"),
+    };
+    println!(
+        "{kind}, block {block}, caches {caches}: {n} rays × {passes} passes, {hits} hits, {errors} errors"
+    );
+    println!("checksum {checksum:016x}");
+    Ok(())
+}
+
+/// Picks every ray `passes` times: (hits, errors, checksum of the first pass's answers).
+fn run<S: TerrainCaches<f64>>(
+    storage: &S,
+    rays: &[Ray<f64>],
+    passes: usize,
+) -> anyhow::Result<(usize, usize, u64)> {
+    let picker: Picker<'_, f64, S> = Picker::new(storage)?;
     let (mut hits, mut errors) = (0usize, 0usize);
     let mut checksum = DefaultHasher::new();
     for pass in 0..passes {
-        for ray in &rays {
+        for ray in rays {
             let answer = black_box(picker.pick(black_box(ray)));
             hits += usize::from(matches!(answer, Ok(Some(_))));
             errors += usize::from(answer.is_err());
@@ -84,7 +129,107 @@ fn main() -> anyhow::Result<()> {
             }
         }
     }
-    println!("{kind}, block {block}: {n} rays × {passes} passes, {hits} hits, {errors} errors");
-    println!("checksum {:016x}", checksum.finish());
-    Ok(())
+    Ok((hits, errors, checksum.finish()))
+}
+
+const TRIG: u8 = 1;
+const DD: u8 = 2;
+const BOXES: u8 = 4;
+const BOUNDS: u8 = 8;
+const ALL: u8 = TRIG | DD | BOXES;
+
+/// The host's storage with only the caches of `M` (bits [`TRIG`], [`DD`], [`BOXES`], [`BOUNDS`]); the others
+/// fall back to the trait's defaults, which compute the value on every call.
+struct Caches<'s, 'd, const M: u8> {
+    base: &'s DemStorage<'d>,
+    /// Each node's volume, when `M` has [`BOUNDS`] (what [`TerrainCaches::cached_bounds`] must return).
+    bounds: Vec<Option<HeightQuadBounds<f64>>>,
+}
+
+impl<'s, 'd, const M: u8> Caches<'s, 'd, M> {
+    fn of(base: &'s DemStorage<'d>) -> Self {
+        let bounds = if M & BOUNDS != 0 {
+            let (e, g) = (base.ellipsoid(), base.grid());
+            (0..base.node_count())
+                .map(|k| {
+                    let node = base.node(NodeId(u32::try_from(k).ok()?))?;
+                    quad_bounds(&e, &g, &node).ok().flatten()
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Caches { base, bounds }
+    }
+}
+
+impl<const M: u8> TerrainStorage<f64> for Caches<'_, '_, M> {
+    fn ellipsoid(&self) -> Ellipsoid<f64> {
+        self.base.ellipsoid()
+    }
+    fn grid(&self) -> Grid<f64> {
+        self.base.grid()
+    }
+    fn zone_count(&self) -> usize {
+        TerrainStorage::<f64>::zone_count(self.base)
+    }
+    fn zone(&self, k: usize) -> Option<NodeId> {
+        TerrainStorage::<f64>::zone(self.base, k)
+    }
+    fn node(&self, id: NodeId) -> Option<Node<f64>> {
+        self.base.node(id)
+    }
+    fn height(&self, i: u32, j: u32) -> Option<f64> {
+        self.base.height(i, j)
+    }
+    fn is_resident(&self, id: NodeId) -> bool {
+        TerrainStorage::<f64>::is_resident(self.base, id)
+    }
+    fn block_stride(&self, id: NodeId) -> u32 {
+        TerrainStorage::<f64>::block_stride(self.base, id)
+    }
+}
+
+impl<const M: u8> TerrainCaches<f64> for Caches<'_, '_, M> {
+    fn row_sin_cos(&self, i: u32) -> (f64, f64) {
+        if M & TRIG != 0 {
+            self.base.row_sin_cos(i)
+        } else {
+            curvicast::geodesy::sin_cos_deg(self.grid().lat_deg(i))
+        }
+    }
+    fn col_sin_cos(&self, j: u32) -> (f64, f64) {
+        if M & TRIG != 0 {
+            self.base.col_sin_cos(j)
+        } else {
+            curvicast::geodesy::sin_cos_deg(self.grid().lon_deg(j))
+        }
+    }
+    fn cached_bounds(&self, id: NodeId) -> Option<HeightQuadBounds<f64>> {
+        self.bounds
+            .get(usize::try_from(id.0).ok()?)
+            .copied()
+            .flatten()
+    }
+    fn row_parallel(&self, i: u32) -> Parallel<f64> {
+        if M & DD != 0 {
+            self.base.row_parallel(i)
+        } else {
+            curvicast::terrain::row_parallel(&self.ellipsoid(), &self.grid(), i)
+        }
+    }
+    fn col_sin_cos_dd(&self, j: u32) -> (Dd<f64>, Dd<f64>) {
+        if M & DD != 0 {
+            self.base.col_sin_cos_dd(j)
+        } else {
+            curvicast::terrain::col_sin_cos_dd(&self.grid(), j)
+        }
+    }
+    fn node_box(&self, id: NodeId) -> Option<NodeBox> {
+        if M & BOXES != 0 {
+            TerrainCaches::<f64>::node_box(self.base, id)
+        } else {
+            None
+        }
+    }
 }

@@ -12,7 +12,7 @@ use curvicast::terrain::boxes::NodeBox;
 use curvicast::terrain::build::{
     self, Buffers, NodeRecord, Parts, TreeStorage, TrigTables, node_slots,
 };
-use curvicast::terrain::{Grid, Node, NodeId, Parallel, TerrainStorage};
+use curvicast::terrain::{Grid, Node, NodeId, Parallel, TerrainCaches, TerrainStorage};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A node record of a [`DemStorage`]: height range in `f32` (the samples' type) and the node's box, 72 bytes.
@@ -318,6 +318,9 @@ impl TerrainStorage<f64> for DemStorage<'_> {
     fn block_stride(&self, id: NodeId) -> u32 {
         self.storage.block_stride(id)
     }
+}
+
+impl TerrainCaches<f64> for DemStorage<'_> {
     #[inline]
     fn row_sin_cos(&self, i: u32) -> (f64, f64) {
         self.storage.row_sin_cos(i)
@@ -375,6 +378,9 @@ impl TerrainStorage<f32> for DemStorage<'_> {
     fn block_stride(&self, id: NodeId) -> u32 {
         self.storage.block_stride(id)
     }
+}
+
+impl TerrainCaches<f32> for DemStorage<'_> {
     fn node_box(&self, id: NodeId) -> Option<NodeBox> {
         self.storage.node_box(id)
     }
@@ -386,48 +392,47 @@ pub struct Paged<'b, 'd> {
     paged: std::cell::RefCell<Vec<curvicast::terrain::NodeId>>,
 }
 
-impl curvicast::terrain::TerrainStorage<f64> for Paged<'_, '_> {
-    fn ellipsoid(&self) -> curvicast::geodesy::Ellipsoid<f64> {
+impl TerrainStorage<f64> for Paged<'_, '_> {
+    fn ellipsoid(&self) -> Ellipsoid<f64> {
         self.base.ellipsoid()
     }
-    fn grid(&self) -> curvicast::terrain::Grid<f64> {
+    fn grid(&self) -> Grid<f64> {
         self.base.grid()
     }
     fn zone_count(&self) -> usize {
-        curvicast::terrain::TerrainStorage::<f64>::zone_count(self.base)
+        TerrainStorage::<f64>::zone_count(self.base)
     }
-    fn zone(&self, k: usize) -> Option<curvicast::terrain::NodeId> {
-        curvicast::terrain::TerrainStorage::<f64>::zone(self.base, k)
+    fn zone(&self, k: usize) -> Option<NodeId> {
+        TerrainStorage::<f64>::zone(self.base, k)
     }
-    fn node(&self, id: curvicast::terrain::NodeId) -> Option<curvicast::terrain::Node<f64>> {
+    fn node(&self, id: NodeId) -> Option<Node<f64>> {
         self.base.node(id)
     }
     fn height(&self, i: u32, j: u32) -> Option<f64> {
         self.base.height(i, j)
     }
-    fn is_resident(&self, id: curvicast::terrain::NodeId) -> bool {
-        curvicast::terrain::TerrainStorage::<f64>::is_resident(self.base, id)
-            || self.paged.borrow().contains(&id)
+    fn is_resident(&self, id: NodeId) -> bool {
+        TerrainStorage::<f64>::is_resident(self.base, id) || self.paged.borrow().contains(&id)
     }
-    fn block_stride(&self, id: curvicast::terrain::NodeId) -> u32 {
-        curvicast::terrain::TerrainStorage::<f64>::block_stride(self.base, id)
+    fn block_stride(&self, id: NodeId) -> u32 {
+        TerrainStorage::<f64>::block_stride(self.base, id)
     }
+}
+
+impl TerrainCaches<f64> for Paged<'_, '_> {
     fn row_sin_cos(&self, i: u32) -> (f64, f64) {
         self.base.row_sin_cos(i)
     }
     fn col_sin_cos(&self, j: u32) -> (f64, f64) {
         self.base.col_sin_cos(j)
     }
-    fn node_box(
-        &self,
-        id: curvicast::terrain::NodeId,
-    ) -> Option<curvicast::terrain::boxes::NodeBox> {
-        curvicast::terrain::TerrainStorage::<f64>::node_box(self.base, id)
+    fn node_box(&self, id: NodeId) -> Option<NodeBox> {
+        TerrainCaches::<f64>::node_box(self.base, id)
     }
-    fn row_parallel(&self, i: u32) -> curvicast::terrain::Parallel<f64> {
+    fn row_parallel(&self, i: u32) -> Parallel<f64> {
         self.base.row_parallel(i)
     }
-    fn col_sin_cos_dd(&self, j: u32) -> (curvicast::dd::Dd<f64>, curvicast::dd::Dd<f64>) {
+    fn col_sin_cos_dd(&self, j: u32) -> (Dd<f64>, Dd<f64>) {
         self.base.col_sin_cos_dd(j)
     }
 }

@@ -7,7 +7,7 @@
 use curvicast::Ray;
 use curvicast::geodesy::Ellipsoid;
 use curvicast::terrain::boxes::{LocalFrame, NodeBox};
-use curvicast::terrain::{Node, NodeId, TerrainStorage};
+use curvicast::terrain::{Node, NodeId, TerrainCaches, TerrainStorage, box_frame};
 use curvicast::vec3::V3;
 use curvicast_host::scenes::real_dem;
 use curvicast_host::scenes::terrain::Dem;
@@ -43,7 +43,7 @@ fn node(s: &DemStorage<'_>, id: NodeId) -> Node<f64> {
 }
 
 /// Every node reachable from the zones with the anchor of its box's frame (the node whose own frame the box is
-/// in, `None` for the grid's: [`LocalFrame::for_box`]), zones first. A zone's box is in the grid's frame; a
+/// in, `None` for the grid's: [`box_frame`]), zones first. A zone's box is in the grid's frame; a
 /// child's in its parent's own frame, or, if the box says `shared_frame`, in the frame of its parent's box.
 fn all_nodes(s: &DemStorage<'_>) -> Vec<(NodeId, Node<f64>, Option<NodeId>)> {
     let mut stack: Vec<(NodeId, Option<NodeId>)> = (0..TerrainStorage::<f64>::zone_count(s))
@@ -53,7 +53,7 @@ fn all_nodes(s: &DemStorage<'_>) -> Vec<(NodeId, Node<f64>, Option<NodeId>)> {
     while let Some((id, anchor)) = stack.pop() {
         let n = node(s, id);
         for &c in n.children.iter().flatten() {
-            let shared = TerrainStorage::<f64>::node_box(s, c).is_some_and(|b| b.shared_frame);
+            let shared = TerrainCaches::<f64>::node_box(s, c).is_some_and(|b| b.shared_frame);
             stack.push((c, if shared { anchor } else { Some(id) }));
         }
         out.push((id, n, anchor));
@@ -77,7 +77,7 @@ fn check_boxes_contain_vertices(name: &str, dem: &Dem, s: &DemStorage<'_>) -> (u
     let (mut checks, mut boxed) = (0usize, 0usize);
     let mut worst = f64::NEG_INFINITY; // largest excess of a vertex over its box (negative: inside)
     for (id, n, anchor) in all_nodes(s) {
-        let bx = TerrainStorage::<f64>::node_box(s, id);
+        let bx = TerrainCaches::<f64>::node_box(s, id);
         let Some(bx) = bx else {
             assert!(
                 n.heights.is_none(),
@@ -89,7 +89,7 @@ fn check_boxes_contain_vertices(name: &str, dem: &Dem, s: &DemStorage<'_>) -> (u
             continue;
         };
         boxed += 1;
-        let frame = LocalFrame::<f64>::for_box(s, &e, anchor.map(|p| node(s, p)).as_ref());
+        let frame = box_frame::<f64, _>(s, &e, anchor.map(|p| node(s, p)).as_ref());
         for i in n.rows[0]..=n.rows[1] {
             for j in n.cols[0]..=n.cols[1] {
                 let (i, j) = (i as usize, j as usize);
@@ -273,7 +273,7 @@ fn leaf_boxes_of_trinidad_like_terrain_share_the_grid_frame_and_hug_their_corner
     }
     let s = DemStorage::new(&dem, 16);
     let e = ellipsoid(&s);
-    let frame = LocalFrame::<f64>::for_box(&s, &e, None);
+    let frame = box_frame::<f64, _>(&s, &e, None);
     let (mut leaves, mut worst_hull, mut worst_up) = (0, f64::NEG_INFINITY, f64::NEG_INFINITY);
     for (id, n, anchor) in all_nodes(&s) {
         assert_eq!(anchor, None, "node {} is not in the grid's frame", id.0);
@@ -281,7 +281,7 @@ fn leaf_boxes_of_trinidad_like_terrain_share_the_grid_frame_and_hug_their_corner
             continue;
         }
         let [hmin, hmax] = n.heights.expect("no nodata here");
-        let bx = TerrainStorage::<f64>::node_box(&s, id).expect("a leaf with data has a box");
+        let bx = TerrainCaches::<f64>::node_box(&s, id).expect("a leaf with data has a box");
         // The hull of the leaf's corners at its lowest and highest heights (this file's vertices): the box may
         // exceed it by the curvature of the ground between the corners (4 cm up, less sideways) and the f32
         // rounding, 10 cm in all.
@@ -348,7 +348,7 @@ fn wide_nodes_keep_their_own_frames_down_to_a_degree() {
         let Some(a) = anchor else { continue };
         let a = node(&s, a);
         let span = |[x, y]: [u32; 2], step: f64| f64::from(y - x) * step.abs();
-        let b = TerrainStorage::<f64>::node_box(&s, id).expect("data everywhere");
+        let b = TerrainCaches::<f64>::node_box(&s, id).expect("data everywhere");
         if b.shared_frame {
             shared += 1;
             assert!(
@@ -428,7 +428,7 @@ fn check_box_intervals<T: curvicast::Real + std::fmt::Debug>(
     per_node: usize,
 ) -> usize
 where
-    for<'d> DemStorage<'d>: TerrainStorage<T>,
+    for<'d> DemStorage<'d>: TerrainCaches<T>,
 {
     let e = ellipsoid(s);
     let e_t = TerrainStorage::<T>::ellipsoid(s);
@@ -436,12 +436,12 @@ where
     let nodes = all_nodes(s);
     let (mut checked, mut clipped) = (0, 0);
     for (id, n, anchor) in &nodes {
-        let Some(b) = TerrainStorage::<f64>::node_box(s, *id) else {
+        let Some(b) = TerrainCaches::<f64>::node_box(s, *id) else {
             continue;
         };
-        let frame = LocalFrame::<f64>::for_box(s, &e, anchor.map(|p| node(s, p)).as_ref());
+        let frame = box_frame::<f64, _>(s, &e, anchor.map(|p| node(s, p)).as_ref());
         let anchor_t = anchor.map(|p| TerrainStorage::<T>::node(s, p).expect("node"));
-        let frame_t = LocalFrame::<T>::for_box(s, &e_t, anchor_t.as_ref());
+        let frame_t = box_frame::<T, _>(s, &e_t, anchor_t.as_ref());
         for _ in 0..per_node {
             let q = point_in_box(&mut rng, &b);
             let p = frame.point(q);
@@ -538,7 +538,7 @@ fn interval_storages() -> Vec<(&'static str, Dem, usize, usize)> {
 /// `seed`); the number of rays checked.
 fn check_all_box_intervals<T: curvicast::Real + std::fmt::Debug>(seed: u64) -> usize
 where
-    for<'d> DemStorage<'d>: TerrainStorage<T>,
+    for<'d> DemStorage<'d>: TerrainCaches<T>,
 {
     let mut total = 0;
     for (k, (name, dem, block, per_node)) in interval_storages().into_iter().enumerate() {

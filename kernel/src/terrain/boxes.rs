@@ -9,19 +9,19 @@
 //! with the box as the node's volume.
 //!
 //! **Which frame.** A zone's box is in the frame of the whole grid. A child's box is in its parent's own frame
-//! ([`LocalFrame::of`]), or, when the box says so ([`NodeBox::shared_frame`]), in the frame its parent's box is
+//! ([`super::node_frame`]), or, when the box says so ([`NodeBox::shared_frame`]), in the frame its parent's box is
 //! in. A frame is *anchored* at the node whose own frame it is (or at the grid); while the anchor is small, its
 //! frame fits every box below it nearly as well as their parents' own frames would, so a storage may pass it
 //! down, and the traversal of a regional DEM then moves the ray into one frame per ray or per zone instead of one
 //! per visited node ([`shares_frame_with_children`] is the rule the host's storage follows; the kernel only reads
-//! the flag). [`LocalFrame::for_box`] gives a box's frame from its anchor.
+//! the flag). [`super::box_frame`] gives a box's frame from its anchor.
 //!
-//! A frame is east, north, up at a node's middle vertex ([`LocalFrame::of`]); the box is stored in `f32`,
+//! A frame is east, north, up at a node's middle vertex ([`super::node_frame`]); the box is stored in `f32`,
 //! rounded outwards, and the kernel inflates it by the rounding of the ray's transformation and of the frame and
 //! vertices in the picker's scalar type (`f32` pickers included).
 
-use super::storage::{Grid, Node, TerrainStorage};
-use crate::geodesy::Ellipsoid;
+use super::grid::{Grid, Node};
+
 use crate::ray::Ray;
 use crate::real::Real;
 use crate::vec3::V3;
@@ -40,49 +40,15 @@ pub struct LocalFrame<T> {
 }
 
 impl<T: Real> LocalFrame<T> {
-    /// The frame of `node`: at vertex row `⌊(r₀ + r₁)/2⌋`, column `⌊(c₀ + c₁)/2⌋`, from the storage's cached
-    /// trigonometry ([`TerrainStorage::row_sin_cos`], [`TerrainStorage::col_sin_cos`]).
-    pub fn of<S: TerrainStorage<T> + ?Sized>(
-        storage: &S,
-        ellipsoid: &Ellipsoid<T>,
-        node: &Node<T>,
-    ) -> Self {
-        Self::of_ranges(storage, ellipsoid, node.rows, node.cols)
-    }
-
-    /// The frame a node's box is expressed in, from its *anchor* (module docs): the anchor's own frame
-    /// ([`LocalFrame::of`]), or for `None` (a zone, or a node every ancestor of which passed its frame down) the
-    /// frame of the whole grid.
-    pub fn for_box<S: TerrainStorage<T> + ?Sized>(
-        storage: &S,
-        ellipsoid: &Ellipsoid<T>,
-        anchor: Option<&Node<T>>,
-    ) -> Self {
-        match anchor {
-            Some(p) => Self::of(storage, ellipsoid, p),
-            None => {
-                let g = storage.grid();
-                Self::of_ranges(storage, ellipsoid, [0, g.cell_rows()], [0, g.cell_cols()])
-            }
-        }
-    }
-
-    /// [`LocalFrame::of`] for a node's ranges.
-    pub fn of_ranges<S: TerrainStorage<T> + ?Sized>(
-        storage: &S,
-        ellipsoid: &Ellipsoid<T>,
-        rows: [u32; 2],
-        cols: [u32; 2],
-    ) -> Self {
-        let mid = |[a, b]: [u32; 2]| a.wrapping_add(b.wrapping_sub(a).wrapping_shr(1));
-        let (sp, cp) = storage.row_sin_cos(mid(rows));
-        let (sl, cl) = storage.col_sin_cos(mid(cols));
+    /// The frame at the vertex whose latitude has `(sin, cos)` `row` and longitude `col`, on an ellipsoid of
+    /// equatorial radius `a` (a storage's frames: [`super::node_frame`], [`super::box_frame`]).
+    pub fn at(a: T, (sin_lat, cos_lat): (T, T), (sin_lon, cos_lon): (T, T)) -> Self {
         LocalFrame {
-            sin_lat: sp,
-            cos_lat: cp,
-            sin_lon: sl,
-            cos_lon: cl,
-            a: ellipsoid.a(),
+            sin_lat,
+            cos_lat,
+            sin_lon,
+            cos_lon,
+            a,
         }
     }
 
@@ -148,7 +114,7 @@ pub fn shares_frame_with_children<T: Real>(grid: &Grid<T>, anchor: Option<&Node<
     span(rows, grid.dlat_deg) <= lim && span(cols, grid.dlon_deg) <= lim
 }
 
-/// The anchor of node `k`'s box frame ([`LocalFrame::for_box`]) for a storage's build step, from its tree's parent
+/// The anchor of node `k`'s box frame ([`super::box_frame`]) for a storage's build step, from its tree's parent
 /// links and the flags it gives the boxes ([`NodeBox::shared_frame`]): up from `k` while the box shares its
 /// parent's box frame, then that node's parent; `None` for the grid's frame (a zone's, or a chain of shared frames
 /// up to a zone). At most `nodes` steps: only a cycle of parent links takes more, and gives `None`.
@@ -171,7 +137,7 @@ pub fn anchor_of(
 
 /// A node's box in a [`LocalFrame`] (module docs, "Which frame"): `lo ≤ coords(V) ≤ hi` for every vertex `V` of
 /// the node with data (rows `rows[0] ..= rows[1]`, columns `cols[0] ..= cols[1]`), the vertices as
-/// [`super::vertex_ecef`] forms them in `f64`. Build it with [`NodeBox::of_vertices`] or [`BoxBuilder`].
+/// [`super::vertex_ecef`] forms them in `f64`. Build it with [`super::node_box_of_vertices`] or [`BoxBuilder`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NodeBox {
     /// Lower corner (east, north, up), metres.
@@ -184,29 +150,6 @@ pub struct NodeBox {
 }
 
 impl NodeBox {
-    /// The box of `node`'s vertices with data in the frame of `anchor` ([`LocalFrame::for_box`]), built in
-    /// `f64` from [`super::vertex_ecef`] (a storage's build step: it visits every vertex of the node), with
-    /// [`NodeBox::shared_frame`] set to `shared_frame`: the anchor must be the parent (`false`) or the anchor of
-    /// the parent's box (`true`). `None` if the node has no vertex with data.
-    pub fn of_vertices<S: TerrainStorage<f64> + ?Sized>(
-        storage: &S,
-        ellipsoid: &Ellipsoid<f64>,
-        node: &Node<f64>,
-        anchor: Option<&Node<f64>>,
-        shared_frame: bool,
-    ) -> Option<NodeBox> {
-        let frame = LocalFrame::for_box(storage, ellipsoid, anchor);
-        let mut b = BoxBuilder::default();
-        for i in node.rows[0]..=node.rows[1] {
-            for j in node.cols[0]..=node.cols[1] {
-                if let Some(p) = super::vertex_ecef(storage, ellipsoid, i, j) {
-                    b.add_point(&frame, p);
-                }
-            }
-        }
-        b.finish().map(|b| NodeBox { shared_frame, ..b })
-    }
-
     /// The smallest box containing both (the same frame assumed), keeping this box's flag.
     pub fn union(&self, other: &NodeBox) -> NodeBox {
         let mut b = *self;
@@ -392,6 +335,7 @@ impl<T: Real> FrameRay<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geodesy::Ellipsoid;
 
     #[test]
     fn builder_rounds_outwards_to_f32_with_a_margin() {

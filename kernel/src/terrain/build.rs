@@ -20,7 +20,7 @@
 //! a group that fall past a level's last row or column stay empty. [`node_slots`] gives the buffer's length,
 //! a `const fn`, so that the buffer can be a static array. A record keeps its height range in the samples' type
 //! and, if its type says so ([`BoxSlot`]), the node's box in local frames with the shared-frame rule, which
-//! [`build_boxes`] fills (in `f64` as [`TerrainStorage::node_box`] requires): 44 bytes with `f32` samples and
+//! [`build_boxes`] fills (in `f64` as [`TerrainCaches::node_box`](crate::terrain::TerrainCaches::node_box) requires): 44 bytes with `f32` samples and
 //! no box, 72 with a box (56 and 80 with `f64` samples). A tree without boxes costs neither their RAM nor the
 //! traversal's box code.
 //!
@@ -65,10 +65,10 @@
 //! # Ok::<(), Box<dyn core::error::Error>>(())
 //! ```
 
-#[cfg(doc)]
-use super::TerrainStorage;
 use super::boxes::NodeBox;
-use super::{Grid, Node, NodeId};
+use super::grid::{Grid, Node, NodeId};
+#[cfg(doc)]
+use super::storage::TerrainStorage;
 use crate::real::Real;
 
 mod storage;
@@ -148,7 +148,7 @@ pub struct NodeRecord<H, X = ()> {
     pub kids: [u32; 4],
     /// Depth below the node's zone (zones are 0).
     pub level: u8,
-    /// The node's box ([`TerrainStorage::node_box`]), if `X` keeps one.
+    /// The node's box ([`TerrainCaches::node_box`](crate::terrain::TerrainCaches::node_box)), if `X` keeps one.
     pub bbox: X,
 }
 

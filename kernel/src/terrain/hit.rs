@@ -11,15 +11,20 @@
 //! [`Ellipsoid::ecef_to_geodetic_near`] seeded at the hit cell's corner vertex (no arctangent or cube root;
 //! the closed form where the seed does not apply). [`Picker::pick_t`] stops before this step. The refinement
 //! needs no trigonometry per ray when the storage caches its rows' and columns' double-double parallels and
-//! meridians ([`TerrainStorage::row_parallel`]).
+//! meridians ([`TerrainCaches::row_parallel`]).
 //!
 //! Coarse and stitched hits (multi-resolution) are refined like full-resolution ones, without the containment
 //! walk (a refined point beyond an edge keeps the traversal's hit), and the walk of a full-resolution hit steps
 //! only into cells traced at full resolution. [`Hit::level`] and [`Hit::stride`] say which block answered.
 
-use super::*;
-
-impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
+use super::picker::{Hit, Picker};
+use super::refine::{self, TriRef};
+use super::storage::TerrainCaches;
+use super::walk::{Candidate, Lookup};
+use crate::ray::Ray;
+use crate::real::Real;
+use crate::vec3::V3;
+impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
     Picker<'_, T, S, STACK, ZONES>
 {
     /// The [`Hit`] of the traversal's nearest triangle, with its parameter and point refined in double-double

@@ -21,14 +21,25 @@
 //! Per leaf: a clip against two meridian planes per column (columns the ray misses are skipped), the rows the
 //! column's segment can cross (a few plane signs from the previous column's row), two row planes per such
 //! cell, the height cull, and the triangle test for what is left. No trigonometry is needed per ray when the
-//! storage caches the sines and cosines of its rows and columns ([`TerrainStorage::row_sin_cos`]); the prime
+//! storage caches the sines and cosines of its rows and columns ([`TerrainCaches::row_sin_cos`]); the prime
 //! vertical radius is computed once per row of a leaf.
 
-use super::*;
-
+use super::boxes::LocalFrame;
+use super::error::TerrainError;
+use super::picker::{Picker, div_ceil_pow2};
+use super::refine::{self, Tri, TriRef, Vtx};
+use super::storage::{TerrainCaches, ranges_frame};
+use super::triangle::Edge;
+use super::walk::{Candidate, CellAt, Stitch, Unit, Walk};
+use crate::geodesy::sin_cos_deg;
+use crate::interval::clip_half_space;
+use crate::ray::Ray;
+use crate::real::Real;
+use crate::vec3::V3;
+use core::cell::Cell;
 mod crossed;
 
-impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
+impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
     Picker<'_, T, S, STACK, ZONES>
 {
     /// Traces the cells of a unit (§4; §5 for a coarser block), column by column: each column of cells is
@@ -59,7 +70,7 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
     #[inline]
     fn unit_trace(&self, u: &Unit, ray: &Ray<T>, t_in: T, t_out: T) -> UnitTrace<T> {
         let (o, d) = (ray.origin(), ray.dir());
-        let frame = LocalFrame::of_ranges(self.storage, &self.ellipsoid, u.rows, u.cols);
+        let frame = ranges_frame(self.storage, &self.ellipsoid, u.rows, u.cols);
         let up_tol = T::from_f64(32.0)
             * T::EPSILON
             * ((o.x.abs() + o.y.abs() + o.z.abs())

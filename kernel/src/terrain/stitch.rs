@@ -21,9 +21,15 @@
 //! border cells bound the whole latitude band in the cell's wedge: the cone's tangent plane along the middle
 //! meridian on the convex side, the chord plane on the other (`leaf.rs`, `border_wall`).
 
-use super::*;
-
-impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
+use super::error::TerrainError;
+use super::grid::NodeId;
+use super::picker::{Picker, div_ceil_pow2};
+use super::refine::{TriRef, Vtx};
+use super::storage::{TerrainCaches, vertex_ecef};
+use super::walk::{CellAt, Lookup, SideAt, Stitch, Unit, Walk};
+use crate::real::Real;
+use crate::vec3::V3;
+impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
     Picker<'_, T, S, STACK, ZONES>
 {
     /// Stitching of a coarse cell on its unit's border (this file's docs, "Continuity"): when a neighbouring

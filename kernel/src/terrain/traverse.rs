@@ -27,7 +27,7 @@
 //! handles a quad the ray enters twice (one hull over both visits), and is what the no-miss proof below needs.
 //! Traversal ends when no pending quad can be entered before the best hit, or at `t_global_exit`.
 //!
-//! When the storage gives node boxes ([`TerrainStorage::node_box`]; beyond the paper), zones and children are
+//! When the storage gives node boxes ([`TerrainCaches::node_box`]; beyond the paper), zones and children are
 //! tested against those instead: a box around all of the node's vertices in a local frame ([`boxes`]: its
 //! parent's, or the one its parent's box is in, down from nodes narrow enough to share one), so that the ray is
 //! moved into each frame once and each child costs three slabs — a small fraction of the relaxed test — and,
@@ -87,9 +87,22 @@
 //! interval is still non-empty. [`PickStats`] counts quads, triangle pairs (cells whose planar volume the ray
 //! crosses) and triangles tested per ray.
 
-use super::*;
-
-impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
+use super::boxes::FrameRay;
+use super::error::TerrainError;
+use super::grid::{Grid, Node, NodeId};
+use super::picker::{Picker, check_child, node_trig};
+use super::storage::{TerrainCaches, node_frame};
+use super::triangle::WatertightRay;
+use super::walk::{
+    Candidate, Entry, FRAMES, Lookup, PickStats, Source, Step, Unit, Walk, ZoneVolume,
+};
+use crate::geodesy::relaxed_interval;
+use crate::ray::{Ray, RayError};
+use crate::real::Real;
+use crate::sort::insertion_sort;
+use crate::surface::{Side, Surface};
+use crate::vec3::V3;
+impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
     Picker<'_, T, S, STACK, ZONES>
 {
     /// The traversal (phases 1–4 of the module docs): the nearest triangle, before the refinement.
@@ -281,7 +294,7 @@ impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
                                 let last = *frames.last().ok_or(TerrainError::MalformedTree)?;
                                 frames.push(last).map_err(|_| TerrainError::StackFull)?;
                             }
-                            let f = LocalFrame::of(self.storage, &self.ellipsoid, &node);
+                            let f = node_frame(self.storage, &self.ellipsoid, &node);
                             frames
                                 .push(f.ray(ray, span))
                                 .map_err(|_| TerrainError::StackFull)?;

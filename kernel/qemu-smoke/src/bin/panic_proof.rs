@@ -27,7 +27,10 @@ use curvicast::spherical::{CylindricalGrid, PolarGrid, SphericalGrid};
 use curvicast::surface::{AxialCone, HalfPlane, PlaneZ, Spheroid, Surface};
 use curvicast::terrain::boxes::NodeBox;
 use curvicast::terrain::subset::{BlockSubset, Quadrant};
-use curvicast::terrain::{Grid, Node, NodeId, PickStats, Picker, TerrainStorage, zone_cells};
+use curvicast::terrain::{
+    Grid, Node, NodeId, PickStats, Picker, TerrainCaches, TerrainStorage, node_box_of_vertices,
+    zone_cells,
+};
 use curvicast::tessellate::bevel::{self, Face};
 use curvicast::tessellate::chaikin::{self, Arc};
 use curvicast::tessellate::lod::{self, Bound, Shape};
@@ -203,6 +206,9 @@ impl<T: Real> TerrainStorage<T> for Opaque {
     fn block_stride(&self, id: NodeId) -> u32 {
         black_box(if id.0 == 0 { 2 } else { 1 })
     }
+}
+
+impl<T: Real> TerrainCaches<T> for Opaque {
     fn node_box(&self, id: NodeId) -> Option<NodeBox> {
         black_box(
             self.boxes
@@ -230,7 +236,7 @@ fn opaque_dem() -> Opaque {
             } else {
                 zone.as_ref()
             };
-            *b = NodeBox::of_vertices(&plain, &e, &n, anchor, shared);
+            *b = node_box_of_vertices(&plain, &e, &n, anchor, shared);
         }
     }
     Opaque {

@@ -6,7 +6,9 @@
 //! ([`Buffers`]), so that a host can keep them in vectors and still use this implementation.
 
 use super::super::boxes::NodeBox;
-use super::super::{Grid, Node, NodeId, Parallel, TerrainStorage};
+use super::super::grid::{Grid, Node, NodeId};
+use super::super::parallel::Parallel;
+use super::super::storage::{TerrainCaches, TerrainStorage};
 use super::{BoxSlot, BuildError, NodeRecord, Tree, TrigTables, check_records, half_up};
 use crate::dd::Dd;
 use crate::geodesy::Ellipsoid;
@@ -254,6 +256,9 @@ impl<T: Real, B: Buffers<T>> TerrainStorage<T> for TreeStorage<T, B> {
         }
         self.record(id).map_or(1, |r| self.tree.stride(r.level))
     }
+}
+
+impl<T: Real, B: Buffers<T>> TerrainCaches<T> for TreeStorage<T, B> {
     // Out of line: inlined, the lookup grows the kernel's per-row cache closure in its leaf walk past
     // what the compiler inlines there (callgrind: 1 500 more instructions per camera pick).
     #[inline(never)]

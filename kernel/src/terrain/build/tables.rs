@@ -5,16 +5,20 @@
 //! the caller provides, whose length a `const fn` gives ([`super::row_table_len`], [`super::col_table_len`]),
 //! the boxes into the node records that keep them ([`super::BoxSlot`]).
 
-use super::super::boxes::{BoxBuilder, LocalFrame, NodeBox, shares_frame_with_children};
-use super::super::{Grid, Node, NodeId, Parallel, TerrainStorage};
+use super::super::boxes::{BoxBuilder, NodeBox, shares_frame_with_children};
+use super::super::grid::{Grid, Node, NodeId};
+use super::super::parallel::Parallel;
+use super::super::storage::{
+    TerrainCaches, TerrainStorage, box_frame, node_box_of_vertices, node_frame,
+};
 use super::{BoxSlot, BuildError, Levels, NodeRecord, Tree, check_records, level_slots};
 use crate::dd::Dd;
 use crate::geodesy::{Ellipsoid, sin_cos_deg};
 use crate::real::Real;
 
 /// The per-row and per-column trigonometry of a grid ([`trig_tables`]), borrowed: for every vertex row `i`,
-/// [`TerrainStorage::row_sin_cos`] and [`TerrainStorage::row_parallel`]; for every column `j`,
-/// [`TerrainStorage::col_sin_cos`] and [`TerrainStorage::col_sin_cos_dd`]. In `f64`, 16 + 64 bytes per row and
+/// [`TerrainCaches::row_sin_cos`] and [`TerrainCaches::row_parallel`]; for every column `j`,
+/// [`TerrainCaches::col_sin_cos`] and [`TerrainCaches::col_sin_cos_dd`]. In `f64`, 16 + 64 bytes per row and
 /// 16 + 32 per column.
 #[derive(Debug)]
 pub struct TrigTables<'a, T> {
@@ -115,10 +119,10 @@ pub fn trig_tables<'a, T: Real>(
 /// Every node's box ([`super::super::boxes`]) into its record in `nodes` (the buffer [`super::build_tree`] or
 /// [`super::build_multires_tree`] filled as `tree`, from `heights` on `grid`), with the host's frame rule: a
 /// zone's box in the grid's frame, a child's in the frame of its parent's box where [`shares_frame_with_children`]
-/// allows it, else in its parent's own frame. Computed in `f64` as [`TerrainStorage::node_box`] requires (an
+/// allows it, else in its parent's own frame. Computed in `f64` as [`TerrainCaches::node_box`] requires (an
 /// `f32` grid and ellipsoid are converted exactly; `trig`, the tables of [`trig_tables`], spares the
 /// trigonometry of every vertex in `f64`): a leaf's from every vertex of it with data
-/// ([`NodeBox::of_vertices`]); a parent's from its children's boxes, their union where they share its frame,
+/// ([`node_box_of_vertices`]); a parent's from its children's boxes, their union where they share its frame,
 /// their corners carried over from its own frame otherwise, so that a box contains its children's and thus all
 /// of its vertices. Nodes without data, and those no zone reaches (the children a multi-resolution shape cut
 /// off), get `None`. Cost: one pass over each leaf's vertices and one over the records.
@@ -183,10 +187,10 @@ fn box_of<H: Real>(
     let (anchor, shared) = frame_of(nodes, levels, id, share)?;
     let a = anchor.and_then(|a| node64(nodes, a));
     if n.is_leaf() {
-        return NodeBox::of_vertices(view, &view.ellipsoid, &n, a.as_ref(), shared);
+        return node_box_of_vertices(view, &view.ellipsoid, &n, a.as_ref(), shared);
     }
-    let frame = LocalFrame::for_box(view, &view.ellipsoid, a.as_ref());
-    let own = LocalFrame::of(view, &view.ellipsoid, &n);
+    let frame = box_frame(view, &view.ellipsoid, a.as_ref());
+    let own = node_frame(view, &view.ellipsoid, &n);
     let (mut b, mut union) = (BoxBuilder::default(), None::<NodeBox>);
     for cid in n.children.iter().flatten() {
         let child = usize::try_from(cid.0).ok().and_then(|c| nodes.get(c));
@@ -326,6 +330,9 @@ impl<T: Real, H: Real> TerrainStorage<f64> for View64<'_, T, H> {
         let h = self.heights.get(usize::try_from(k).ok()?)?.to_f64();
         (!h.is_nan()).then_some(h)
     }
+}
+
+impl<T: Real, H: Real> TerrainCaches<f64> for View64<'_, T, H> {
     fn row_sin_cos(&self, i: u32) -> (f64, f64) {
         let cached = self
             .trig

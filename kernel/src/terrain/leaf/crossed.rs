@@ -3,9 +3,13 @@
 //! away from the axis, the rows between those of a column segment's two ends (`crossed_rows`), so that the
 //! leaf walk skips the rest.
 
-use super::*;
-
-impl<T: Real, S: TerrainStorage<T>, const STACK: usize, const ZONES: usize>
+use crate::ray::Ray;
+use crate::real::Real;
+use crate::terrain::picker::{Picker, div_ceil_pow2};
+use crate::terrain::storage::TerrainCaches;
+use crate::terrain::walk::Unit;
+use crate::vec3::V3;
+impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
     Picker<'_, T, S, STACK, ZONES>
 {
     /// The cell rows `[first, end)` of a full-resolution unit that the ray can cross within one column on

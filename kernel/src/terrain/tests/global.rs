@@ -69,7 +69,7 @@ const PEAK: [f64; 9] = [
 ];
 
 /// The hit of a ray straight down on [`PEAK`]'s summit from 10 km.
-fn pick_down_on_the_peak<S: TerrainStorage<f32>>(p: &Picker<'_, f32, S>) -> Hit<f32> {
+fn pick_down_on_the_peak<S: TerrainCaches<f32>>(p: &Picker<'_, f32, S>) -> Hit<f32> {
     let e = Ellipsoid::<f32>::wgs84();
     let top = e.geodetic_deg_to_ecef(47.01, 8.01, 10_000.0);
     let n = e.normal_rad(47.01_f32.to_radians(), 8.01_f32.to_radians());

@@ -3,7 +3,11 @@
 //! is then refined in double-double, so `t` agrees to the size of the `f64` vertices' rounding, see
 //! [`same_hit`]), and typed errors. The independent arbitrary-precision oracle lives in the host crate.
 
+use super::triangle::{Edge, WatertightRay};
 use super::*;
+use crate::geodesy::{Ellipsoid, GeodesyError, HeightQuadBounds, sin_cos_deg};
+use crate::ray::Ray;
+use crate::vec3::V3;
 use std::vec::Vec;
 
 /// The kernel's hit `got` and the brute force's `want` (both `(t, cell)`) are the same triangle, and their hit
@@ -52,8 +56,8 @@ impl Surface {
     /// Vertex `(i, j)` in pairs, as the contract has it (the refinement's parallels and meridians).
     fn vertex_dd(&self, i: u32, j: u32) -> Option<[crate::dd::Dd<f64>; 3]> {
         let h = self.h(i, j)?;
-        let (so, co) = refine::col_sin_cos_dd(&self.grid, j);
-        Some(refine::row_parallel(&self.e, &self.grid, i).ecef(so, co, h))
+        let (so, co) = parallel::col_sin_cos_dd(&self.grid, j);
+        Some(parallel::row_parallel(&self.e, &self.grid, i).ecef(so, co, h))
     }
 
     /// Brute force over every triangle with the same watertight test: the nearest `t` and its cell.
@@ -201,7 +205,9 @@ impl TerrainStorage<f64> for GridOnly {
     }
 }
 
-/// The builder's storage with [`TerrainStorage::cached_bounds`], which the builder does not provide (its
+impl TerrainCaches<f64> for GridOnly {}
+
+/// The builder's storage with [`TerrainCaches::cached_bounds`], which the builder does not provide (its
 /// node boxes stand in for it): every node's [`quad_bounds`], by node id.
 struct CachedBounds<'a> {
     inner: Storage<'a>,
@@ -237,6 +243,9 @@ impl TerrainStorage<f64> for CachedBounds<'_> {
     fn height(&self, i: u32, j: u32) -> Option<f64> {
         self.inner.height(i, j)
     }
+}
+
+impl TerrainCaches<f64> for CachedBounds<'_> {
     fn cached_bounds(&self, id: NodeId) -> Option<HeightQuadBounds<f64>> {
         self.cache.get(id.0 as usize).copied().flatten()
     }
