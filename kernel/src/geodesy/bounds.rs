@@ -44,16 +44,14 @@
 //! enters twice (two crossings of a latitude cone or of the lower sphere) yields one hull covering both visits.
 //! A terrain traversal uses a cheaper superset of the volume whose walls are all convex ([`relaxed_interval`]).
 
-use super::{Ellipsoid, GeodesyError, sin_cos_deg};
+use super::ellipsoid::{Ellipsoid, GeodesyError, sin_cos_deg};
 use crate::interval::clip_half_space;
 use crate::ray::Ray;
 use crate::real::Real;
 use crate::sort::insertion_sort;
 use crate::surface::{AxialCone, Side, Spheroid, Surface};
 use crate::vec3::V3;
-pub use relaxed::{RelaxedVolume, relaxed_interval};
 
-mod relaxed;
 #[cfg(test)]
 mod tests;
 
@@ -419,24 +417,24 @@ impl<T: Real> HeightQuadBounds<T> {
 
 /// A latitude wall before its cone is built: the latitude's sine and cosine and the (bulge-shifted) apex.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct WallApex<T> {
-    sin: T,
-    cos: T,
-    apex: T,
+pub(super) struct WallApex<T> {
+    pub(super) sin: T,
+    pub(super) cos: T,
+    pub(super) apex: T,
 }
 
 /// The parts of a quad's volume that need no trigonometry beyond `trig` (module docs, items 1–4): the
 /// bulge-shifted apexes of the latitude walls it includes, and the longest triangle edge `d`, from which
 /// [`LatitudeParts::height_walls`] forms the upper spheroid and the lower sphere.
-struct LatitudeParts<T> {
-    d: T,
-    south: Option<WallApex<T>>,
-    north: Option<WallApex<T>>,
+pub(super) struct LatitudeParts<T> {
+    pub(super) d: T,
+    pub(super) south: Option<WallApex<T>>,
+    pub(super) north: Option<WallApex<T>>,
 }
 
 impl<T: Real> LatitudeParts<T> {
     /// Checks the quad's parameters and forms its latitude walls.
-    fn new(
+    pub(super) fn new(
         e: &Ellipsoid<T>,
         trig: &QuadTrig<T>,
         h_min: T,
@@ -509,7 +507,7 @@ impl<T: Real> LatitudeParts<T> {
     }
 
     /// The upper spheroid and the radius of the lower sphere (sagitta included).
-    fn height_walls(
+    pub(super) fn height_walls(
         &self,
         e: &Ellipsoid<T>,
         h_min: T,
@@ -521,7 +519,7 @@ impl<T: Real> LatitudeParts<T> {
 }
 
 /// Clips `[lo, hi]` to the meridian planes of `wedge` (each inflated like the point tests); false when empty.
-fn clip_wedge<T: Real>(lo: &mut T, hi: &mut T, wedge: Wedge<T>, ray: &Ray<T>) -> bool {
+pub(super) fn clip_wedge<T: Real>(lo: &mut T, hi: &mut T, wedge: Wedge<T>, ray: &Ray<T>) -> bool {
     let (o, d) = (ray.origin(), ray.dir());
     let tau = T::from_f64(64.0) * T::EPSILON;
     let t_abs = ray.t_min().abs().max(ray.t_max().abs());
@@ -538,7 +536,12 @@ fn clip_wedge<T: Real>(lo: &mut T, hi: &mut T, wedge: Wedge<T>, ray: &Ray<T>) ->
 }
 
 /// Clips `[lo, hi]` (within the ray's interval) to the inside of the upper spheroid; false when empty.
-fn clip_upper<T: Real>(lo: &mut T, hi: &mut T, upper: &Spheroid<T>, ray: &Ray<T>) -> bool {
+pub(super) fn clip_upper<T: Real>(
+    lo: &mut T,
+    hi: &mut T,
+    upper: &Spheroid<T>,
+    ray: &Ray<T>,
+) -> bool {
     let cr = upper.crossings(ray);
     if cr.is_empty() {
         // No crossing within the ray's interval: all of it lies on one side.
@@ -584,7 +587,7 @@ fn inside_spheroid<T: Real>(upper: &Spheroid<T>, p: V3<T>, slack: T) -> bool {
 
 /// A bound (metres, with a margin) on the rounding of a point `p + t·d` computed for `t` in `[lo, hi]`.
 #[inline]
-fn ray_point_slack<T: Real>(ray: &Ray<T>, lo: T, hi: T) -> T {
+pub(super) fn ray_point_slack<T: Real>(ray: &Ray<T>, lo: T, hi: T) -> T {
     let (o, d) = (ray.origin(), ray.dir());
     let tau = T::from_f64(64.0) * T::EPSILON;
     tau * ((o.x.abs() + o.y.abs() + o.z.abs())

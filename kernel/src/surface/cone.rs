@@ -27,7 +27,7 @@
 //! measures below `1 ε·S` in f64 over 100 000 random rays). Forward error along the ray is that divided by the
 //! sine of the crossing angle: it grows only near tangency, where the problem itself is ill-conditioned.
 
-use super::{Crossings, Side, Surface, SurfaceError, side_of_sign, stable_quadratic};
+use super::crossing::{Crossings, Side, Surface, SurfaceError, side_of_sign, stable_quadratic};
 use crate::ray::{Line, Ray};
 use crate::real::Real;
 use crate::vec3::V3;

@@ -15,7 +15,7 @@
 //! |p + t d|); along the ray that is divided by the sine of the crossing angle. The side test is exact in sign
 //! except when `(p × d)_z` is within rounding of 0, i.e. when the line passes within `~ε·S` of the z axis.
 
-use super::{Crossings, Side, Surface, SurfaceError, side_of_sign};
+use super::crossing::{Crossings, Side, Surface, SurfaceError, side_of_sign};
 use crate::ray::{Line, Ray};
 use crate::real::Real;
 use crate::vec3::V3;

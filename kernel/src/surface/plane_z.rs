@@ -3,7 +3,7 @@
 //! `t = (c − p_z) / d_z`: one subtraction and one division, so the computed point is within `ε(|c| + |p_z|)` of
 //! the plane in z (backward error ≤ 2ε·S), and the crossing side is the sign of `d_z`.
 
-use super::{Crossings, Side, Surface, SurfaceError, side_of_sign};
+use super::crossing::{Crossings, Side, Surface, SurfaceError, side_of_sign};
 use crate::ray::{Line, Ray};
 use crate::real::Real;
 use crate::vec3::V3;

@@ -18,7 +18,7 @@
 //! between ray and surface, so it grows only in the near-tangent band, where the problem itself is
 //! ill-conditioned. For `a ≠ b` the scaling of z adds one rounding (`ε·S`). The host oracle measures both.
 
-use super::{
+use super::crossing::{
     Crossings, Side, Surface, SurfaceError, side_of_sign, sign_of, stable_quadratic_signed,
 };
 use crate::ray::{Line, Ray};
@@ -353,12 +353,12 @@ mod tests {
         let (pp, dd, pd) = (line.origin().length_squared(), line.dd(), line.pd());
         let ww = line.p_cross_d().length_squared();
         let disc = dd - ww;
-        let (s_in, s_out) = super::super::stable_quadratic_signed(
+        let (s_in, s_out) = crate::surface::crossing::stable_quadratic_signed(
             dd,
             pd,
             pp - 1.0,
             disc.sqrt(),
-            super::super::sign_of(pd),
+            crate::surface::crossing::sign_of(pd),
         );
         assert!(s_in > s_out, "not a reversed pair: {s_in} {s_out}");
         let mid = s_in * 0.5 + s_out * 0.5;

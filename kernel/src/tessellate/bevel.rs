@@ -54,7 +54,7 @@
 //! # Ok::<(), curvicast::tessellate::TessellateError>(())
 //! ```
 
-use super::{TessellateError, need};
+use super::error::{TessellateError, need};
 use crate::real::Real;
 use crate::vec3::V3;
 

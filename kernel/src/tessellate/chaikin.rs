@@ -36,7 +36,7 @@
 //! # Ok::<(), curvicast::tessellate::TessellateError>(())
 //! ```
 
-use super::{TessellateError, need};
+use super::error::{TessellateError, need};
 use crate::real::Real;
 
 /// The deepest level accepted: `2^21` points per arc, so every length fits a 32-bit `usize`.

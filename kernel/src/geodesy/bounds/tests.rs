@@ -1,4 +1,5 @@
 use super::*;
+use crate::geodesy::relaxed::{RelaxedVolume, relaxed_interval};
 
 #[test]
 fn sagitta_of_a_chord_on_the_sphere_is_bounded() {

@@ -5,14 +5,15 @@
 //! borrowed slices ([`SliceStorage`]: a static array will do) or owned by the caller's own type
 //! ([`Buffers`]), so that a host can keep them in vectors and still use this implementation.
 
-use super::super::boxes::NodeBox;
-use super::super::grid::{Grid, Node, NodeId};
-use super::super::parallel::Parallel;
-use super::super::storage::{TerrainCaches, TerrainStorage};
-use super::{BoxSlot, BuildError, NodeRecord, Tree, TrigTables, check_records, half_up};
+use super::tables::TrigTables;
+use super::tree::{BoxSlot, BuildError, NodeRecord, Tree, check_records, half_up};
 use crate::dd::Dd;
 use crate::geodesy::Ellipsoid;
 use crate::real::Real;
+use crate::terrain::boxes::NodeBox;
+use crate::terrain::grid::{Grid, Node, NodeId};
+use crate::terrain::parallel::Parallel;
+use crate::terrain::storage::{TerrainCaches, TerrainStorage};
 use core::sync::atomic::{AtomicBool, Ordering};
 
 /// The buffers of a [`TreeStorage`], borrowed: the heights (`H`: the samples' own scalar type, converted

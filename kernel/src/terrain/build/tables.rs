@@ -5,16 +5,19 @@
 //! the caller provides, whose length a `const fn` gives ([`super::row_table_len`], [`super::col_table_len`]),
 //! the boxes into the node records that keep them ([`super::BoxSlot`]).
 
-use super::super::boxes::{BoxBuilder, NodeBox, shares_frame_with_children};
-use super::super::grid::{Grid, Node, NodeId};
-use super::super::parallel::Parallel;
-use super::super::storage::{
-    TerrainCaches, TerrainStorage, box_frame, node_box_of_vertices, node_frame,
+use super::tree::{
+    BoxSlot, BuildError, Levels, NodeRecord, Tree, check_records, col_table_len, level_slots,
+    row_table_len,
 };
-use super::{BoxSlot, BuildError, Levels, NodeRecord, Tree, check_records, level_slots};
 use crate::dd::Dd;
 use crate::geodesy::{Ellipsoid, sin_cos_deg};
 use crate::real::Real;
+use crate::terrain::boxes::{BoxBuilder, NodeBox, shares_frame_with_children};
+use crate::terrain::grid::{Grid, Node, NodeId};
+use crate::terrain::parallel::{self, Parallel};
+use crate::terrain::storage::{
+    TerrainCaches, TerrainStorage, box_frame, node_box_of_vertices, node_frame,
+};
 
 /// The per-row and per-column trigonometry of a grid ([`trig_tables`]), borrowed: for every vertex row `i`,
 /// [`TerrainCaches::row_sin_cos`] and [`TerrainCaches::row_parallel`]; for every column `j`,
@@ -57,10 +60,7 @@ impl<T: Real> TrigTables<'_, T> {
 
     /// Whether the tables have one entry per row and per column of `grid`.
     pub fn fits(&self, grid: &Grid<T>) -> bool {
-        let (r, c) = (
-            super::row_table_len(grid.rows),
-            super::col_table_len(grid.cols),
-        );
+        let (r, c) = (row_table_len(grid.rows), col_table_len(grid.cols));
         self.row_sin_cos.len() == r
             && self.row_parallel.len() == r
             && self.col_sin_cos.len() == c
@@ -83,10 +83,7 @@ pub fn trig_tables<'a, T: Real>(
     if !grid.validate() {
         return Err(BuildError::InvalidGrid);
     }
-    let (r, c) = (
-        super::row_table_len(grid.rows),
-        super::col_table_len(grid.cols),
-    );
+    let (r, c) = (row_table_len(grid.rows), col_table_len(grid.cols));
     if row_sin_cos.len() != r
         || row_parallel.len() != r
         || col_sin_cos.len() != c
@@ -99,14 +96,14 @@ pub fn trig_tables<'a, T: Real>(
         .zip(row_parallel.iter_mut())
     {
         *sc = sin_cos_deg(grid.lat_deg(i));
-        *par = super::super::row_parallel(ellipsoid, grid, i);
+        *par = parallel::row_parallel(ellipsoid, grid, i);
     }
     for ((j, sc), dd) in (0..grid.cols)
         .zip(col_sin_cos.iter_mut())
         .zip(col_sin_cos_dd.iter_mut())
     {
         *sc = sin_cos_deg(grid.lon_deg(j));
-        *dd = super::super::col_sin_cos_dd(grid, j);
+        *dd = parallel::col_sin_cos_dd(grid, j);
     }
     Ok(TrigTables {
         row_sin_cos,

@@ -2,7 +2,11 @@
 //! cheap witnesses and guarantees that decide most levels, and the exhaustive octant walk for the rest (the
 //! steps of the [`super`] module docs).
 
-use super::*;
+use super::sphere::worst_case;
+use crate::real::Real;
+use crate::tessellate::bevel::{MAX_LEVEL, normalized, tangent_planes_meet};
+use crate::tessellate::error::{MAX_AXIS_RATIO, TessellateError};
+use crate::vec3::V3;
 
 /// The exact worst case of an ellipsoid's polyhedron at one level, from [`ellipsoid_worst_case`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -22,7 +26,7 @@ pub struct EllipsoidWorstCase<T> {
 ///
 /// # Errors
 /// [`TessellateError::LevelTooDeep`] above [`MAX_LEVEL`], [`TessellateError::InvalidShape`] and
-/// [`TessellateError::AxisRatioTooLarge`] as for [`min_level`].
+/// [`TessellateError::AxisRatioTooLarge`] as for [`min_level`](crate::tessellate::lod::min_level).
 pub fn ellipsoid_worst_case<T: Real>(
     axes: [T; 3],
     level: u32,
@@ -53,12 +57,6 @@ pub fn ellipsoid_worst_case<T: Real>(
 // ---------------------------------------------------------------------------------------------------------------
 // Ellipsoids: witnesses, guarantees and the exhaustive octant walk.
 // ---------------------------------------------------------------------------------------------------------------
-
-/// The largest ratio of an ellipsoid's largest to smallest semi-axis that [`min_level`] and
-/// [`ellipsoid_worst_case`] accept (`AxisRatioTooLarge` beyond). A fuzz input at 7e134 : 1 made the closest-point
-/// solver report a zero deviation; the method is checked (against built polyhedra, and against the unpruned
-/// walk) far below this limit.
-pub const MAX_AXIS_RATIO: f64 = 1.0e6;
 
 /// The ellipsoid scaled so that its largest semi-axis is 1 (`a`), with `a²` and `1/a` per axis.
 #[derive(Debug, Clone, Copy)]

@@ -1,5 +1,7 @@
+use super::super::bevel::tangent_planes_meet;
 use super::ellipsoid::{decide_cheaply, leaf_at, witness_targets};
 use super::*;
+use crate::vec3::V3;
 
 #[test]
 fn worst_case_matches_the_papers_numbers() {

@@ -1,9 +1,18 @@
-//! The relaxed volume of a height-quad (beyond the paper): a convex superset of [`super::HeightQuadBounds`] that
+//! The relaxed volume of a height-quad (beyond the paper): a convex superset of [`HeightQuadBounds`] that
 //! a terrain traversal tests instead, with each latitude cone replaced by a plane bounding its side (the tangent
 //! plane along the middle meridian on the convex side, the chord plane through the generators at the quad's
 //! meridians on the other), so that the ray's hull needs no point tests.
 
-use super::*;
+use super::bounds::{
+    HeightQuadBounds, LatitudeParts, QuadTrig, WallApex, Wedge, clip_upper, clip_wedge,
+    ray_point_slack,
+};
+use super::ellipsoid::{Ellipsoid, GeodesyError};
+use crate::interval::clip_half_space;
+use crate::ray::Ray;
+use crate::real::Real;
+use crate::surface::{Side, Spheroid, Surface};
+use crate::vec3::V3;
 
 /// The middle meridian of a wedge narrower than 180° from its walls' sines and cosines: `(cos λm, sin λm)`, and
 /// `cos(Δλ/2)` lowered by a few ε so that the rounding of λm and of the span cannot make a chord plane too tight.
