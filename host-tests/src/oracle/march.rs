@@ -39,18 +39,18 @@
 //!   [`MarchOracle::check_structure`] on the oracle's own output.
 //! * A ray that touches the domain at a single point (no interval of positive length inside) produces nothing.
 
+use super::precise::{RM, bf, with_consts};
 use crate::scenes::spec::{GridSpec, RaySpec};
-use astro_float::{BigFloat, Consts, RoundingMode, Sign};
+use astro_float::BigFloat;
 use std::fmt;
 
 /// Working precision of the oracle in bits.
 pub const PRECISION: usize = 384;
-const RM: RoundingMode = RoundingMode::ToEven;
 
 type B = BigFloat;
 
 fn hp(x: f64) -> B {
-    BigFloat::from_f64(x, PRECISION)
+    bf(x, PRECISION)
 }
 fn add(a: &B, b: &B) -> B {
     a.add(b, PRECISION, RM)
@@ -89,36 +89,7 @@ fn min_b(a: B, b: B) -> B {
     if lt(&b, &a) { b } else { a }
 }
 
-/// Rounds a high-precision number to the nearest `f64` (ties to even).
-pub fn to_f64(a: &B) -> f64 {
-    if a.is_nan() {
-        return f64::NAN;
-    }
-    if a.is_inf_pos() {
-        return f64::INFINITY;
-    }
-    if a.is_inf_neg() {
-        return f64::NEG_INFINITY;
-    }
-    if a.is_zero() {
-        return 0.0;
-    }
-    let mut r = a.clone();
-    if r.set_precision(53, RM).is_err() {
-        return f64::NAN;
-    }
-    match r.as_raw_parts() {
-        Some((m, _, s, e, _)) => {
-            // 64-bit words (the host targets): one word holds the 53-bit mantissa
-            let top: u64 = m.last().copied().unwrap_or(0);
-            // value = 0.top × 2^e with the top word's highest bit the leading bit
-            let v = (top as f64) * 2f64.powi(-64);
-            let v = v * 2f64.powi(e / 2) * 2f64.powi(e - e / 2);
-            if s == Sign::Neg { -v } else { v }
-        }
-        None => f64::NAN,
-    }
-}
+pub use super::precise::to_f64;
 
 /// The kind of grid.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -223,7 +194,7 @@ fn is_full_turn(p0: f64, p1: f64, eps: f64) -> bool {
     p1 - p0 >= std::f64::consts::TAU * (1.0 - 8.0 * eps)
 }
 
-fn hp_cos_sin(a: f64, cc: &mut Consts) -> Dir2 {
+fn hp_cos_sin(a: f64) -> Dir2 {
     if a == 0.0 {
         return Dir2 {
             c: hp(1.0),
@@ -231,10 +202,10 @@ fn hp_cos_sin(a: f64, cc: &mut Consts) -> Dir2 {
         };
     }
     let x = hp(a);
-    Dir2 {
+    with_consts(|cc| Dir2 {
         c: x.cos(PRECISION, RM, cc),
         s: x.sin(PRECISION, RM, cc),
-    }
+    })
 }
 
 /// The ray in high precision, relative to the grid's center.
@@ -272,7 +243,6 @@ impl MarchOracle {
     /// As [`MarchOracle::new`] for a grid used in a precision of machine epsilon `eps` (this only sets the
     /// full-turn tolerance of the azimuth range, see the module docs).
     pub fn new_for(spec: &GridSpec, eps: f64) -> Result<Self, SpecError> {
-        let mut cc = Consts::new().map_err(|e| SpecError(format!("astro-float: {e:?}")))?;
         let (kind, center, radii, theta, phi, zs) = match spec {
             GridSpec::Spherical {
                 center,
@@ -336,7 +306,7 @@ impl MarchOracle {
             check_list("z", &zs)?;
         }
         let full = is_full_turn(phi[0], phi[phi.len() - 1], eps);
-        let mut azim: Vec<Dir2> = phi.iter().map(|&a| hp_cos_sin(a, &mut cc)).collect();
+        let mut azim: Vec<Dir2> = phi.iter().map(|&a| hp_cos_sin(a)).collect();
         if full {
             let first = azim[0].clone();
             if let Some(last) = azim.last_mut() {
@@ -357,7 +327,7 @@ impl MarchOracle {
                         s: hp(0.0),
                     }
                 } else {
-                    hp_cos_sin(a, &mut cc)
+                    hp_cos_sin(a)
                 }
             })
             .collect();

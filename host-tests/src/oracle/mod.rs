@@ -5,5 +5,6 @@
 
 pub mod march;
 pub mod multires;
+pub mod precise;
 pub mod surfaces;
 pub mod terrain;

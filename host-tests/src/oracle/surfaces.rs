@@ -43,8 +43,9 @@
 //! assert_eq!(c[0].sin_angle, 1.0); // head-on
 //! ```
 
-use astro_float::{BigFloat, Consts, RoundingMode, Sign};
-use std::cell::RefCell;
+pub use super::precise::to_f64 as round_to_f64;
+use super::precise::{RM, with_consts};
+use astro_float::BigFloat;
 use std::cmp::Ordering;
 
 /// Working precision of the oracle, in bits.
@@ -56,12 +57,6 @@ use std::cmp::Ordering;
 /// kernel's best mode, and a root computed by cancellation (`−B + √(B² − AC)`) keeps more than 53 correct bits
 /// unless it is 2^-190 times smaller than the ray's scale.
 pub const PRECISION: usize = 256;
-
-const RM: RoundingMode = RoundingMode::ToEven;
-
-thread_local! {
-    static CONSTS: RefCell<Option<Consts>> = const { RefCell::new(None) };
-}
 
 /// A high-precision number (a thin wrapper for readable arithmetic).
 #[derive(Clone, Debug)]
@@ -154,72 +149,6 @@ impl H {
     fn to_f64(&self) -> f64 {
         round_to_f64(&self.0)
     }
-}
-
-fn with_consts<R>(f: impl FnOnce(&mut Consts) -> R) -> R {
-    CONSTS.with(|c| {
-        let mut c = c.borrow_mut();
-        // Consts::new only fails on allocation failure.
-        #[allow(clippy::expect_used)]
-        let cc = c.get_or_insert_with(|| Consts::new().expect("astro-float constants cache"));
-        f(cc)
-    })
-}
-
-/// Rounds a high-precision number to the nearest `f64` (ties to even). Values beyond the `f64` range become
-/// infinities; values below the normal range are rounded twice (to 53 bits, then by the multiplication into the
-/// subnormal range), which never matters for the magnitudes the oracle returns.
-pub fn round_to_f64(x: &BigFloat) -> f64 {
-    if x.is_nan() {
-        return f64::NAN;
-    }
-    if x.is_inf_pos() {
-        return f64::INFINITY;
-    }
-    if x.is_inf_neg() {
-        return f64::NEG_INFINITY;
-    }
-    if x.is_zero() {
-        return 0.0;
-    }
-    let Some((words, _bits, sign, exponent, _inexact)) = x.as_raw_parts() else {
-        return f64::NAN;
-    };
-    // The mantissa is little-endian in words with the most significant bit of the last word set:
-    // x = 0.m × 2^exponent.
-    let n = words.len();
-    let top: u64 = words.get(n.wrapping_sub(1)).copied().unwrap_or(0);
-    let sticky_low = words.iter().take(n.saturating_sub(1)).any(|&w| w != 0);
-    let kept_bits = 53u32;
-    let shift = 64 - kept_bits; // 11
-    let mut kept = top >> shift;
-    let rem = top & ((1u64 << shift) - 1);
-    let half = 1u64 << (shift - 1);
-    let round_up = rem > half || (rem == half && (sticky_low || kept & 1 == 1));
-    let mut e: i32 = exponent - kept_bits as i32;
-    if round_up {
-        kept += 1;
-        if kept == 1u64 << kept_bits {
-            kept >>= 1;
-            e += 1;
-        }
-    }
-    let mag = kept as f64 * pow2(e);
-    if sign == Sign::Neg { -mag } else { mag }
-}
-
-/// 2^e as an f64 product of in-range factors (so that very large or small e saturate gracefully).
-fn pow2(mut e: i32) -> f64 {
-    let mut r = 1.0f64;
-    while e > 1000 {
-        r *= 2f64.powi(1000);
-        e -= 1000;
-    }
-    while e < -1000 {
-        r *= 2f64.powi(-1000);
-        e += 1000;
-    }
-    r * 2f64.powi(e)
 }
 
 /// Which scalar type's special angle values the kernel under test recognises exactly (π/2 and π for a cone).

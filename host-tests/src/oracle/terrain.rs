@@ -26,12 +26,14 @@
 //! triangles touching it degenerate to segments or keep one edge on the axis); longitudes past ±180° are just
 //! angles.
 
+pub(crate) use super::precise::RM;
+pub use super::precise::to_f64;
+use super::precise::with_consts;
 use crate::scenes::spec::RaySpec;
 use crate::scenes::terrain::{Dem, geodetic_to_ecef_f64};
-use astro_float::{BigFloat, Consts, RoundingMode};
+use astro_float::{BigFloat, Consts};
 
 pub(crate) const P: usize = 256;
-pub(crate) const RM: RoundingMode = RoundingMode::ToEven;
 const CHUNK: usize = 8;
 const SUPER: usize = 64;
 
@@ -127,7 +129,7 @@ pub(crate) struct Exact {
 }
 
 pub(crate) fn bf(x: f64) -> BigFloat {
-    BigFloat::from_f64(x, P)
+    super::precise::bf(x, P)
 }
 
 /// Sine and cosine of an angle in degrees at 256 bits, exact at multiples of 90° (so that a pole row lies exactly
@@ -150,7 +152,6 @@ fn deg_to_rad(deg: &BigFloat, cc: &mut Consts) -> BigFloat {
 
 impl Exact {
     pub(crate) fn new(dem: &Dem) -> Exact {
-        let mut cc = Consts::new().expect("astro-float constants");
         let a = bf(dem.a);
         let b = bf(dem.b);
         let a2 = a.mul(&a, P, RM);
@@ -160,7 +161,7 @@ impl Exact {
             .map(|i| {
                 let lat = bf(dem.lat0).add(&bf(i as f64).mul(&bf(dem.dlat), P, RM), P, RM);
                 // A row exactly at ±90° is a pole: all its vertices lie exactly on the axis (contract).
-                let (s, c) = sincos_deg_exact(&lat, &mut cc);
+                let (s, c) = with_consts(|cc| sincos_deg_exact(&lat, cc));
                 let den = a2
                     .mul(&c.mul(&c, P, RM), P, RM)
                     .add(&b2.mul(&s.mul(&s, P, RM), P, RM), P, RM)
@@ -183,7 +184,7 @@ impl Exact {
                 } else {
                     bf(dem.lon0).add(&bf(j as f64).mul(&bf(dem.dlon), P, RM), P, RM)
                 };
-                let (s, c) = sincos_deg_exact(&lon, &mut cc);
+                let (s, c) = with_consts(|cc| sincos_deg_exact(&lon, cc));
                 [c, s]
             })
             .collect();
@@ -225,28 +226,6 @@ fn dot3(a: &[BigFloat; 3], b: &[BigFloat; 3]) -> BigFloat {
     a[0].mul(&b[0], P, RM)
         .add(&a[1].mul(&b[1], P, RM), P, RM)
         .add(&a[2].mul(&b[2], P, RM), P, RM)
-}
-
-/// Rounds a 256-bit value to the nearest `f64` (via its shortest exact decimal form).
-pub fn to_f64(x: &BigFloat) -> f64 {
-    if x.is_zero() {
-        return 0.0;
-    }
-    let mut y = x.clone();
-    y.set_precision(64, RM).ok();
-    // The 64-bit mantissa word and the exponent give the value: m · 2^(e − 64).
-    match y.as_raw_parts() {
-        Some((words, _, sign, e, _)) => {
-            let top = *words.last().unwrap_or(&0);
-            let v = top as f64 * 2f64.powi(-64) * 2f64.powi(e);
-            if sign == astro_float::Sign::Neg {
-                -v
-            } else {
-                v
-            }
-        }
-        None => f64::NAN,
-    }
 }
 
 /// The brute-force oracle over one DEM. Construction computes every vertex in `f64` (for the filter) and the

@@ -3,19 +3,18 @@
 //! in `f64` pairs (about 106 bits). Criterion: relative errors below 4e-31 (pair precision is
 //! 2⁻¹⁰⁶ ≈ 1.2e-32; each step of the chain adds a few of those; measured worst 3.5e-32).
 
-use astro_float::{BigFloat, Consts, RoundingMode};
+use astro_float::{BigFloat, Consts};
 use curvicast::dd::{Dd, sin_cos_deg};
 use curvicast::geodesy::Ellipsoid;
 use curvicast::terrain::Parallel;
-use curvicast_host::oracle::terrain::to_f64;
+use curvicast_host::oracle::precise::{self, RM, to_f64, with_consts};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 const P: usize = 256;
-const RM: RoundingMode = RoundingMode::ToEven;
 
 fn bf(x: f64) -> BigFloat {
-    BigFloat::from_f64(x, P)
+    precise::bf(x, P)
 }
 
 /// The exact value of a pair.
@@ -43,7 +42,6 @@ fn random_pair(r: &mut ChaCha8Rng, lo_deg: f64, hi_deg: f64) -> Dd<f64> {
 
 #[test]
 fn pair_sin_cos_of_degrees_within_a_few_1e_30() {
-    let mut cc = Consts::new().expect("astro-float constants");
     let mut r = ChaCha8Rng::seed_from_u64(17);
     let mut worst = 0.0_f64;
     for k in 0..3000 {
@@ -57,7 +55,7 @@ fn pair_sin_cos_of_degrees_within_a_few_1e_30() {
             }
         };
         let (s, c) = sin_cos_deg(x);
-        let (se, ce) = sin_cos_exact(&pair(x), &mut cc);
+        let (se, ce) = with_consts(|cc| sin_cos_exact(&pair(x), cc));
         // Relative to the value, down to 1e-3 (below that, the absolute error of the small value itself is
         // what matters: relative to its own size, measured by the second entry of the sample set).
         let rel = |e: f64, v: &BigFloat| e / to_f64(v).abs().max(1e-12);
@@ -71,14 +69,13 @@ fn pair_sin_cos_of_degrees_within_a_few_1e_30() {
         -360.0, -270.0, -180.0, -90.0, 0.0, 90.0, 180.0, 270.0, 360.0, 720.0,
     ] {
         let (s, c) = sin_cos_deg(Dd::from(m));
-        let (se, ce) = sin_cos_exact(&bf(m), &mut cc);
+        let (se, ce) = with_consts(|cc| sin_cos_exact(&bf(m), cc));
         assert!(err(s, &se) < 1e-60 && err(c, &ce) < 1e-60, "{m}°");
     }
 }
 
 #[test]
 fn pair_ecef_of_grid_vertices_within_a_few_1e_30() {
-    let mut cc = Consts::new().expect("astro-float constants");
     let e = Ellipsoid::<f64>::wgs84();
     let (a, b) = (bf(e.a()), bf(e.b()));
     let (a2, b2) = (a.mul(&a, P, RM), b.mul(&b, P, RM));
@@ -91,8 +88,8 @@ fn pair_ecef_of_grid_vertices_within_a_few_1e_30() {
         let (sl, cl) = sin_cos_deg(lon);
         let p = Parallel::new(&e, lat).ecef(sl, cl, h);
         // Exact: N = a²/D, D = sqrt(a² cos²φ + b² sin²φ); X = (N + h) cosφ cosλ, …, Z = (N b²/a² + h) sinφ.
-        let (sp, cp) = sin_cos_exact(&pair(lat), &mut cc);
-        let (so, co) = sin_cos_exact(&pair(lon), &mut cc);
+        let (sp, cp) = with_consts(|cc| sin_cos_exact(&pair(lat), cc));
+        let (so, co) = with_consts(|cc| sin_cos_exact(&pair(lon), cc));
         let d = a2
             .mul(&cp.mul(&cp, P, RM), P, RM)
             .add(&b2.mul(&sp.mul(&sp, P, RM), P, RM), P, RM)

@@ -17,32 +17,25 @@
 //!   evaluated in 128-bit arithmetic (sin/cos of the kernel's angles in high precision);
 //! * `|h_kernel − h_reference|`.
 
-use astro_float::{BigFloat, Consts, Radix, RoundingMode};
+use astro_float::{BigFloat, Consts};
 use curvicast::geodesy::Ellipsoid;
 use curvicast::vec3::V3;
+use curvicast_host::oracle::precise::{self, RM, to_f64, with_consts};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 const P: usize = 128;
-const RM: RoundingMode = RoundingMode::ToEven;
 const A: f64 = 6_378_137.0;
 const F: f64 = 1.0 / 298.257_223_563;
 
 fn bf(x: f64) -> BigFloat {
-    BigFloat::from_f64(x, P)
+    precise::bf(x, P)
 }
 
 /// An `f64` angle in degrees, in radians in 128 bits.
 fn deg(x: f64, cc: &mut Consts) -> BigFloat {
     bf(x).mul(&cc.pi(P, RM), P, RM).div(&bf(180.0), P, RM)
-}
-
-fn to_f64(x: &BigFloat, cc: &mut Consts) -> f64 {
-    x.format(Radix::Dec, RM, cc)
-        .ok()
-        .and_then(|s| s.parse::<f64>().ok())
-        .unwrap_or(f64::NAN)
 }
 
 struct Reference {
@@ -194,7 +187,6 @@ fn measure(kind: Kind, n: usize, seed: u64) -> (f64, f64, [f64; 3]) {
         .par_iter()
         .map(|&c| {
             let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_mul(1000).wrapping_add(c));
-            let mut cc = Consts::new().expect("constants cache");
             let r = Reference::wgs84();
             let e = Ellipsoid::<f64>::wgs84();
             let mut worst = (0.0_f64, 0.0_f64, [0.0; 3]);
@@ -205,12 +197,11 @@ fn measure(kind: Kind, n: usize, seed: u64) -> (f64, f64, [f64; 3]) {
                     g.lat_rad.is_finite() && g.lon_rad.is_finite() && g.h.is_finite(),
                     "{p:?}"
                 );
-                let rt = to_f64(
-                    &r.round_trip_error(p, bf(g.lat_rad), bf(g.lon_rad), g.h, &mut cc),
-                    &mut cc,
-                );
+                let rt = to_f64(&with_consts(|cc| {
+                    r.round_trip_error(p, bf(g.lat_rad), bf(g.lon_rad), g.h, cc)
+                }));
                 let (_, _, h_ref) = r.solve(p[0].hypot(p[1]), p[2]);
-                let dh = to_f64(&bf(g.h).sub(&h_ref, P, RM), &mut cc).abs();
+                let dh = to_f64(&bf(g.h).sub(&h_ref, P, RM)).abs();
                 if rt > worst.0 {
                     worst.2 = p;
                 }
@@ -288,7 +279,6 @@ fn reverse_near_a_seed_vertex_at_terrain_heights() {
         .into_par_iter()
         .map(|chunk| {
             let mut rng = ChaCha8Rng::seed_from_u64(0x5eed_0000 + chunk);
-            let mut cc = Consts::new().expect("constants cache");
             let r = Reference::wgs84();
             let e = Ellipsoid::<f64>::wgs84();
             let (mut rt_max, mut dh_max, mut declined, mut declined_fine) =
@@ -322,10 +312,12 @@ fn reverse_near_a_seed_vertex_at_terrain_heights() {
                     continue;
                 };
                 assert!(glon > -180.0 && glon <= 180.0, "longitude {glon} for {lon}");
-                let (lat_r, lon_r) = (deg(glat, &mut cc), deg(glon, &mut cc));
-                let rt = to_f64(&r.round_trip_error(p, lat_r, lon_r, gh, &mut cc), &mut cc);
+                let rt = to_f64(&with_consts(|cc| {
+                    let (lat_r, lon_r) = (deg(glat, cc), deg(glon, cc));
+                    r.round_trip_error(p, lat_r, lon_r, gh, cc)
+                }));
                 let (_, _, h_ref) = r.solve(p[0].hypot(p[1]), p[2]);
-                let dh = to_f64(&bf(gh).sub(&h_ref, P, RM), &mut cc).abs();
+                let dh = to_f64(&bf(gh).sub(&h_ref, P, RM)).abs();
                 assert!(
                     rt < BOUND && dh < BOUND,
                     "({lat}, {lon}, {h}) seeded at ({lat0}, {lon0}): round trip {rt:e}, dh {dh:e}"
