@@ -19,3 +19,4 @@ pub mod render;
 pub mod report;
 pub mod scenes;
 pub mod storage;
+pub mod tolerances;

@@ -235,7 +235,7 @@ pub fn run_suite(
     modes: &[(Engine, Precision)],
 ) -> Vec<SuiteRow> {
     use rayon::prelude::*;
-    let bound = 16.0;
+    let bound = crate::tolerances::MARCH_F64_BOUNDARY.bound;
     let per_grid: Vec<Vec<SuiteRow>> = inputs
         .par_iter()
         .map(|(g0, rays)| {

@@ -54,6 +54,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
         tessellate::section,
         render::section,
         embedded::section,
+        crate::tolerances::section,
     ];
     let mut done = Vec::new();
     let mut md = String::from("# curvicast report\n\n");

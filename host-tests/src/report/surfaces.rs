@@ -44,6 +44,7 @@ use super::{Options, Section};
 use crate::oracle::surfaces::{
     AngleType, OracleCrossing, OracleRay, OracleSurface, PreparedSurface,
 };
+use crate::tolerances::forward_bound;
 use curvicast::F32Fast;
 use curvicast::Ray;
 use curvicast::real::Real;
@@ -130,78 +131,6 @@ impl Mode {
             Mode::F32 | Mode::F32Fast => AngleType::F32,
         }
     }
-}
-
-/// One row of the table of error bounds: what the oracle test asserts for a kind and mode, next to what was
-/// measured (in units of `ε S`; forward outside the near-tangent band, backward over every kernel crossing).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ErrorBound {
-    /// The surface family.
-    pub kind: Kind,
-    /// The scalar mode.
-    pub mode: Mode,
-    /// The largest forward error measured on [`MEASURED_RAYS`] rays (`tests/surfaces/oracle.rs: full_sweep_all_modes`).
-    pub measured_forward: f64,
-    /// The largest backward error measured on the same rays.
-    pub measured_backward: f64,
-    /// The asserted forward bound: the project's accuracy target, 16, in `f64`; 1.5 × the measured value (rounded up to
-    /// a half) in `f32` and `F32Fast`.
-    pub forward: f64,
-    /// The asserted backward bound, likewise.
-    pub backward: f64,
-}
-
-/// The sample behind [`ERROR_BOUNDS`]' measured values: 100 000 random rays per kind and mode
-/// ([`random_cases`] with the seed of `tests/surfaces/oracle.rs: full_sweep_all_modes`, which re-checks the table).
-pub const MEASURED_RAYS: usize = 100_000;
-
-const fn row(kind: Kind, mode: Mode, mf: f64, mb: f64, f: f64, b: f64) -> ErrorBound {
-    ErrorBound {
-        kind,
-        mode,
-        measured_forward: mf,
-        measured_backward: mb,
-        forward: f,
-        backward: b,
-    }
-}
-
-/// Every bound of the surface layer's oracle test and report, with its measured value: the one place they live.
-pub const ERROR_BOUNDS: [ErrorBound; 12] = [
-    row(Kind::Spheroid, Mode::F64, 3.244, 3.008, 16.0, 16.0),
-    row(Kind::Spheroid, Mode::F32, 3.359, 3.067, 5.5, 5.0),
-    row(Kind::Spheroid, Mode::F32Fast, 3.435, 3.398, 5.5, 5.5),
-    row(Kind::Cone, Mode::F64, 3.229, 1.156, 16.0, 16.0),
-    // f32 cones with an opening near π/2 (nearly a plane): the rounding of cos θ in f32 dominates.
-    row(Kind::Cone, Mode::F32, 11.425, 5.449, 17.5, 8.5),
-    row(Kind::Cone, Mode::F32Fast, 11.425, 5.449, 17.5, 8.5),
-    row(Kind::HalfPlane, Mode::F64, 3.085, 1.311, 16.0, 16.0),
-    row(Kind::HalfPlane, Mode::F32, 2.806, 1.522, 4.5, 2.5),
-    row(Kind::HalfPlane, Mode::F32Fast, 2.806, 1.522, 4.5, 2.5),
-    row(Kind::PlaneZ, Mode::F64, 1.339, 1.081, 16.0, 16.0),
-    row(Kind::PlaneZ, Mode::F32, 1.719, 1.380, 3.0, 2.5),
-    row(Kind::PlaneZ, Mode::F32Fast, 1.719, 1.380, 3.0, 2.5),
-];
-
-/// The row of [`ERROR_BOUNDS`] for a kind and mode.
-pub fn error_bound(kind: Kind, mode: Mode) -> ErrorBound {
-    ERROR_BOUNDS
-        .iter()
-        .copied()
-        .find(|b| b.kind == kind && b.mode == mode)
-        .unwrap_or(row(kind, mode, f64::NAN, f64::NAN, 16.0, 16.0))
-}
-
-/// The forward-error bound `B` (in units of `ε S`, outside the near-tangent band) asserted by the oracle test for a
-/// kind and mode, and used to size the ambiguity zones (see the module docs): [`ERROR_BOUNDS`].
-pub fn forward_bound(kind: Kind, mode: Mode) -> f64 {
-    error_bound(kind, mode).forward
-}
-
-/// The backward-error bound (in units of `ε S_k`, over every kernel crossing, in the band too) asserted by the oracle
-/// test: [`ERROR_BOUNDS`].
-pub fn backward_bound(kind: Kind, mode: Mode) -> f64 {
-    error_bound(kind, mode).backward
 }
 
 /// One ray–surface case over `t ∈ [0, ∞)`, in `f64` data.
@@ -648,171 +577,6 @@ pub fn compare(
     out
 }
 
-/// Worst cases and totals of one kind in one mode.
-#[derive(Debug, Clone, Default)]
-pub struct Stats {
-    /// Rays compared.
-    pub rays: usize,
-    /// Oracle crossings seen.
-    pub crossings: usize,
-    /// Of those, in the near-tangent band.
-    pub in_band: usize,
-    /// Largest forward error outside the band (units of `ε S`), and the case.
-    pub max_forward: (f64, Option<SurfaceCase>),
-    /// Largest backward error (units of `ε S_k`), and the case.
-    pub max_backward: (f64, Option<SurfaceCase>),
-    /// Count/side disagreements outside the band and ambiguity zones.
-    pub mismatches: usize,
-    /// The first few of them, described.
-    pub mismatch_examples: Vec<String>,
-}
-
-impl Stats {
-    fn add(&mut self, case: &SurfaceCase, r: &CaseOutcome) {
-        self.rays += 1;
-        self.crossings += r.oracle_crossings;
-        self.in_band += r.in_band;
-        if r.forward > self.max_forward.0 {
-            self.max_forward = (r.forward, Some(*case));
-        }
-        if r.backward > self.max_backward.0 {
-            self.max_backward = (r.backward, Some(*case));
-        }
-        if let Some(m) = &r.mismatch {
-            self.mismatches += 1;
-            if self.mismatch_examples.len() < 5 {
-                self.mismatch_examples.push(format!("{case:?}: {m}"));
-            }
-        }
-    }
-    fn merge(mut self, o: Stats) -> Stats {
-        self.rays += o.rays;
-        self.crossings += o.crossings;
-        self.in_band += o.in_band;
-        if o.max_forward.0 > self.max_forward.0 {
-            self.max_forward = o.max_forward;
-        }
-        if o.max_backward.0 > self.max_backward.0 {
-            self.max_backward = o.max_backward;
-        }
-        self.mismatches += o.mismatches;
-        for m in o.mismatch_examples {
-            if self.mismatch_examples.len() < 5 {
-                self.mismatch_examples.push(m);
-            }
-        }
-        self
-    }
-}
-
-/// Compares the kernel with the oracle on every case in each of `modes`, in parallel. The oracle runs once for the
-/// `f64` data and once for the `f32` data (shared by both `f32` modes), and prepares each surface once per run of
-/// consecutive cases that share it. Returns one [`Stats`] per mode, in order.
-pub fn evaluate(cases: &[SurfaceCase], modes: &[Mode]) -> Vec<Stats> {
-    let n = modes.len();
-    let need64 = modes.contains(&Mode::F64);
-    let need32 = modes.iter().any(|m| *m != Mode::F64);
-    cases
-        .par_chunk_by(|a, b| a.kind == b.kind && a.p == b.p)
-        .fold(
-            || vec![Stats::default(); n],
-            |mut acc, group| {
-                let Some(first) = group.first() else {
-                    return acc;
-                };
-                let s64 = need64.then(|| first.oracle_surface(AngleType::F64).prepare());
-                let s32 = need32.then(|| first.to_f32().oracle_surface(AngleType::F32).prepare());
-                for case in group {
-                    let o64 = s64.as_ref().map(|s| oracle_answer_on(s, case));
-                    let o32 = s32.as_ref().map(|s| oracle_answer_on(s, &case.to_f32()));
-                    for (slot, &mode) in acc.iter_mut().zip(modes) {
-                        let o = match mode {
-                            Mode::F64 => o64.as_ref(),
-                            _ => o32.as_ref(),
-                        };
-                        let Some(o) = o else { continue };
-                        let k = kernel_crossings_in(mode, case);
-                        let r = compare(case.kind, mode, o, &k);
-                        slot.add(&case.for_mode(mode), &r);
-                    }
-                }
-                acc
-            },
-        )
-        .reduce(
-            || vec![Stats::default(); n],
-            |a, b| a.into_iter().zip(b).map(|(x, y)| x.merge(y)).collect(),
-        )
-}
-
-/// Kernel surfaces of one kind in scalar `T`, for timing.
-fn time_kind<T: Real, S: Surface<T>>(surfaces: &[S], rays: &[Ray<T>], reps: usize) -> f64 {
-    let mut per = Vec::with_capacity(reps);
-    let n = rays.len().max(1);
-    let mut sink = 0usize;
-    // warm-up pass
-    for (s, r) in surfaces.iter().zip(rays) {
-        sink += black_box(s.crossings(black_box(r))).len();
-    }
-    for _ in 0..reps {
-        let t0 = Instant::now();
-        for (s, r) in surfaces.iter().zip(rays) {
-            sink += black_box(s.crossings(black_box(r))).len();
-        }
-        per.push(t0.elapsed().as_nanos() as f64 / n as f64);
-    }
-    black_box(sink);
-    per.sort_by(|a, b| a.total_cmp(b));
-    per[per.len() / 2]
-}
-
-/// The median ns per intersection for one kind and mode over the given cases (rounded to the mode first).
-pub fn median_ns(kind: Kind, mode: Mode, cases: &[SurfaceCase], reps: usize) -> f64 {
-    fn go<T: Real>(kind: Kind, cases: &[SurfaceCase], reps: usize) -> f64 {
-        let rays: Vec<Ray<T>> = cases
-            .iter()
-            .filter_map(|c| kernel_ray::<T>(c).ok())
-            .collect();
-        let p = |c: &SurfaceCase| (T::from_f64(c.p[0]), T::from_f64(c.p[1]));
-        match kind {
-            Kind::Spheroid => {
-                let s: Vec<_> = cases
-                    .iter()
-                    .filter_map(|c| Spheroid::new(p(c).0, p(c).1).ok())
-                    .collect();
-                time_kind(&s, &rays, reps)
-            }
-            Kind::Cone => {
-                let s: Vec<_> = cases
-                    .iter()
-                    .filter_map(|c| AxialCone::from_zenith_rad(p(c).0, p(c).1).ok())
-                    .collect();
-                time_kind(&s, &rays, reps)
-            }
-            Kind::HalfPlane => {
-                let s: Vec<_> = cases
-                    .iter()
-                    .filter_map(|c| HalfPlane::from_azimuth_rad(p(c).0).ok())
-                    .collect();
-                time_kind(&s, &rays, reps)
-            }
-            Kind::PlaneZ => {
-                let s: Vec<_> = cases
-                    .iter()
-                    .filter_map(|c| PlaneZ::new(p(c).0).ok())
-                    .collect();
-                time_kind(&s, &rays, reps)
-            }
-        }
-    }
-    let cs: Vec<SurfaceCase> = cases.iter().map(|c| c.for_mode(mode)).collect();
-    match mode {
-        Mode::F64 => go::<f64>(kind, &cs, reps),
-        Mode::F32 => go::<f32>(kind, &cs, reps),
-        Mode::F32Fast => go::<F32Fast>(kind, &cs, reps),
-    }
-}
-
 /// The report section: per kind × mode, median ns per intersection and the largest errors against the oracle.
 pub fn section(opts: &Options) -> anyhow::Result<Section> {
     let (n_time, reps, n_err) = if opts.quick {
@@ -889,3 +653,9 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
         markdown: md,
     })
 }
+
+mod timing;
+pub use timing::*;
+
+mod evaluate;
+pub use evaluate::*;

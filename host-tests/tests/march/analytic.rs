@@ -16,7 +16,7 @@ use curvicast::spherical::{CellCrossing, SphericalGrid};
 use rand::{Rng, SeedableRng};
 use std::f64::consts::{PI, TAU};
 
-const TOL: f64 = 1e-12;
+const TOL: f64 = curvicast_host::tolerances::MARCH_ANALYTIC_REL.bound;
 
 use crate::support::uniform;
 

@@ -15,6 +15,7 @@ use curvicast_host::march_run::{self as run, Engine, Precision};
 use curvicast_host::oracle::march::{KernelCrossing, MarchOracle, compare};
 use curvicast_host::scenes::march_cases::{self as mc, Case};
 use curvicast_host::scenes::spec::{GridSpec, RaySpec};
+use curvicast_host::tolerances::MARCH_F64_BOUNDARY;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 fn sph(r: &[f64], theta: &[f64], phi: &[f64]) -> GridSpec {
@@ -237,7 +238,7 @@ fn check_cases(cases: Vec<Case>) {
                         }
                     };
                     row.1 += 1;
-                    let bound = (p == Precision::F64).then_some(16.0);
+                    let bound = (p == Precision::F64).then_some(MARCH_F64_BOUNDARY.bound);
                     match compare(&o, &reference, &k, p.eps(), bound) {
                         Ok(s) => {
                             row.2 += 1;
@@ -413,7 +414,14 @@ fn far_ray_regression(name: &'static str, grid: GridSpec, ray: RaySpec, limit: f
     let reference = o.march(&ray);
     for e in [Engine::Serial, Engine::Separable] {
         let k = run::run_engine(&grid, &ray, e, Precision::F64).unwrap();
-        let s = compare(&o, &reference, &k, Precision::F64.eps(), Some(16.0)).unwrap();
+        let s = compare(
+            &o,
+            &reference,
+            &k,
+            Precision::F64.eps(),
+            Some(MARCH_F64_BOUNDARY.bound),
+        )
+        .unwrap();
         println!("{name} {e:?}: max backward {:.2} eps·L", s.max_backward_eps);
         assert!(
             s.max_backward_eps <= limit,

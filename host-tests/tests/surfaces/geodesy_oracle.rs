@@ -223,7 +223,7 @@ fn measure(kind: Kind, n: usize, seed: u64) -> (f64, f64, [f64; 3]) {
 }
 
 /// GeographicLib's documented bound for the reverse conversion, |h| ≤ 5000 km.
-const BOUND: f64 = 7.0e-9;
+const BOUND: f64 = curvicast_host::tolerances::GEODESY_ROUND_TRIP.bound;
 
 #[test]
 fn reverse_uniform_points_heights_within_5000_km() {

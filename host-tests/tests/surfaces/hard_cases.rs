@@ -9,9 +9,9 @@
 
 use curvicast_host::oracle::surfaces::AngleType;
 use curvicast_host::report::surfaces::{
-    Kind, Mode, SurfaceCase, backward_bound, compare, forward_bound, kernel_crossings_in,
-    oracle_answer,
+    Kind, Mode, SurfaceCase, compare, kernel_crossings_in, oracle_answer,
 };
+use curvicast_host::tolerances::{backward_bound, forward_bound};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
 fn case(kind: Kind, p: [f64; 2], origin: [f64; 3], dir: [f64; 3]) -> SurfaceCase {

@@ -21,13 +21,11 @@
 //! Asserted: f64 forward ≤ 16 ε S outside the band (the project's accuracy target) and backward ≤ 16 ε S everywhere; the
 //! f32 modes against `forward_bound` / `backward_bound`; no count/side mismatch. Every bound and its measured
 //! value (largest forward error outside the band / largest backward error, in ε·S, on 100 000 rays per kind and
-//! mode) is in one table, `curvicast_host::report::surfaces::ERROR_BOUNDS`; `full_sweep_all_modes` re-measures
+//! mode) is in one table, `curvicast_host::tolerances::ERROR_BOUNDS`; `full_sweep_all_modes` re-measures
 //! it and fails when a measured value is exceeded or has fallen below half (the table is then stale).
 
-use curvicast_host::report::surfaces::{
-    Kind, MEASURED_RAYS, Mode, Stats, backward_bound, error_bound, evaluate, forward_bound,
-    random_cases,
-};
+use curvicast_host::report::surfaces::{Kind, Mode, Stats, evaluate, random_cases};
+use curvicast_host::tolerances::{MEASURED_RAYS, backward_bound, error_bound, forward_bound};
 
 const SEED: u64 = 0x5eed_0002;
 

@@ -33,7 +33,8 @@ use curvicast_host::storage::DemStorage;
 use rayon::prelude::*;
 use std::sync::OnceLock;
 
-const TOL: f64 = 1e-6;
+/// The table's bound on the hit point's distance from the oracle's, metres.
+const TOL: f64 = curvicast_host::tolerances::TERRAIN_HIT_F64.bound;
 
 #[derive(Default, Debug)]
 struct Tally {

@@ -405,126 +405,6 @@ typedef struct {
 } curvicast_crossing_f64;
 
 /**
- * A terrain: the tree and the caller's heights, node records and residency flags, which it borrows.
- */
-typedef struct {
-    uint64_t opaque[CURVICAST_TERRAIN_WORDS];
-} curvicast_terrain_f32;
-
-/**
- * The regular geodetic grid of a DEM on WGS84: vertex `(i, j)` is at latitude `lat0_deg + i·dlat_deg`,
- * longitude `lon0_deg + j·dlon_deg` (degrees), `0 ≤ i < rows`, `0 ≤ j < cols`; `dlat_deg ≠ 0` of either sign,
- * `0 < dlon_deg < 180`.
- */
-typedef struct {
-    /**
-     * Latitude of row 0, degrees.
-     */
-    float lat0_deg;
-    /**
-     * Longitude of column 0, degrees.
-     */
-    float lon0_deg;
-    /**
-     * Row spacing, degrees.
-     */
-    float dlat_deg;
-    /**
-     * Column spacing, degrees.
-     */
-    float dlon_deg;
-    /**
-     * Vertex rows (at least 2).
-     */
-    uint32_t rows;
-    /**
-     * Vertex columns (at least 2).
-     */
-    uint32_t cols;
-} curvicast_dem_grid_f32;
-
-/**
- * One quadtree node as the builder stores it (opaque; `curvicast_node_slots` of them per DEM).
- */
-typedef struct {
-    uint32_t opaque[CURVICAST_NODE_RECORD_WORDS];
-} curvicast_node_record;
-
-/**
- * A terrain (see `curvicast_terrain_f32`) in double precision.
- */
-typedef struct {
-    uint64_t opaque[CURVICAST_TERRAIN_WORDS];
-} curvicast_terrain_f64;
-
-/**
- * The DEM grid (see `curvicast_dem_grid_f32`) in double precision.
- */
-typedef struct {
-    /**
-     * Latitude of row 0, degrees.
-     */
-    double lat0_deg;
-    /**
-     * Longitude of column 0, degrees.
-     */
-    double lon0_deg;
-    /**
-     * Row spacing, degrees.
-     */
-    double dlat_deg;
-    /**
-     * Column spacing, degrees.
-     */
-    double dlon_deg;
-    /**
-     * Vertex rows (at least 2).
-     */
-    uint32_t rows;
-    /**
-     * Vertex columns (at least 2).
-     */
-    uint32_t cols;
-} curvicast_dem_grid_f64;
-
-/**
- * The shape of a multi-resolution tree (§5, Fig. 11): branches end `coarse_level` levels above the leaves
- * outside the fine region `[lat_s, lat_n, lon_w, lon_e]` (degrees), whose nodes go down to full resolution.
- */
-typedef struct {
-    /**
-     * Whether `fine_region` is used (false: every node goes down to the leaves).
-     */
-    bool has_fine_region;
-    /**
-     * `[lat_s, lat_n, lon_w, lon_e]`, degrees.
-     */
-    float fine_region[4];
-    /**
-     * The level above the leaves at which branches outside the fine region end.
-     */
-    uint32_t coarse_level;
-} curvicast_multires_f32;
-
-/**
- * The shape of a multi-resolution tree (see `curvicast_multires_f32`) in double precision.
- */
-typedef struct {
-    /**
-     * Whether `fine_region` is used (false: every node goes down to the leaves).
-     */
-    bool has_fine_region;
-    /**
-     * `[lat_s, lat_n, lon_w, lon_e]`, degrees.
-     */
-    double fine_region[4];
-    /**
-     * The level above the leaves at which branches outside the fine region end.
-     */
-    uint32_t coarse_level;
-} curvicast_multires_f64;
-
-/**
  * A picker: the per-terrain constants (global bound, zone volumes). It borrows its terrain.
  */
 typedef struct {
@@ -532,11 +412,25 @@ typedef struct {
 } curvicast_picker_f32;
 
 /**
+ * A terrain: the tree and the caller's heights, node records and residency flags, which it borrows.
+ */
+typedef struct {
+    uint64_t opaque[CURVICAST_TERRAIN_WORDS];
+} curvicast_terrain_f32;
+
+/**
  * A picker (see `curvicast_picker_f32`) in double precision.
  */
 typedef struct {
     uint64_t opaque[CURVICAST_PICKER_F64_WORDS];
 } curvicast_picker_f64;
+
+/**
+ * A terrain (see `curvicast_terrain_f32`) in double precision.
+ */
+typedef struct {
+    uint64_t opaque[CURVICAST_TERRAIN_WORDS];
+} curvicast_terrain_f64;
 
 /**
  * The nearest hit of a ray with the terrain.
@@ -613,6 +507,112 @@ typedef struct {
      */
     uint8_t level;
 } curvicast_hit_f64;
+
+/**
+ * The regular geodetic grid of a DEM on WGS84: vertex `(i, j)` is at latitude `lat0_deg + i·dlat_deg`,
+ * longitude `lon0_deg + j·dlon_deg` (degrees), `0 ≤ i < rows`, `0 ≤ j < cols`; `dlat_deg ≠ 0` of either sign,
+ * `0 < dlon_deg < 180`.
+ */
+typedef struct {
+    /**
+     * Latitude of row 0, degrees.
+     */
+    float lat0_deg;
+    /**
+     * Longitude of column 0, degrees.
+     */
+    float lon0_deg;
+    /**
+     * Row spacing, degrees.
+     */
+    float dlat_deg;
+    /**
+     * Column spacing, degrees.
+     */
+    float dlon_deg;
+    /**
+     * Vertex rows (at least 2).
+     */
+    uint32_t rows;
+    /**
+     * Vertex columns (at least 2).
+     */
+    uint32_t cols;
+} curvicast_dem_grid_f32;
+
+/**
+ * One quadtree node as the builder stores it (opaque; `curvicast_node_slots` of them per DEM).
+ */
+typedef struct {
+    uint32_t opaque[CURVICAST_NODE_RECORD_WORDS];
+} curvicast_node_record;
+
+/**
+ * The DEM grid (see `curvicast_dem_grid_f32`) in double precision.
+ */
+typedef struct {
+    /**
+     * Latitude of row 0, degrees.
+     */
+    double lat0_deg;
+    /**
+     * Longitude of column 0, degrees.
+     */
+    double lon0_deg;
+    /**
+     * Row spacing, degrees.
+     */
+    double dlat_deg;
+    /**
+     * Column spacing, degrees.
+     */
+    double dlon_deg;
+    /**
+     * Vertex rows (at least 2).
+     */
+    uint32_t rows;
+    /**
+     * Vertex columns (at least 2).
+     */
+    uint32_t cols;
+} curvicast_dem_grid_f64;
+
+/**
+ * The shape of a multi-resolution tree (§5, Fig. 11): branches end `coarse_level` levels above the leaves
+ * outside the fine region `[lat_s, lat_n, lon_w, lon_e]` (degrees), whose nodes go down to full resolution.
+ */
+typedef struct {
+    /**
+     * Whether `fine_region` is used (false: every node goes down to the leaves).
+     */
+    bool has_fine_region;
+    /**
+     * `[lat_s, lat_n, lon_w, lon_e]`, degrees.
+     */
+    float fine_region[4];
+    /**
+     * The level above the leaves at which branches outside the fine region end.
+     */
+    uint32_t coarse_level;
+} curvicast_multires_f32;
+
+/**
+ * The shape of a multi-resolution tree (see `curvicast_multires_f32`) in double precision.
+ */
+typedef struct {
+    /**
+     * Whether `fine_region` is used (false: every node goes down to the leaves).
+     */
+    bool has_fine_region;
+    /**
+     * `[lat_s, lat_n, lon_w, lon_e]`, degrees.
+     */
+    double fine_region[4];
+    /**
+     * The level above the leaves at which branches outside the fine region end.
+     */
+    uint32_t coarse_level;
+} curvicast_multires_f64;
 
 /**
  * A point or vector.
@@ -884,6 +884,103 @@ curvicast_status curvicast_march_f64_fill(curvicast_march_f64 *march,
                                           size_t *written);
 
 /**
+ * Fills `picker` for `terrain`: the zones' bounding volumes and the global bound, computed once. Blocks of
+ * nodes shallower than `min_level` never stand in for missing finer ones (0: any resident block may).
+ *
+ * # Safety
+ * Each pointer is NULL or valid; `terrain` stays alive, in place and unchanged while `picker` is used.
+ */
+curvicast_status curvicast_picker_f32_init(curvicast_picker_f32 *picker,
+                                           const curvicast_terrain_f32 *terrain,
+                                           uint8_t min_level);
+
+/**
+ * [`curvicast_picker_f32_init`] in double precision.
+ *
+ * # Safety
+ * As [`curvicast_picker_f32_init`].
+ */
+curvicast_status curvicast_picker_f64_init(curvicast_picker_f64 *picker,
+                                           const curvicast_terrain_f64 *terrain,
+                                           uint8_t min_level);
+
+/**
+ * The nearest hit of `ray` with the terrain (Wartell et al. §4: the traversal; the hit refined in double-double
+ * and converted to geodetic coordinates): `CURVICAST_OK` with `*hit` written, `CURVICAST_NO_HIT`, or an error
+ * (`CURVICAST_TERRAIN_NEEDS_BLOCK`: the node whose block to page in, written to `*needs_node` unless NULL).
+ *
+ * # Safety
+ * Each pointer is NULL or valid; what the picker borrows is alive and unchanged.
+ */
+curvicast_status curvicast_picker_f32_pick(const curvicast_picker_f32 *picker,
+                                           const curvicast_ray_f32 *ray,
+                                           curvicast_hit_f32 *hit,
+                                           uint32_t *needs_node);
+
+/**
+ * [`curvicast_picker_f32_pick`] in double precision.
+ *
+ * # Safety
+ * As [`curvicast_picker_f32_pick`].
+ */
+curvicast_status curvicast_picker_f64_pick(const curvicast_picker_f64 *picker,
+                                           const curvicast_ray_f64 *ray,
+                                           curvicast_hit_f64 *hit,
+                                           uint32_t *needs_node);
+
+/**
+ * The parameter `*t` and the grid cell `cell[2]` of the nearest hit, without `pick`'s refinement and
+ * geodetic output (what a general ray caster returns; `t` within a few ulps of the vertices' coordinates
+ * over the sine of the ray's elevation above the triangle): `CURVICAST_OK`, `CURVICAST_NO_HIT`, or an error as
+ * for [`curvicast_picker_f32_pick`].
+ *
+ * # Safety
+ * Each pointer is NULL or valid (`cell` for 2 elements); what the picker borrows is alive and unchanged.
+ */
+curvicast_status curvicast_picker_f32_pick_t(const curvicast_picker_f32 *picker,
+                                             const curvicast_ray_f32 *ray,
+                                             float *t,
+                                             uint32_t *cell,
+                                             uint32_t *needs_node);
+
+/**
+ * [`curvicast_picker_f32_pick_t`] in double precision.
+ *
+ * # Safety
+ * As [`curvicast_picker_f32_pick_t`].
+ */
+curvicast_status curvicast_picker_f64_pick_t(const curvicast_picker_f64 *picker,
+                                             const curvicast_ray_f64 *ray,
+                                             double *t,
+                                             uint32_t *cell,
+                                             uint32_t *needs_node);
+
+/**
+ * Whether the closed segment from `a` to `b` (ECEF metres, 3 scalars each) meets no terrain triangle:
+ * `*clear` written and `CURVICAST_OK`, or an error as for [`curvicast_picker_f32_pick`].
+ *
+ * # Safety
+ * Each pointer is NULL or valid; what the picker borrows is alive and unchanged.
+ */
+curvicast_status curvicast_picker_f32_line_of_sight(const curvicast_picker_f32 *picker,
+                                                    const float *a,
+                                                    const float *b,
+                                                    bool *clear,
+                                                    uint32_t *needs_node);
+
+/**
+ * [`curvicast_picker_f32_line_of_sight`] in double precision.
+ *
+ * # Safety
+ * As [`curvicast_picker_f32_line_of_sight`].
+ */
+curvicast_status curvicast_picker_f64_line_of_sight(const curvicast_picker_f64 *picker,
+                                                    const double *a,
+                                                    const double *b,
+                                                    bool *clear,
+                                                    uint32_t *needs_node);
+
+/**
  * A sentence for a status code (static, NUL-terminated); "unknown status" for a number that is none.
  */
 const char *curvicast_status_message(uint32_t status);
@@ -981,103 +1078,6 @@ curvicast_status curvicast_terrain_f64_build_multires(curvicast_terrain_f64 *ter
                                                       size_t nodes_len,
                                                       const bool *resident,
                                                       size_t resident_len);
-
-/**
- * Fills `picker` for `terrain`: the zones' bounding volumes and the global bound, computed once. Blocks of
- * nodes shallower than `min_level` never stand in for missing finer ones (0: any resident block may).
- *
- * # Safety
- * Each pointer is NULL or valid; `terrain` stays alive, in place and unchanged while `picker` is used.
- */
-curvicast_status curvicast_picker_f32_init(curvicast_picker_f32 *picker,
-                                           const curvicast_terrain_f32 *terrain,
-                                           uint8_t min_level);
-
-/**
- * [`curvicast_picker_f32_init`] in double precision.
- *
- * # Safety
- * As [`curvicast_picker_f32_init`].
- */
-curvicast_status curvicast_picker_f64_init(curvicast_picker_f64 *picker,
-                                           const curvicast_terrain_f64 *terrain,
-                                           uint8_t min_level);
-
-/**
- * The nearest hit of `ray` with the terrain (Wartell et al. §4: the traversal; the hit refined in double-double
- * and converted to geodetic coordinates): `CURVICAST_OK` with `*hit` written, `CURVICAST_NO_HIT`, or an error
- * (`CURVICAST_TERRAIN_NEEDS_BLOCK`: the node whose block to page in, written to `*needs_node` unless NULL).
- *
- * # Safety
- * Each pointer is NULL or valid; what the picker borrows is alive and unchanged.
- */
-curvicast_status curvicast_picker_f32_pick(const curvicast_picker_f32 *picker,
-                                           const curvicast_ray_f32 *ray,
-                                           curvicast_hit_f32 *hit,
-                                           uint32_t *needs_node);
-
-/**
- * [`curvicast_picker_f32_pick`] in double precision.
- *
- * # Safety
- * As [`curvicast_picker_f32_pick`].
- */
-curvicast_status curvicast_picker_f64_pick(const curvicast_picker_f64 *picker,
-                                           const curvicast_ray_f64 *ray,
-                                           curvicast_hit_f64 *hit,
-                                           uint32_t *needs_node);
-
-/**
- * The parameter `*t` and the grid cell `cell[2]` of the nearest hit, without `pick`'s refinement and
- * geodetic output (what a general ray caster returns; `t` within a few ulps of the vertices' coordinates
- * over the sine of the ray's elevation above the triangle): `CURVICAST_OK`, `CURVICAST_NO_HIT`, or an error as
- * for [`curvicast_picker_f32_pick`].
- *
- * # Safety
- * Each pointer is NULL or valid (`cell` for 2 elements); what the picker borrows is alive and unchanged.
- */
-curvicast_status curvicast_picker_f32_pick_t(const curvicast_picker_f32 *picker,
-                                             const curvicast_ray_f32 *ray,
-                                             float *t,
-                                             uint32_t *cell,
-                                             uint32_t *needs_node);
-
-/**
- * [`curvicast_picker_f32_pick_t`] in double precision.
- *
- * # Safety
- * As [`curvicast_picker_f32_pick_t`].
- */
-curvicast_status curvicast_picker_f64_pick_t(const curvicast_picker_f64 *picker,
-                                             const curvicast_ray_f64 *ray,
-                                             double *t,
-                                             uint32_t *cell,
-                                             uint32_t *needs_node);
-
-/**
- * Whether the closed segment from `a` to `b` (ECEF metres, 3 scalars each) meets no terrain triangle:
- * `*clear` written and `CURVICAST_OK`, or an error as for [`curvicast_picker_f32_pick`].
- *
- * # Safety
- * Each pointer is NULL or valid; what the picker borrows is alive and unchanged.
- */
-curvicast_status curvicast_picker_f32_line_of_sight(const curvicast_picker_f32 *picker,
-                                                    const float *a,
-                                                    const float *b,
-                                                    bool *clear,
-                                                    uint32_t *needs_node);
-
-/**
- * [`curvicast_picker_f32_line_of_sight`] in double precision.
- *
- * # Safety
- * As [`curvicast_picker_f32_line_of_sight`].
- */
-curvicast_status curvicast_picker_f64_line_of_sight(const curvicast_picker_f64 *picker,
-                                                    const double *a,
-                                                    const double *b,
-                                                    bool *clear,
-                                                    uint32_t *needs_node);
 
 /**
  * The vertices of the level-`level` beveled polyhedron, `8·4^level` (0 above the largest level, 12).

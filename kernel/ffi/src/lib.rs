@@ -49,6 +49,7 @@
 extern crate std;
 
 pub mod march;
+pub mod picker;
 mod status;
 pub mod terrain;
 pub mod tessellate;

@@ -198,7 +198,9 @@ mod tests {
         let mut unit = crate::test_util::xorshift_uniform(0x9e37_79b9_7f4a_7c15);
         let mut uniform = move || unit() * 2.0 - 1.0;
         let mut compared = 0;
-        for i in 0..20_000 {
+        // 20 000 lines natively; 300 under Miri, where each takes about 7 ms (the whole run took minutes).
+        let n = if cfg!(miri) { 300 } else { 20_000 };
+        for i in 0..n {
             let scale = [1.0, 1e-12, 1e12][i % 3];
             let mut v = || T::from_f64(uniform());
             let p = V3::new(v(), v(), v()).scaled(T::from_f64(3.0 * scale));
@@ -226,7 +228,7 @@ mod tests {
                 }
             }
         }
-        assert!(compared > 15_000, "{compared}");
+        assert!(compared > n * 3 / 4, "{compared} of {n}");
     }
 
     #[test]
