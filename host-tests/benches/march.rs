@@ -9,7 +9,7 @@
 //!   (shell r ∈ [0.3, 1], θ ∈ [0.4, 2.6], φ ∈ [−1, 4]); on the uniform grid also `separable_by_value/f64`,
 //!   `march_separable` returning a new march per ray (its three 512-event buffers, 37 KB, are moved per ray);
 //! * `march/perspective`: the uniform grid seen by a 256² perspective camera from 3R, both engines;
-//! * `march_batch`: the parallel image through `curvicast_host::batch::march_batch` on 1 and 2 threads (a
+//! * `march_batch`: the parallel image through `curvicast_cli::batch::march_batch` on 1 and 2 threads (a
 //!   projection image, Σ length per ray), the scaling of the batch entry across cores.
 //!
 //! Every benchmark marches the rays inside the timed loop and folds each crossing into a sum that is passed to
@@ -23,7 +23,7 @@ use curvicast::F32Fast;
 use curvicast::ray::Ray;
 use curvicast::real::Real;
 use curvicast::spherical::{SeparableMarch, SerialMarch, SphericalGrid};
-use curvicast_host::batch::march_batch;
+use curvicast_cli::batch::march_batch;
 use curvicast_host::scenes::marching::{
     Breakpoints, GridKind, parallel_rays, perspective_rays, rays_in,
 };

@@ -13,12 +13,12 @@
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use curvicast::Ray;
 use curvicast::terrain::Picker;
+use curvicast_cli::formats::real_dem;
+use curvicast_cli::formats::spec::RaySpec;
+use curvicast_cli::formats::terrain::Dem;
+use curvicast_cli::storage::DemStorage;
 use curvicast_host::baselines::terrain::{BruteForceTerrain, ParryTerrain};
-use curvicast_host::scenes::real_dem;
-use curvicast_host::scenes::spec::RaySpec;
-use curvicast_host::scenes::terrain::Dem;
 use curvicast_host::scenes::terrain_cases::{TerrainKind, camera_rays, orbit_rays, synthetic};
-use curvicast_host::storage::DemStorage;
 use std::hint::black_box;
 
 /// The batch sizes (distinct rays per iteration).

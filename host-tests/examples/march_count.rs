@@ -16,14 +16,14 @@
 //!
 //! Arguments: `PRECISION` (`f64`, `f32`, `f32-fast`), `ENGINE` (`serial`: a `for` loop over the serial
 //! march; `serial-fold`: the same march consumed by `Iterator::fold`, its internal iteration; `separable`: one march filled in
-//! place for each ray; `batch`: the serial engine through `curvicast_host::batch::march_batch`, on
+//! place for each ray; `batch`: the serial engine through `curvicast_cli::batch::march_batch`, on
 //! `RAYON_NUM_THREADS` threads), `GRID` (`uniform`: the report's grid; `nonuniform`: random breakpoints; `partial`: a
 //! shell r ∈ [0.3, 1], θ ∈ [0.4, 2.6], φ ∈ [−1, 4]), `M` (rays per side) and `PASSES`.
 
 use curvicast::F32Fast;
 use curvicast::real::Real;
 use curvicast::spherical::SeparableMarch;
-use curvicast_host::batch::march_batch;
+use curvicast_cli::batch::march_batch;
 use curvicast_host::scenes::marching::{Breakpoints, GridKind, parallel_rays, rays_in};
 use std::hint::black_box;
 

@@ -1,10 +1,10 @@
 //! Packs a DEM given as a `TERRAIN.json` (its heights in the `.f32` file it names, or inline) into the project's
-//! lossless, self-describing `.dem.cc` format (see `curvicast_host::scenes::real_dem`), the ellipsoid and grid in
+//! lossless, self-describing `.dem.cc` format (see `curvicast_cli::formats::real_dem`), the ellipsoid and grid in
 //! its header: `cargo run --example pack_dem -- TERRAIN.json SCALE OUT.dem.cc`, where every present height is a
 //! multiple of `1/SCALE`.
 
-use curvicast_host::scenes::real_dem::{decode, encode, fnv1a_f32};
-use curvicast_host::scenes::terrain::load_terrain;
+use curvicast_cli::formats::real_dem::{decode, encode, fnv1a_f32};
+use curvicast_cli::formats::terrain::load_terrain;
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().collect();

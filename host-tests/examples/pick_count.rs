@@ -30,9 +30,9 @@ use curvicast::terrain::boxes::NodeBox;
 use curvicast::terrain::{
     Grid, Node, NodeId, Parallel, Picker, TerrainCaches, TerrainStorage, quad_bounds,
 };
-use curvicast_host::scenes::real_dem;
+use curvicast_cli::formats::real_dem;
+use curvicast_cli::storage::{DemStorage, MultiRes};
 use curvicast_host::scenes::terrain_cases::{camera_rays, orbit_rays, random_rays};
-use curvicast_host::storage::{DemStorage, MultiRes};
 use std::hash::{DefaultHasher, Hash, Hasher};
 use std::hint::black_box;
 

@@ -2,8 +2,8 @@
 //! data README): `cargo run --release --example write_geotiff_crop -- OUT.tif`. Rows 444..572 and columns
 //! 553..681 of the 3″ grid (128 × 128 nodes around Blanca Peak), `i16` meters, pixel-is-point, EPSG:4326.
 
-use curvicast_host::scenes::dem_files::{RasterType, read_dem, write_geotiff_i16};
-use curvicast_host::scenes::real_dem::trinidad;
+use curvicast_cli::formats::dem_files::{RasterType, read_dem, write_geotiff_i16};
+use curvicast_cli::formats::real_dem::trinidad;
 
 /// The crop's rows and columns in the Trinidad grid.
 const ROWS: std::ops::Range<usize> = 444..572;

@@ -1,14 +1,14 @@
 //! The kernel's marchers run on the scenes' grids and rays ([`GridSpec`], [`RaySpec`]) in either engine and in
 //! `f64`, `f32` or fast-math `f32`, and compared with the oracle ([`crate::oracle::march`]): what the marching
 //! tests and the report share. It sits beside the scenes and the oracle, not in either (like
-//! [`crate::storage`] for terrain): the scenes are data and generators, the oracle never calls the kernel, and
+//! [`curvicast_cli::storage`] for terrain): the scenes are data and generators, the oracle never calls the kernel, and
 //! this module uses both.
 
 use crate::oracle::march::{KernelCrossing, MarchOracle, Mismatch, compare};
-use crate::scenes::spec::{GridSpec, RaySpec};
 use curvicast::ray::Ray;
 use curvicast::real::{F32Fast, Real};
 use curvicast::spherical::{CylindricalGrid, PolarGrid, SphericalGrid};
+use curvicast_cli::formats::spec::{GridSpec, RaySpec};
 
 /// Which kernel engine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -2,8 +2,8 @@
 //! (parry3d-f64's `TriMesh`, a BVH over the same ECEF triangles) and brute force over every triangle.
 
 use crate::oracle::terrain::moller_trumbore;
-use crate::scenes::spec::RaySpec;
-use crate::scenes::terrain::Dem;
+use curvicast_cli::formats::spec::RaySpec;
+use curvicast_cli::formats::terrain::Dem;
 use parry3d_f64::math::Vector;
 use parry3d_f64::query::{Ray as PRay, RayCast};
 use parry3d_f64::shape::TriMesh;

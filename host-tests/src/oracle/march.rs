@@ -40,8 +40,8 @@
 //! * A ray that touches the domain at a single point (no interval of positive length inside) produces nothing.
 
 use super::precise::{RM, bf, with_consts};
-use crate::scenes::spec::{GridSpec, RaySpec};
 use astro_float::BigFloat;
+use curvicast_cli::formats::spec::{GridSpec, RaySpec};
 use std::fmt;
 
 /// Working precision of the oracle in bits.

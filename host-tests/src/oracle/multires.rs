@@ -23,31 +23,12 @@
 //!    at 256 bits in order of ball entry, both faces counting.
 
 use super::terrain::{Exact, P, RM, ball_entry, bf, intersect_exact, to_f64};
-use crate::scenes::spec::RaySpec;
-use crate::scenes::terrain::Dem;
 use astro_float::BigFloat;
+use curvicast_cli::formats::spec::RaySpec;
+use curvicast_cli::formats::terrain::Dem;
 use std::collections::{BTreeSet, HashMap};
 
-/// One node of a multi-resolution tree, as plain data.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct TreeNode {
-    /// Its id.
-    pub id: u32,
-    /// Its parent's id (`None` for a zone).
-    pub parent: Option<u32>,
-    /// Its level (zones are 0).
-    pub level: u8,
-    /// Cell rows `[r0, r1)`.
-    pub rows: [u32; 2],
-    /// Cell columns `[c0, c1)`.
-    pub cols: [u32; 2],
-    /// Whether it has no children.
-    pub leaf: bool,
-    /// Its block's sample spacing in grid steps.
-    pub stride: u32,
-    /// Whether its block is resident.
-    pub resident: bool,
-}
+pub use curvicast_cli::storage::TreeNode;
 
 /// A vertex of the oracle's surface: a grid vertex or the middle of two.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -29,9 +29,9 @@
 pub(crate) use super::precise::RM;
 pub use super::precise::to_f64;
 use super::precise::with_consts;
-use crate::scenes::spec::RaySpec;
-use crate::scenes::terrain::{Dem, geodetic_to_ecef_f64};
 use astro_float::{BigFloat, Consts};
+use curvicast_cli::formats::spec::RaySpec;
+use curvicast_cli::formats::terrain::{Dem, geodetic_to_ecef_f64};
 
 pub(crate) const P: usize = 256;
 const CHUNK: usize = 8;

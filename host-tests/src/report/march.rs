@@ -3,15 +3,15 @@
 //! and the Cartesian-resampling baseline (Amanatides–Woo DDA over an n³ voxel grid).
 
 use super::{Options, Section};
-use crate::baselines::dda::{VoxelCrossing, VoxelGrid};
 use crate::march_run::{self as run, Engine, Precision};
 use crate::oracle::march::{KernelCrossing, MarchOracle, compare, same_sequence};
 use crate::scenes::march_cases as mc;
 use crate::scenes::marching::{Breakpoints, CELLS, GridKind, parallel_rays, perspective_rays};
-use crate::scenes::spec::{GridSpec, RaySpec};
 use curvicast::ray::Ray;
 use curvicast::real::{F32Fast, Real};
 use curvicast::spherical::SeparableMarch;
+use curvicast_cli::formats::spec::{GridSpec, RaySpec};
+use curvicast_cli::render::dda::{VoxelCrossing, VoxelGrid};
 use rayon::prelude::*;
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -290,7 +290,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
     writeln!(
         md,
         "\nRandom suite: {n_suite} random rays over {} random non-uniform full and partial grids (spherical, \
-         cylindrical, polar). The full 200 000-ray suite: `curvicast march-oracle --rays 200000`.\n",
+         cylindrical, polar). The full 200 000-ray suite: `curvicast-march-oracle --rays 200000`.\n",
         inputs.len()
     )?;
     md.push_str("| engine | precision | same cells | identical incl. ties | within 16 eps·L | structure violations | errors | max bwd (eps·L) | max fwd (eps·L) |\n");
@@ -317,7 +317,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
     })
 }
 
-/// Runs the random suite of `n` rays and renders it as text (the `curvicast march-oracle` command); returns the
+/// Runs the random suite of `n` rays and renders it as text (the `curvicast-march-oracle` command); returns the
 /// text and whether every f64 ray passed the criterion with no structural violation in any precision.
 pub fn oracle_suite_text(n: usize, seed: u64) -> (String, bool) {
     let inputs = mc::random_suite_inputs(n, seed);

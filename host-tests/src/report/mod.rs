@@ -35,7 +35,7 @@ pub struct Options {
 /// Runs every section, prints each to stdout as it completes, and writes `report.md` into `opts.out_dir`.
 ///
 /// An error on standard output (a closed pipe, a full disk) stops the printing but not the report: `report.md` is
-/// written, then the error is returned as a [`crate::cli::OutputError`].
+/// written, then the error is returned as a [`curvicast_cli::cli::OutputError`].
 pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
     let started = std::time::Instant::now();
     std::fs::create_dir_all(&opts.out_dir).map_err(|e| {
@@ -44,7 +44,7 @@ pub fn run(opts: &Options) -> anyhow::Result<Vec<Section>> {
             opts.out_dir.display()
         )
     })?;
-    let mut stdout = crate::cli::Stdout::default();
+    let mut stdout = curvicast_cli::cli::Stdout::default();
     type SectionFn = fn(&Options) -> anyhow::Result<Section>;
     let sections: &[SectionFn] = &[
         surfaces::section,

@@ -9,16 +9,16 @@
 
 use super::plot::{Labels, Series, loglog_svg};
 use super::{Options, Section};
-use crate::cli::march::Precision;
-use crate::render::camera::{Camera, CameraSpec};
-use crate::render::cartesian::VoxelValues;
-use crate::render::data::{self, EARTH_RADIUS_M};
-use crate::render::field::{Analytic, SphericalCells, closest_distance};
-use crate::render::image::{
+use curvicast_cli::cli::march::Precision;
+use curvicast_cli::render::camera::{Camera, CameraSpec};
+use curvicast_cli::render::cartesian::VoxelValues;
+use curvicast_cli::render::data::{self, EARTH_RADIUS_M};
+use curvicast_cli::render::field::{Analytic, SphericalCells, closest_distance};
+use curvicast_cli::render::image::{
     ColorMap, Panel, Rgb, Scale, colorize, figure, finite_range, quantile_range, write_png,
 };
-use crate::render::sampler::{Mode, Transfer};
-use crate::render::{Method, Rendered, Scene, render, render_cartesian};
+use curvicast_cli::render::sampler::{Mode, Transfer};
+use curvicast_cli::render::{Method, Rendered, Scene, render, render_cartesian};
 use std::f64::consts::{PI, TAU};
 use std::fmt::Write as _;
 use std::time::Instant;

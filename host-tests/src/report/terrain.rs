@@ -4,13 +4,13 @@
 
 use super::{Options, Section};
 use crate::baselines::terrain::{BruteForceTerrain, ParryTerrain};
-use crate::scenes::real_dem;
-use crate::scenes::spec::RaySpec;
-use crate::scenes::terrain::Dem;
 use crate::scenes::terrain_cases::{TerrainKind, camera_rays, orbit_rays, synthetic};
-use crate::storage::DemStorage;
 use curvicast::Ray;
 use curvicast::terrain::{PickStats, Picker};
+use curvicast_cli::formats::real_dem;
+use curvicast_cli::formats::spec::RaySpec;
+use curvicast_cli::formats::terrain::Dem;
+use curvicast_cli::storage::DemStorage;
 use std::time::Instant;
 
 struct Row {

@@ -5,12 +5,12 @@
 //! full-resolution surface.
 
 use super::{Options, Section};
-use crate::scenes::real_dem;
-use crate::scenes::spec::RaySpec;
 use crate::scenes::terrain_cases::{camera_rays, orbit_rays};
-use crate::storage::{DemStorage, MultiRes, pick_paging_in};
 use curvicast::Ray;
 use curvicast::terrain::{NodeId, Picker, TerrainError};
+use curvicast_cli::formats::real_dem;
+use curvicast_cli::formats::spec::RaySpec;
+use curvicast_cli::storage::{DemStorage, MultiRes, pick_paging_in};
 use std::time::Instant;
 
 /// One `min_level` row.

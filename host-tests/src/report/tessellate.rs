@@ -9,10 +9,10 @@
 //! for a uniform tessellation it is about constant, and smaller is better.
 
 use super::{Options, Section};
-use crate::cli::tessellate::{build, max_deviation, min_dihedral};
 use curvicast::V3;
 use curvicast::tessellate::bevel::{self, Face};
 use curvicast::tessellate::lod::{self, Shape};
+use curvicast_cli::cli::tessellate::{build, max_deviation, min_dihedral};
 use std::fmt::Write as _;
 use std::time::Instant;
 

@@ -6,7 +6,7 @@
 //! representable (a corner at `(R, 0, 0)` with `R` dyadic, an axis crossing at `t = 1` of `(−a, −b, z) + t (a, b,
 //! dz)`), so the oracle sees a true tie, not two crossings a rounding apart.
 
-use crate::scenes::spec::{GridSpec, RaySpec};
+use curvicast_cli::formats::spec::{GridSpec, RaySpec};
 use rand::Rng;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 

@@ -1,10 +1,6 @@
-//! Scenes: the JSON input formats of the command-line contract, analytic fields, real datasets and generators of
-//! hard cases.
+//! Scenes: analytic fields, the report's marching scene and the generators of hard cases (the formats they are
+//! written in are the product's, `curvicast_cli::formats`).
 
-pub mod dem_files;
 pub mod march_cases;
 pub mod marching;
-pub mod real_dem;
-pub mod spec;
-pub mod terrain;
 pub mod terrain_cases;

@@ -2,8 +2,8 @@
 //! report: synthetic DEMs (flat, fractal, spiky, negative heights) and ray families (random, from a camera above
 //! ground, from orbit, and the adversarial kinds of the terrain issue).
 
-use super::spec::RaySpec;
-use super::terrain::{Dem, WGS84_A, WGS84_B, geodetic_to_ecef_f64};
+use curvicast_cli::formats::spec::RaySpec;
+use curvicast_cli::formats::terrain::{Dem, WGS84_A, WGS84_B, geodetic_to_ecef_f64};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

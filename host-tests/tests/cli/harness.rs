@@ -3,7 +3,7 @@
 //! error on output (a full disk) is one line and a non-zero exit, a closed pipe ends the command quietly, never a
 //! panic; `tessellate` answers extreme radii right.
 
-use crate::support::{command as cli, run};
+use crate::support::{MARCH_ORACLE, REPORT, command as cli, run, run_program};
 use std::io::Read;
 use std::process::Stdio;
 use tempfile::TempPath;
@@ -31,11 +31,23 @@ fn clap_errors_are_one_line_with_exit_2() {
         &["march", "--grid"],
         &["march", "--grid", "g.json", "--engine", "warp"],
         &["pick", "--terrain", "t.json", "--block", "many"],
-        &["report", "--quick", "--nonsense"],
-        &["march-oracle", "--rays", "-3"],
     ] {
         let err = assert_usage_error(args);
         assert!(err.starts_with("curvicast: "), "{err}");
+    }
+    // The harness's commands follow the same rule, under their own names.
+    for (program, name, args) in [
+        (REPORT, "curvicast-report", &["--quick", "--nonsense"][..]),
+        (
+            MARCH_ORACLE,
+            "curvicast-march-oracle",
+            &["--rays", "-3"][..],
+        ),
+    ] {
+        let (code, out, err) = run_program(program, None, args, "");
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(out.is_empty() && err.lines().count() == 1, "{err}");
+        assert!(err.starts_with(&format!("{name}: ")), "{err}");
     }
 }
 
@@ -53,7 +65,13 @@ fn help_and_version_still_print_on_stdout() {
 fn report_out_at_an_existing_file_names_the_path() {
     let file = scratch("not-a-directory");
     std::fs::write(&file, "x").unwrap();
-    let err = assert_usage_error(&["report", "--quick", "--out", file.to_str().unwrap()]);
+    let args = ["--quick", "--out", file.to_str().unwrap()];
+    let (code, out, err) = run_program(REPORT, None, &args, "");
+    assert_eq!(
+        (code, out.as_str(), err.lines().count()),
+        (2, "", 1),
+        "{err}"
+    );
     assert!(err.contains(file.to_str().unwrap()), "{err}");
 }
 

@@ -9,11 +9,11 @@
 use crate::support;
 use curvicast::terrain::Picker;
 
-use curvicast_host::cli::pick::answer;
+use curvicast_cli::cli::pick::answer;
+use curvicast_cli::formats::spec::{GridSpec, RaySpec};
+use curvicast_cli::formats::terrain::load_terrain;
+use curvicast_cli::storage::DemStorage;
 use curvicast_host::march_run::{Engine, Precision, run_engine};
-use curvicast_host::scenes::spec::{GridSpec, RaySpec};
-use curvicast_host::scenes::terrain::load_terrain;
-use curvicast_host::storage::DemStorage;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use support::run;

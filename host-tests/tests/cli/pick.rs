@@ -2,8 +2,8 @@
 
 use crate::support;
 
+use curvicast_cli::formats::spec::RaySpec;
 use curvicast_host::oracle::terrain::TerrainOracle;
-use curvicast_host::scenes::spec::RaySpec;
 use curvicast_host::scenes::terrain_cases::{TerrainKind, random_rays, synthetic};
 
 use crate::support::temp_dir as dir;
@@ -160,7 +160,7 @@ fn pick_bad_files_and_arguments_exit_2_with_one_line_naming_the_file() {
 
 #[test]
 fn pick_on_the_shipped_etopo20_written_as_terrain_json_matches_the_oracle() {
-    use curvicast_host::scenes::real_dem;
+    use curvicast_cli::formats::real_dem;
     use curvicast_host::scenes::terrain_cases::orbit_rays;
     let tmp = dir("etopo");
     let d = tmp.path();
@@ -212,8 +212,8 @@ fn pick_on_the_shipped_etopo20_written_as_terrain_json_matches_the_oracle() {
 /// full-resolution ones; and `--no-paging`, where a needed block is an error line naming the node.
 #[test]
 fn pick_multi_resolution_options_page_in_what_each_ray_needs() {
+    use curvicast_cli::storage::{DemStorage, MultiRes};
     use curvicast_host::oracle::multires::MultiResOracle;
-    use curvicast_host::storage::{DemStorage, MultiRes};
     let tmp = dir("multires");
     let d = tmp.path();
     let dem = synthetic(

@@ -5,9 +5,9 @@
 
 use crate::support;
 
-use curvicast_host::scenes::dem_files::{RasterType, read_dem, write_geotiff_i16};
-use curvicast_host::scenes::real_dem::{data_dir, encode, etopo20, trinidad};
-use curvicast_host::scenes::terrain::{Dem, WGS84_A, WGS84_B, geodetic_to_ecef_f64};
+use curvicast_cli::formats::dem_files::{RasterType, read_dem, write_geotiff_i16};
+use curvicast_cli::formats::real_dem::{data_dir, encode, etopo20, trinidad};
+use curvicast_cli::formats::terrain::{Dem, WGS84_A, WGS84_B, geodetic_to_ecef_f64};
 use std::path::{Path, PathBuf};
 use support::run;
 

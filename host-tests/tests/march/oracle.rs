@@ -7,14 +7,14 @@
 //! structural invariants are asserted (the contract holds in every precision).
 //!
 //! The full random suite (≥ 200 000 rays) is `cargo test -p curvicast-host --test march oracle -- --ignored`, or
-//! `curvicast march-oracle --rays 200000`.
+//! `curvicast-march-oracle --rays 200000`.
 
 use crate::support;
 
+use curvicast_cli::formats::spec::{GridSpec, RaySpec};
 use curvicast_host::march_run::{self as run, Engine, Precision};
 use curvicast_host::oracle::march::{KernelCrossing, MarchOracle, compare};
 use curvicast_host::scenes::march_cases::{self as mc, Case};
-use curvicast_host::scenes::spec::{GridSpec, RaySpec};
 use curvicast_host::tolerances::MARCH_F64_BOUNDARY;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 

@@ -7,10 +7,18 @@ use std::io::Write;
 use std::path::Path;
 use std::process::{Command, Stdio};
 
+/// The product's `curvicast` command (built in this package as `curvicast-product`, the same code: Cargo gives a
+/// test the paths of its own package's binaries only).
+pub const CURVICAST: &str = env!("CARGO_BIN_EXE_curvicast-product");
+/// The harness's report command.
+pub const REPORT: &str = env!("CARGO_BIN_EXE_curvicast-report");
+/// The harness's marching-oracle command.
+pub const MARCH_ORACLE: &str = env!("CARGO_BIN_EXE_curvicast-march-oracle");
+
 /// The `curvicast` binary as a [`Command`] to configure, for a test that drives a live child (streaming, a closed
 /// pipe, a full disk). A test that runs the command to the end uses [`run`] or [`run_in`].
 pub fn command() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_curvicast"))
+    Command::new(CURVICAST)
 }
 
 /// Runs `curvicast ARGS` to the end with `stdin` as its input: (exit code, stdout, stderr).
@@ -22,7 +30,17 @@ pub fn run(args: &[&str], stdin: impl AsRef<[u8]>) -> (i32, String, String) {
 /// a child whose stdout pipe is full cannot block the write; a child that exits without reading all of its input
 /// (it rejected its files) leaves a broken pipe, which is not an error.
 pub fn run_in(cwd: Option<&Path>, args: &[&str], stdin: impl AsRef<[u8]>) -> (i32, String, String) {
-    let mut command = command();
+    run_program(CURVICAST, cwd, args, stdin)
+}
+
+/// [`run_in`] for any of this project's commands ([`CURVICAST`], [`REPORT`], [`MARCH_ORACLE`]).
+pub fn run_program(
+    program: &str,
+    cwd: Option<&Path>,
+    args: &[&str],
+    stdin: impl AsRef<[u8]>,
+) -> (i32, String, String) {
+    let mut command = Command::new(program);
     if let Some(dir) = cwd {
         command.current_dir(dir);
     }

@@ -9,10 +9,10 @@ use curvicast::geodesy::Ellipsoid;
 use curvicast::terrain::boxes::{LocalFrame, NodeBox};
 use curvicast::terrain::{Node, NodeId, TerrainCaches, TerrainStorage, box_frame};
 use curvicast::vec3::V3;
-use curvicast_host::scenes::real_dem;
-use curvicast_host::scenes::terrain::Dem;
+use curvicast_cli::formats::real_dem;
+use curvicast_cli::formats::terrain::Dem;
+use curvicast_cli::storage::{DemStorage, MultiRes};
 use curvicast_host::scenes::terrain_cases::{TerrainKind, synthetic};
-use curvicast_host::storage::{DemStorage, MultiRes};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

@@ -9,12 +9,12 @@
 
 use curvicast::Ray;
 use curvicast::terrain::{Hit, NodeId, Picker, TerrainError};
+use curvicast_cli::formats::spec::RaySpec;
+use curvicast_cli::formats::terrain::{Dem, geodetic_to_ecef_f64};
+use curvicast_cli::storage::{DemStorage, MultiRes};
 use curvicast_host::oracle::multires::{MultiResOracle, TreeNode};
 use curvicast_host::oracle::terrain::TerrainOracle;
-use curvicast_host::scenes::spec::RaySpec;
-use curvicast_host::scenes::terrain::{Dem, geodetic_to_ecef_f64};
 use curvicast_host::scenes::terrain_cases::{TerrainKind, camera_rays, random_rays, synthetic};
-use curvicast_host::storage::{DemStorage, MultiRes};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;

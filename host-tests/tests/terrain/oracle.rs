@@ -22,14 +22,14 @@ use curvicast::Ray;
 use curvicast::geodesy::Ellipsoid;
 use curvicast::terrain::Picker;
 use curvicast::vec3::V3;
+use curvicast_cli::formats::real_dem;
+use curvicast_cli::formats::spec::RaySpec;
+use curvicast_cli::formats::terrain::{Dem, geodetic_to_ecef_f64};
+use curvicast_cli::storage::DemStorage;
 use curvicast_host::oracle::terrain::TerrainOracle;
-use curvicast_host::scenes::real_dem;
-use curvicast_host::scenes::spec::RaySpec;
-use curvicast_host::scenes::terrain::{Dem, geodetic_to_ecef_f64};
 use curvicast_host::scenes::terrain_cases::{
     TerrainKind, camera_rays, orbit_rays, random_rays, synthetic,
 };
-use curvicast_host::storage::DemStorage;
 use rayon::prelude::*;
 use std::sync::OnceLock;
 

@@ -2,7 +2,7 @@
 //! the largest finite `t` must be a typed error, never a silent miss; directions whose `t` is representable
 //! must work down to subnormal components).
 
-use curvicast_host::scenes::spec::RaySpec;
+use curvicast_cli::formats::spec::RaySpec;
 
 /// A 3 × 3 DEM on a sphere of radius 6 371 km with a 100 m peak at vertex (1, 1), 11°N 21°E.
 const TERRAIN: &str = r#"{"ellipsoid": {"a": 6371000.0, "b": 6371000.0}, "grid": {"lat0": 10, "lon0": 20,

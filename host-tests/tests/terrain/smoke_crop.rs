@@ -17,10 +17,10 @@ use curvicast::geodesy::Ellipsoid;
 use curvicast::real::Real;
 use curvicast::terrain::build::{NodeRecord, SliceStorage, build_tree, node_slots};
 use curvicast::terrain::{Grid, Picker};
+use curvicast_cli::formats::real_dem;
+use curvicast_cli::formats::spec::RaySpec;
+use curvicast_cli::formats::terrain::Dem;
 use curvicast_host::oracle::terrain::TerrainOracle;
-use curvicast_host::scenes::real_dem;
-use curvicast_host::scenes::spec::RaySpec;
-use curvicast_host::scenes::terrain::Dem;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 

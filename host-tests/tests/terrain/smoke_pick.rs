@@ -4,9 +4,9 @@
 
 use curvicast::geodesy::Ellipsoid;
 use curvicast::vec3::V3;
+use curvicast_cli::formats::spec::RaySpec;
+use curvicast_cli::formats::terrain::Dem;
 use curvicast_host::oracle::terrain::TerrainOracle;
-use curvicast_host::scenes::spec::RaySpec;
-use curvicast_host::scenes::terrain::Dem;
 use std::path::PathBuf;
 
 /// The value of `const NAME: f64 = ...;` in the smoke test's source.

@@ -12,7 +12,7 @@ use curvicast::V3;
 use curvicast::real::Real;
 use curvicast::tessellate::bevel::{self, Face};
 use curvicast::tessellate::lod::{self, Bound, Shape};
-use curvicast_host::cli::tessellate::{Mesh, build, max_deviation, min_dihedral};
+use curvicast_cli::cli::tessellate::{Mesh, build, max_deviation, min_dihedral};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::sync::OnceLock;

@@ -1,5 +1,5 @@
 use super::*;
-use crate::scenes::terrain::{WGS84_A, WGS84_B};
+use curvicast_cli::formats::terrain::{WGS84_A, WGS84_B};
 
 const R: f64 = 6_371_000.0;
 

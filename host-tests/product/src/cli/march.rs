@@ -13,7 +13,7 @@
 //! an `"error"` field; otherwise a failed ray's line is the contract's `{"ray": i, "error": ".."}`.
 
 use super::io::{RayLine, UsageError, error_line, stream_answers};
-use crate::scenes::spec::{GridSpec, RaySpec};
+use crate::formats::spec::{GridSpec, RaySpec};
 use curvicast::F32Fast;
 use curvicast::ray::Ray;
 use curvicast::real::Real;

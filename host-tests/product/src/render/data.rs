@@ -7,7 +7,7 @@
 //!   model along the straight ray, written apart from the renderer.
 
 use super::field::SphericalCells;
-use crate::scenes::real_dem::{data_dir, decode_packed};
+use crate::formats::real_dem::{data_dir, decode_packed};
 use std::f64::consts::{PI, TAU};
 
 /// The Earth's radius used by both scenes, meters.

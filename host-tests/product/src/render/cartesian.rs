@@ -1,14 +1,14 @@
 //! The Cartesian-resampling baseline of `curvicast render` (Hannasch §6.1–6.3): the cells resampled once onto
 //! `N³` voxels covering the grid's bounding cube — each voxel takes the value of the native cell containing its
 //! center, 0 outside the domain — then marched with the Amanatides–Woo DDA
-//! ([`crate::baselines::dda::VoxelCube::traverse`]). The bounding cube of a spherical grid is centred on the
+//! ([`crate::render::dda::VoxelCube::traverse`]). The bounding cube of a spherical grid is centred on the
 //! center with half-side `r_max`; that of a cylindrical grid is centred on the axis halfway up its height range,
 //! with half-side the larger of `ρ_max` and half the height range. A polar grid is unbounded in z and has no
 //! bounding cube, so it has no Cartesian baseline.
 
 use super::field::Cells;
 use super::sampler::Accumulator;
-use crate::baselines::dda::{VoxelCube, cylindrical_cell_of, spherical_cell_of};
+use crate::render::dda::{VoxelCube, cylindrical_cell_of, spherical_cell_of};
 use rayon::prelude::*;
 
 /// A field resampled onto voxels: one `f32` per voxel (NaN where the containing cell is empty).

@@ -10,7 +10,7 @@
 //! size in grid steps) are extra fields.
 //!
 //! `--dem FILE` reads an SRTM `.hgt` tile, a single-band geographic GeoTIFF or the project's `.dem.cc` format
-//! directly, with the georeference from the file ([`crate::scenes::dem_files`]); it builds the same model as
+//! directly, with the georeference from the file ([`crate::formats::dem_files`]); it builds the same model as
 //! `--terrain`, so the same heights give the same answers.
 //!
 //! Multi-resolution experiments (Wartell et al. §5): `--fine-region` and `--coarse-level` shape a tree whose branches
@@ -22,9 +22,9 @@
 //! line naming the node.
 
 use super::io::{RayLine, StreamError, UsageError, error_line, stream_answers};
-use crate::scenes::dem_files::read_dem;
-use crate::scenes::spec::RaySpec;
-use crate::scenes::terrain::load_terrain;
+use crate::formats::dem_files::read_dem;
+use crate::formats::spec::RaySpec;
+use crate::formats::terrain::load_terrain;
 use crate::storage::{DemStorage, MultiRes, pick_paging_in};
 use curvicast::Ray;
 use curvicast::terrain::{NodeId, Picker};
@@ -36,7 +36,7 @@ use std::path::{Path, PathBuf};
 pub enum TerrainSource {
     /// `--terrain TERRAIN.json`.
     Terrain(PathBuf),
-    /// `--dem FILE`: an SRTM `.hgt`, a GeoTIFF or a `.dem.cc` file (see [`crate::scenes::dem_files`]).
+    /// `--dem FILE`: an SRTM `.hgt`, a GeoTIFF or a `.dem.cc` file (see [`crate::formats::dem_files`]).
     Dem(PathBuf),
 }
 

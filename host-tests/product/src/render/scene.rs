@@ -7,7 +7,7 @@ use super::sampler::{Mode, Transfer};
 use super::{Method, Scene};
 use crate::cli::io::UsageError;
 use crate::cli::march::Precision;
-use crate::scenes::spec::GridSpec;
+use crate::formats::spec::GridSpec;
 use serde::Deserialize;
 use std::path::Path;
 

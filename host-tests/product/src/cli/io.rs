@@ -21,7 +21,7 @@
 //! a closed pipe (`| head -1`) ends it silently with exit 0, as Unix filters do.
 
 use super::OutputError;
-use crate::scenes::spec::RaySpec;
+use crate::formats::spec::RaySpec;
 use std::io::{BufRead, BufReader, ErrorKind, IsTerminal, Read, Write};
 use std::path::Path;
 use std::sync::mpsc::{Receiver, SyncSender, TryRecvError, sync_channel};

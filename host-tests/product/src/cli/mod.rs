@@ -5,6 +5,8 @@
 //! disk, a closed pipe) ends the command with an [`OutputError`], never a panic: a one-line message and exit
 //! code 1, or, for a closed pipe, silently (as Unix tools do).
 
+pub mod command;
+pub mod exit;
 pub mod io;
 pub mod march;
 pub mod pick;
@@ -18,7 +20,7 @@ use std::io::Write;
 pub struct OutputError(pub std::io::Error);
 
 impl OutputError {
-    /// True when the reader went away (a closed pipe, as in `curvicast report | head -1`): the command then ends
+    /// True when the reader went away (a closed pipe, as in `curvicast march ... | head -1`): the command then ends
     /// without a message.
     pub fn is_closed_pipe(&self) -> bool {
         self.0.kind() == std::io::ErrorKind::BrokenPipe

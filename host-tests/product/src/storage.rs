@@ -5,7 +5,7 @@
 //! beside the scenes and the oracle, not in either: it uses both (the scenes' DEM model; the multi-resolution
 //! oracle's tree description for [`DemStorage::tree`]).
 
-use crate::scenes::terrain::Dem;
+use crate::formats::terrain::Dem;
 use curvicast::dd::Dd;
 use curvicast::geodesy::Ellipsoid;
 use curvicast::terrain::boxes::NodeBox;
@@ -223,9 +223,9 @@ impl<'a> DemStorage<'a> {
         }
     }
 
-    /// The tree as plain data (for the multi-resolution oracle and for choosing residency): every node with data
-    /// reachable from the zones, with its parent, level, ranges, stride and residency, in id order.
-    pub fn tree(&self) -> Vec<crate::oracle::multires::TreeNode> {
+    /// The tree as plain data (for choosing residency, and for the harness's multi-resolution oracle): every
+    /// node with data reachable from the zones, with its parent, level, ranges, stride and residency, in id order.
+    pub fn tree(&self) -> Vec<TreeNode> {
         let mut out = Vec::new();
         let Some(s) = self.kernel() else {
             return Vec::new();
@@ -238,7 +238,7 @@ impl<'a> DemStorage<'a> {
             let Some(n) = s.node(id).filter(|n| n.heights.is_some()) else {
                 continue;
             };
-            out.push(crate::oracle::multires::TreeNode {
+            out.push(TreeNode {
                 id: id.0,
                 parent,
                 level: n.level,
@@ -541,4 +541,25 @@ mod tests {
             }
         }
     }
+}
+
+/// One node of a multi-resolution tree, as plain data.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TreeNode {
+    /// Its id.
+    pub id: u32,
+    /// Its parent's id (`None` for a zone).
+    pub parent: Option<u32>,
+    /// Its level (zones are 0).
+    pub level: u8,
+    /// Cell rows `[r0, r1)`.
+    pub rows: [u32; 2],
+    /// Cell columns `[c0, c1)`.
+    pub cols: [u32; 2],
+    /// Whether it has no children.
+    pub leaf: bool,
+    /// Its block's sample spacing in grid steps.
+    pub stride: u32,
+    /// Whether its block is resident.
+    pub resident: bool,
 }

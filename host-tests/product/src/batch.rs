@@ -9,7 +9,7 @@
 //!
 //! ```
 //! use curvicast::{ray::Ray, spherical::SphericalGrid};
-//! use curvicast_host::batch::march_batch;
+//! use curvicast_cli::batch::march_batch;
 //! use std::f64::consts::PI;
 //! let (r, th, ph) = ([0.0, 0.5, 1.0], [0.0, PI / 2.0, PI], [0.0, PI, 2.0 * PI]);
 //! let mut ws = vec![0.0; SphericalGrid::<f64>::workspace_len(3, 3, 3)];

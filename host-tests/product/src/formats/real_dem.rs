@@ -239,7 +239,7 @@ pub fn decode_packed(bytes: &[u8]) -> Result<Packed, String> {
 
 /// The directory of the shipped data (`host-tests/data`).
 pub fn data_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("data")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../data")
 }
 
 /// Decodes a shipped file and checks that its header carries the documented georeference on WGS84.

@@ -15,6 +15,7 @@
 pub mod camera;
 pub mod cartesian;
 pub mod data;
+pub mod dda;
 pub mod field;
 pub mod image;
 pub mod sampler;
