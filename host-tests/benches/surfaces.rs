@@ -9,7 +9,7 @@ use curvicast::F32Fast;
 use curvicast::Ray;
 use curvicast::real::Real;
 use curvicast::surface::{AxialCone, HalfPlane, PlaneZ, Spheroid, Surface};
-use curvicast_host::report::surfaces::{Kind, Mode, SurfaceCase, kernel_ray, random_cases};
+use curvicast_host::report::surfaces::{Kind, Precision, SurfaceCase, kernel_ray, random_cases};
 use std::hint::black_box;
 
 const BATCH: usize = 1024;
@@ -22,7 +22,7 @@ fn run<T: Real, S: Surface<T>>(surfaces: &[S], rays: &[Ray<T>]) -> usize {
     n
 }
 
-fn bench_mode<T: Real>(c: &mut Criterion, kind: Kind, mode: Mode, cases: &[SurfaceCase]) {
+fn bench_mode<T: Real>(c: &mut Criterion, kind: Kind, mode: Precision, cases: &[SurfaceCase]) {
     let cases: Vec<SurfaceCase> = cases.iter().map(|x| x.for_mode(mode)).collect();
     let rays: Vec<Ray<T>> = cases
         .iter()
@@ -73,11 +73,11 @@ fn bench_mode<T: Real>(c: &mut Criterion, kind: Kind, mode: Mode, cases: &[Surfa
 fn surfaces(c: &mut Criterion) {
     for kind in Kind::ALL {
         let cases = random_cases(kind, BATCH, 2026);
-        for mode in Mode::ALL {
+        for mode in Precision::ALL {
             match mode {
-                Mode::F64 => bench_mode::<f64>(c, kind, mode, &cases),
-                Mode::F32 => bench_mode::<f32>(c, kind, mode, &cases),
-                Mode::F32Fast => bench_mode::<F32Fast>(c, kind, mode, &cases),
+                Precision::F64 => bench_mode::<f64>(c, kind, mode, &cases),
+                Precision::F32 => bench_mode::<f32>(c, kind, mode, &cases),
+                Precision::F32Fast => bench_mode::<F32Fast>(c, kind, mode, &cases),
             }
         }
     }

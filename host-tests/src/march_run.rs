@@ -10,45 +10,19 @@ use curvicast::real::{F32Fast, Real};
 use curvicast::spherical::{CylindricalGrid, PolarGrid, SphericalGrid};
 use curvicast_cli::formats::spec::{GridSpec, RaySpec};
 
-/// Which kernel engine.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Engine {
-    /// `grid.march(&ray)` (Hannasch ch. 5).
-    Serial,
-    /// `grid.march_separable::<N>(&ray)` (Hannasch §3).
-    Separable,
+pub use curvicast_cli::precision::{Engine, Precision};
+
+/// The inputs as the kernel of a precision sees them (values rounded to `f32` where it is `f32`), so that the
+/// oracle measures the engine and not the rounding of its input.
+pub trait Rounded {
+    /// The grid with its breakpoints and center in the precision.
+    fn round_grid(self, g: &GridSpec) -> GridSpec;
+    /// The ray with its origin, direction and interval in the precision.
+    fn round_ray(self, r: &RaySpec) -> RaySpec;
 }
 
-/// Which scalar type.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Precision {
-    /// `f64`.
-    F64,
-    /// `f32` with the exact math backend.
-    F32,
-    /// `f32` with the fast-math backend ([`F32Fast`]).
-    F32Fast,
-}
-
-impl Precision {
-    /// The machine epsilon of the scalar.
-    pub fn eps(self) -> f64 {
-        match self {
-            Precision::F64 => f64::EPSILON,
-            _ => f32::EPSILON as f64,
-        }
-    }
-    /// The name used in tables.
-    pub fn name(self) -> &'static str {
-        match self {
-            Precision::F64 => "f64",
-            Precision::F32 => "f32",
-            Precision::F32Fast => "f32-fast",
-        }
-    }
-    /// The grid as the engine of this precision sees it (values rounded to `f32` where it is `f32`), so that
-    /// the oracle measures the engine and not the rounding of its input.
-    pub fn round_grid(self, g: &GridSpec) -> GridSpec {
+impl Rounded for Precision {
+    fn round_grid(self, g: &GridSpec) -> GridSpec {
         if self == Precision::F64 {
             return g.clone();
         }
@@ -83,8 +57,7 @@ impl Precision {
             },
         }
     }
-    /// The ray as the engine of this precision sees it.
-    pub fn round_ray(self, r: &RaySpec) -> RaySpec {
+    fn round_ray(self, r: &RaySpec) -> RaySpec {
         if self == Precision::F64 {
             return *r;
         }

@@ -3,7 +3,8 @@
 //! the report prints the table ("Tolerances"). The measured values are those of the command in each row's
 //! `sample`; a change that moves one far should update it here.
 
-use crate::report::surfaces::{Kind, Mode};
+use crate::report::surfaces::Kind;
+use curvicast_cli::precision::Precision;
 
 /// One bound of an oracle suite.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -84,7 +85,7 @@ pub struct ErrorBound {
     /// The surface family.
     pub kind: Kind,
     /// The scalar mode.
-    pub mode: Mode,
+    pub mode: Precision,
     /// The largest forward error measured on [`MEASURED_RAYS`] rays (`tests/surfaces/oracle.rs: full_sweep_all_modes`).
     pub measured_forward: f64,
     /// The largest backward error measured on the same rays.
@@ -100,7 +101,7 @@ pub struct ErrorBound {
 /// ([`crate::report::surfaces::random_cases`] with the seed of `tests/surfaces/oracle.rs: full_sweep_all_modes`, which re-checks the table).
 pub const MEASURED_RAYS: usize = 100_000;
 
-const fn row(kind: Kind, mode: Mode, mf: f64, mb: f64, f: f64, b: f64) -> ErrorBound {
+const fn row(kind: Kind, mode: Precision, mf: f64, mb: f64, f: f64, b: f64) -> ErrorBound {
     ErrorBound {
         kind,
         mode,
@@ -113,23 +114,23 @@ const fn row(kind: Kind, mode: Mode, mf: f64, mb: f64, f: f64, b: f64) -> ErrorB
 
 /// Every bound of the surface layer's oracle test and report, with its measured value: the one place they live.
 pub const ERROR_BOUNDS: [ErrorBound; 12] = [
-    row(Kind::Spheroid, Mode::F64, 3.244, 3.008, 16.0, 16.0),
-    row(Kind::Spheroid, Mode::F32, 3.359, 3.067, 5.5, 5.0),
-    row(Kind::Spheroid, Mode::F32Fast, 3.435, 3.398, 5.5, 5.5),
-    row(Kind::Cone, Mode::F64, 3.229, 1.156, 16.0, 16.0),
+    row(Kind::Spheroid, Precision::F64, 3.244, 3.008, 16.0, 16.0),
+    row(Kind::Spheroid, Precision::F32, 3.359, 3.067, 5.5, 5.0),
+    row(Kind::Spheroid, Precision::F32Fast, 3.435, 3.398, 5.5, 5.5),
+    row(Kind::Cone, Precision::F64, 3.229, 1.156, 16.0, 16.0),
     // f32 cones with an opening near π/2 (nearly a plane): the rounding of cos θ in f32 dominates.
-    row(Kind::Cone, Mode::F32, 11.425, 5.449, 17.5, 8.5),
-    row(Kind::Cone, Mode::F32Fast, 11.425, 5.449, 17.5, 8.5),
-    row(Kind::HalfPlane, Mode::F64, 3.085, 1.311, 16.0, 16.0),
-    row(Kind::HalfPlane, Mode::F32, 2.806, 1.522, 4.5, 2.5),
-    row(Kind::HalfPlane, Mode::F32Fast, 2.806, 1.522, 4.5, 2.5),
-    row(Kind::PlaneZ, Mode::F64, 1.339, 1.081, 16.0, 16.0),
-    row(Kind::PlaneZ, Mode::F32, 1.719, 1.380, 3.0, 2.5),
-    row(Kind::PlaneZ, Mode::F32Fast, 1.719, 1.380, 3.0, 2.5),
+    row(Kind::Cone, Precision::F32, 11.425, 5.449, 17.5, 8.5),
+    row(Kind::Cone, Precision::F32Fast, 11.425, 5.449, 17.5, 8.5),
+    row(Kind::HalfPlane, Precision::F64, 3.085, 1.311, 16.0, 16.0),
+    row(Kind::HalfPlane, Precision::F32, 2.806, 1.522, 4.5, 2.5),
+    row(Kind::HalfPlane, Precision::F32Fast, 2.806, 1.522, 4.5, 2.5),
+    row(Kind::PlaneZ, Precision::F64, 1.339, 1.081, 16.0, 16.0),
+    row(Kind::PlaneZ, Precision::F32, 1.719, 1.380, 3.0, 2.5),
+    row(Kind::PlaneZ, Precision::F32Fast, 1.719, 1.380, 3.0, 2.5),
 ];
 
 /// The row of [`ERROR_BOUNDS`] for a kind and mode.
-pub fn error_bound(kind: Kind, mode: Mode) -> ErrorBound {
+pub fn error_bound(kind: Kind, mode: Precision) -> ErrorBound {
     ERROR_BOUNDS
         .iter()
         .copied()
@@ -139,13 +140,13 @@ pub fn error_bound(kind: Kind, mode: Mode) -> ErrorBound {
 
 /// The forward-error bound `B` (in units of `ε S`, outside the near-tangent band) asserted by the oracle test for a
 /// kind and mode, and used to size the ambiguity zones (see the module docs): [`ERROR_BOUNDS`].
-pub fn forward_bound(kind: Kind, mode: Mode) -> f64 {
+pub fn forward_bound(kind: Kind, mode: Precision) -> f64 {
     error_bound(kind, mode).forward
 }
 
 /// The backward-error bound (in units of `ε S_k`, over every kernel crossing, in the band too) asserted by the oracle
 /// test: [`ERROR_BOUNDS`].
-pub fn backward_bound(kind: Kind, mode: Mode) -> f64 {
+pub fn backward_bound(kind: Kind, mode: Precision) -> f64 {
     error_bound(kind, mode).backward
 }
 

@@ -6,6 +6,7 @@
 //! * [`formats`]: the JSON input formats (grids, rays, terrains), the DEM files (`.hgt`, GeoTIFF, `.dem.cc`) and
 //!   the shipped real DEMs.
 //! * [`storage`]: the quadtree the host builds over a DEM for the kernel's picker (single and multi-resolution).
+//! * [`precision`]: the scalar and the engine, one type each.
 //! * [`batch`]: many rays marched at once across cores (rayon).
 //! * [`render`]: images of fields on spherical, cylindrical and polar grids, native and Cartesian (`curvicast render`).
 //! * [`cli`]: the subcommands of `curvicast`.
@@ -13,5 +14,6 @@
 pub mod batch;
 pub mod cli;
 pub mod formats;
+pub mod precision;
 pub mod render;
 pub mod storage;

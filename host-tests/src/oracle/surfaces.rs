@@ -160,6 +160,16 @@ pub enum AngleType {
     F32,
 }
 
+impl AngleType {
+    /// Which type's special angles the kernel treats exactly in a precision.
+    pub fn of(p: curvicast_cli::precision::Precision) -> AngleType {
+        match p {
+            curvicast_cli::precision::Precision::F64 => AngleType::F64,
+            _ => AngleType::F32,
+        }
+    }
+}
+
 /// A surface, with the same parameters as the kernel's constructors (all `f64`; an `f32` case passes its values
 /// widened exactly).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -3,7 +3,7 @@
 //! and the Cartesian-resampling baseline (Amanatides–Woo DDA over an n³ voxel grid).
 
 use super::{Options, Section};
-use crate::march_run::{self as run, Engine, Precision};
+use crate::march_run::{self as run, Engine, Precision, Rounded};
 use crate::oracle::march::{KernelCrossing, MarchOracle, compare, same_sequence};
 use crate::scenes::march_cases as mc;
 use crate::scenes::marching::{Breakpoints, CELLS, GridKind, parallel_rays, perspective_rays};

@@ -49,6 +49,7 @@ use curvicast::F32Fast;
 use curvicast::Ray;
 use curvicast::real::Real;
 use curvicast::surface::{AxialCone, HalfPlane, PlaneZ, Side, Spheroid, Surface};
+pub use curvicast_cli::precision::Precision;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -88,51 +89,6 @@ impl Kind {
     }
 }
 
-/// The precision modes of the kernel.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Mode {
-    /// `f64` with the exact backend.
-    F64,
-    /// `f32` with the exact backend.
-    F32,
-    /// `F32Fast`: `f32` with the fast backend (micromath's inverse-sqrt estimate refined by Newton steps).
-    F32Fast,
-}
-
-impl Mode {
-    /// Every mode, in report order.
-    pub const ALL: [Mode; 3] = [Mode::F64, Mode::F32, Mode::F32Fast];
-    /// A short name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Mode::F64 => "f64 exact",
-            Mode::F32 => "f32 exact",
-            Mode::F32Fast => "f32 fast",
-        }
-    }
-    /// The machine epsilon of the mode's scalar type: the error unit.
-    pub fn eps(self) -> f64 {
-        match self {
-            Mode::F64 => f64::EPSILON,
-            Mode::F32 | Mode::F32Fast => f32::EPSILON as f64,
-        }
-    }
-    /// The largest finite value of the mode's scalar type (a `t` beyond it rounds to ±∞).
-    pub fn max_finite(self) -> f64 {
-        match self {
-            Mode::F64 => f64::MAX,
-            Mode::F32 | Mode::F32Fast => f32::MAX as f64,
-        }
-    }
-    /// Which type's special angles the kernel treats exactly in this mode.
-    pub fn angles(self) -> AngleType {
-        match self {
-            Mode::F64 => AngleType::F64,
-            Mode::F32 | Mode::F32Fast => AngleType::F32,
-        }
-    }
-}
-
 /// One ray–surface case over `t ∈ [0, ∞)`, in `f64` data.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SurfaceCase {
@@ -161,10 +117,10 @@ impl SurfaceCase {
         }
     }
     /// The case's data in the precision of `mode`.
-    pub fn for_mode(&self, mode: Mode) -> SurfaceCase {
+    pub fn for_mode(&self, mode: Precision) -> SurfaceCase {
         match mode {
-            Mode::F64 => *self,
-            Mode::F32 | Mode::F32Fast => self.to_f32(),
+            Precision::F64 => *self,
+            Precision::F32 | Precision::F32Fast => self.to_f32(),
         }
     }
     /// The surface for the oracle.
@@ -227,12 +183,15 @@ pub fn kernel_crossings<T: Real>(case: &SurfaceCase) -> Result<Vec<KernelCrossin
 }
 
 /// Runs the kernel in the given mode on a case (rounding its data to the mode's precision first).
-pub fn kernel_crossings_in(mode: Mode, case: &SurfaceCase) -> Result<Vec<KernelCrossing>, String> {
+pub fn kernel_crossings_in(
+    mode: Precision,
+    case: &SurfaceCase,
+) -> Result<Vec<KernelCrossing>, String> {
     let c = case.for_mode(mode);
     match mode {
-        Mode::F64 => kernel_crossings::<f64>(&c),
-        Mode::F32 => kernel_crossings::<f32>(&c),
-        Mode::F32Fast => kernel_crossings::<F32Fast>(&c),
+        Precision::F64 => kernel_crossings::<f64>(&c),
+        Precision::F32 => kernel_crossings::<f32>(&c),
+        Precision::F32Fast => kernel_crossings::<F32Fast>(&c),
     }
 }
 
@@ -424,7 +383,7 @@ pub fn oracle_answer_on(surface: &PreparedSurface, case: &SurfaceCase) -> Oracle
 
 /// Whether a crossing at `t` (with angle sine `sin`) may legitimately be present in one answer and absent in the
 /// other: in the band, or within the mode's error of the interval end `t = 0` or of the surface's edge.
-fn ambiguous(o: &OracleAnswer, kind: Kind, t: f64, sin: f64, mode: Mode, bound: f64) -> bool {
+fn ambiguous(o: &OracleAnswer, kind: Kind, t: f64, sin: f64, mode: Precision, bound: f64) -> bool {
     if sin < SIN_BAND {
         return true;
     }
@@ -444,7 +403,7 @@ fn ambiguous(o: &OracleAnswer, kind: Kind, t: f64, sin: f64, mode: Mode, bound: 
 /// Compares the kernel's crossings with the oracle's (see the module docs for the measures and the band).
 pub fn compare(
     kind: Kind,
-    mode: Mode,
+    mode: Precision,
     o: &OracleAnswer,
     kernel: &Result<Vec<KernelCrossing>, String>,
 ) -> CaseOutcome {
@@ -598,14 +557,14 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
     md.push_str("| surface | mode | ns / intersection | max forward error (ε·S) | max backward error (ε·S) | crossings (in band) | mismatches |\n");
     md.push_str("| --- | --- | ---: | ---: | ---: | ---: | ---: |\n");
     // per mode: (ns, relative forward error, kind) for the chart
-    let mut chart: Vec<Vec<(f64, f64, String)>> = vec![Vec::new(); Mode::ALL.len()];
+    let mut chart: Vec<Vec<(f64, f64, String)>> = vec![Vec::new(); Precision::ALL.len()];
     for kind in Kind::ALL {
         let time_cases = random_cases(kind, n_time, 2026);
         let err_cases = random_cases(kind, n_err, 2027);
-        let stats = evaluate(&err_cases, &Mode::ALL);
-        for (m, (mode, st)) in Mode::ALL.iter().zip(stats).enumerate() {
+        let stats = evaluate(&err_cases, &Precision::ALL);
+        for (m, (mode, st)) in Precision::ALL.iter().zip(stats).enumerate() {
             let ns = median_ns(kind, *mode, &time_cases, reps);
-            let eps = if *mode == Mode::F64 {
+            let eps = if *mode == Precision::F64 {
                 f64::EPSILON
             } else {
                 f64::from(f32::EPSILON)
@@ -624,7 +583,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
             ));
         }
     }
-    let series: Vec<super::plot::Series> = Mode::ALL
+    let series: Vec<super::plot::Series> = Precision::ALL
         .iter()
         .zip(chart)
         .map(|(mode, pts)| super::plot::Series {

@@ -4,7 +4,7 @@
 
 use crate::support;
 
-use curvicast_host::march_run::{Engine, Precision, run_engine};
+use curvicast_host::march_run::{Engine, Precision, Rounded, run_engine};
 use curvicast_host::scenes::march_cases::{partial_grid, random_grid, random_ray};
 use rand::{Rng, SeedableRng};
 

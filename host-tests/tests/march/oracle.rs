@@ -12,7 +12,7 @@
 use crate::support;
 
 use curvicast_cli::formats::spec::{GridSpec, RaySpec};
-use curvicast_host::march_run::{self as run, Engine, Precision};
+use curvicast_host::march_run::{self as run, Engine, Precision, Rounded};
 use curvicast_host::oracle::march::{KernelCrossing, MarchOracle, compare};
 use curvicast_host::scenes::march_cases::{self as mc, Case};
 use curvicast_host::tolerances::MARCH_F64_BOUNDARY;

@@ -17,7 +17,7 @@
 //! `f32` kernel here, so a tolerance mistake shows up on the host too.
 
 use curvicast_host::oracle::surfaces::{AngleType, OracleRay, OracleSurface};
-use curvicast_host::report::surfaces::{Kind, Mode, SurfaceCase, kernel_crossings_in};
+use curvicast_host::report::surfaces::{Kind, Precision, SurfaceCase, kernel_crossings_in};
 use std::f64::consts::FRAC_PI_2;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -323,7 +323,7 @@ fn smoke_cases_cover_what_they_claim() {
 fn host_kernel_meets_the_smoke_tolerances() {
     let mut failures = Vec::new();
     for e in all_cases() {
-        for (mode, tol) in [(Mode::F64, e.tol[0]), (Mode::F32, e.tol[1])] {
+        for (mode, tol) in [(Precision::F64, e.tol[0]), (Precision::F32, e.tol[1])] {
             match kernel_crossings_in(mode, &e.case) {
                 Err(err) => failures.push(format!("{:?} {mode:?}: {err}", e.case)),
                 Ok(k) => {

@@ -9,7 +9,7 @@
 
 use curvicast_host::oracle::surfaces::AngleType;
 use curvicast_host::report::surfaces::{
-    Kind, Mode, SurfaceCase, compare, kernel_crossings_in, oracle_answer,
+    Kind, Precision, SurfaceCase, compare, kernel_crossings_in, oracle_answer,
 };
 use curvicast_host::tolerances::{backward_bound, forward_bound};
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
@@ -26,9 +26,9 @@ fn case(kind: Kind, p: [f64; 2], origin: [f64; 3], dir: [f64; 3]) -> SurfaceCase
 /// Checks a case in every mode. `expect` is the known answer (sides entered, in order) in f64, if any: then the
 /// oracle must give it and the f64 kernel must match it exactly, band or not.
 fn check(c: SurfaceCase, expect: Option<&[bool]>) {
-    for mode in Mode::ALL {
+    for mode in Precision::ALL {
         let data = c.for_mode(mode);
-        let o = oracle_answer(&data, mode.angles());
+        let o = oracle_answer(&data, AngleType::of(mode));
         let k = kernel_crossings_in(mode, &c);
         let r = compare(c.kind, mode, &o, &k);
         assert!(r.mismatch.is_none(), "{mode:?} {c:?}: {:?}", r.mismatch);
@@ -42,7 +42,7 @@ fn check(c: SurfaceCase, expect: Option<&[bool]>) {
             "{mode:?} {c:?}: backward error {} ε·S",
             r.backward
         );
-        if let (Mode::F64, Some(e)) = (mode, expect) {
+        if let (Precision::F64, Some(e)) = (mode, expect) {
             let k = k.unwrap();
             let os: Vec<bool> = o.crossings.iter().map(|x| x.into_positive).collect();
             let ks: Vec<bool> = k.iter().map(|x| x.into_positive).collect();
@@ -578,7 +578,7 @@ fn f32_crossing_beyond_the_f32_range_is_infinite() {
         [-3e8, 6e7, 0.0],
         [1e-30, 0.0, 0.0],
     );
-    let k = kernel_crossings_in(Mode::F32, &c).unwrap();
+    let k = kernel_crossings_in(Precision::F32, &c).unwrap();
     assert_eq!(k.len(), 2);
     assert!(k[0].t.is_finite() && k[1].t == f64::INFINITY, "{k:?}");
     let o = oracle_answer(&c.to_f32(), AngleType::F32);
@@ -592,7 +592,7 @@ fn f32_angles_of_the_special_cone_values_are_exact() {
     let theta = std::f32::consts::FRAC_PI_2 as f64;
     let c = case(Kind::Cone, [0.5, theta], [0.3, 0.2, 2.0], [0.1, 0.0, -1.0]);
     let o = oracle_answer(&c, AngleType::F32);
-    let k = kernel_crossings_in(Mode::F32, &c).unwrap();
+    let k = kernel_crossings_in(Precision::F32, &c).unwrap();
     assert_eq!(o.crossings.len(), 1);
     assert_eq!(k.len(), 1);
     assert_eq!(o.crossings[0].t_f64, 1.5);

@@ -24,12 +24,12 @@
 //! mode) is in one table, `curvicast_host::tolerances::ERROR_BOUNDS`; `full_sweep_all_modes` re-measures
 //! it and fails when a measured value is exceeded or has fallen below half (the table is then stale).
 
-use curvicast_host::report::surfaces::{Kind, Mode, Stats, evaluate, random_cases};
+use curvicast_host::report::surfaces::{Kind, Precision, Stats, evaluate, random_cases};
 use curvicast_host::tolerances::{MEASURED_RAYS, backward_bound, error_bound, forward_bound};
 
 const SEED: u64 = 0x5eed_0002;
 
-fn check(kind: Kind, modes: &[Mode], n: usize, seed: u64) -> Vec<Stats> {
+fn check(kind: Kind, modes: &[Precision], n: usize, seed: u64) -> Vec<Stats> {
     let cases = random_cases(kind, n, seed);
     let stats = evaluate(&cases, modes);
     let mut failures = Vec::new();
@@ -87,7 +87,7 @@ fn check(kind: Kind, modes: &[Mode], n: usize, seed: u64) -> Vec<Stats> {
     stats
 }
 
-fn print_stats(kind: Kind, mode: Mode, st: &Stats) {
+fn print_stats(kind: Kind, mode: Precision, st: &Stats) {
     println!(
         "{:<10} {:<9} rays {:>7} crossings {:>7} (in band {:>5})  max forward {:>8.3} ε·S  max backward {:>8.3} ε·S  mismatches {}",
         kind.name(),
@@ -105,28 +105,33 @@ fn print_stats(kind: Kind, mode: Mode, st: &Stats) {
 
 #[test]
 fn spheroid_f64_100k_rays() {
-    check(Kind::Spheroid, &[Mode::F64], 100_000, SEED);
+    check(Kind::Spheroid, &[Precision::F64], 100_000, SEED);
 }
 
 #[test]
 fn cone_f64_100k_rays() {
-    check(Kind::Cone, &[Mode::F64], 100_000, SEED);
+    check(Kind::Cone, &[Precision::F64], 100_000, SEED);
 }
 
 #[test]
 fn half_plane_f64_100k_rays() {
-    check(Kind::HalfPlane, &[Mode::F64], 100_000, SEED);
+    check(Kind::HalfPlane, &[Precision::F64], 100_000, SEED);
 }
 
 #[test]
 fn plane_z_f64_100k_rays() {
-    check(Kind::PlaneZ, &[Mode::F64], 100_000, SEED);
+    check(Kind::PlaneZ, &[Precision::F64], 100_000, SEED);
 }
 
 #[test]
 fn all_kinds_f32_and_f32_fast_10k_rays() {
     for kind in Kind::ALL {
-        check(kind, &[Mode::F32, Mode::F32Fast], 10_000, SEED + 1);
+        check(
+            kind,
+            &[Precision::F32, Precision::F32Fast],
+            10_000,
+            SEED + 1,
+        );
     }
 }
 
@@ -139,8 +144,8 @@ fn all_kinds_f32_and_f32_fast_10k_rays() {
 fn full_sweep_all_modes() {
     let mut stale = Vec::new();
     for kind in Kind::ALL {
-        let stats = check(kind, &Mode::ALL, MEASURED_RAYS, SEED + 2);
-        for (mode, st) in Mode::ALL.into_iter().zip(stats) {
+        let stats = check(kind, &Precision::ALL, MEASURED_RAYS, SEED + 2);
+        for (mode, st) in Precision::ALL.into_iter().zip(stats) {
             let b = error_bound(kind, mode);
             for (what, now, table) in [
                 ("forward", st.max_forward.0, b.measured_forward),

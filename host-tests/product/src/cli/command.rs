@@ -81,10 +81,10 @@ enum Command {
         rays: Option<PathBuf>,
         /// The engine.
         #[arg(long, value_enum, default_value = "serial")]
-        engine: super::march::Engine,
+        engine: crate::precision::Engine,
         /// The scalar type.
         #[arg(long, value_enum, default_value = "f64")]
-        precision: super::march::Precision,
+        precision: crate::precision::Precision,
     },
     /// Render a field on a spherical, cylindrical or polar grid: DIR/image.png, values.f32 and render.json.
     Render {

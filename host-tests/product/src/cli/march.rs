@@ -14,6 +14,7 @@
 
 use super::io::{RayLine, UsageError, error_line, stream_answers};
 use crate::formats::spec::{GridSpec, RaySpec};
+pub use crate::precision::{Engine, Precision};
 use curvicast::F32Fast;
 use curvicast::ray::Ray;
 use curvicast::real::Real;
@@ -22,27 +23,6 @@ use curvicast::spherical::{
 };
 use std::io::Write;
 use std::path::{Path, PathBuf};
-
-/// Which engine marches.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Engine {
-    /// The serial, constant-memory engine (Hannasch ch. 5).
-    Serial,
-    /// The separable engine (Hannasch §3), buffers sized from the grid.
-    Separable,
-}
-
-/// Which scalar the kernel runs in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Precision {
-    /// IEEE binary64.
-    F64,
-    /// IEEE binary32 with correctly rounded sqrt.
-    F32,
-    /// binary32 with the fast math backend.
-    #[value(name = "f32-fast")]
-    F32Fast,
-}
 
 /// The arguments of `curvicast march`.
 #[derive(Debug, Clone)]

@@ -99,11 +99,7 @@ pub fn write_outputs(dir: &Path, scene: &Scene, out: &Rendered) -> anyhow::Resul
     });
     match scene.method {
         Method::Native => {
-            meta["precision"] = serde_json::json!(match scene.precision {
-                crate::cli::march::Precision::F64 => "f64",
-                crate::cli::march::Precision::F32 => "f32",
-                crate::cli::march::Precision::F32Fast => "f32-fast",
-            });
+            meta["precision"] = serde_json::json!(scene.precision.name());
         }
         Method::Cartesian(n) => {
             meta["voxels_per_side"] = serde_json::json!(n);

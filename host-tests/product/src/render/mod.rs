@@ -22,7 +22,7 @@ pub mod sampler;
 pub mod scene;
 
 use crate::batch::MarchGrid;
-use crate::cli::march::Precision;
+use crate::precision::Precision;
 use camera::Camera;
 use cartesian::VoxelValues;
 use curvicast::F32Fast;

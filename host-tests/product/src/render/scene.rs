@@ -6,8 +6,8 @@ use super::field::{Analytic, Cells, CylindricalCells, PolarCells, SphericalCells
 use super::sampler::{Mode, Transfer};
 use super::{Method, Scene};
 use crate::cli::io::UsageError;
-use crate::cli::march::Precision;
 use crate::formats::spec::GridSpec;
+use crate::precision::Precision;
 use serde::Deserialize;
 use std::path::Path;
 
@@ -38,7 +38,7 @@ pub struct SceneSpec {
     pub method: MethodSpec,
     /// The kernel's scalar (default `"f64"`).
     #[serde(default)]
-    pub precision: PrecisionSpec,
+    pub precision: Precision,
 }
 
 /// `{"analytic": "ball" | "r2" | "step", "radius": R}` or `{"cells": "values.f32"}`.
@@ -88,21 +88,6 @@ pub enum MethodSpec {
     Native,
     /// Resampling to `N³` voxels.
     Cartesian(usize),
-}
-
-/// `"f64"`, `"f32"` or `"f32-fast"`.
-#[derive(Debug, Clone, Copy, Default, Deserialize)]
-pub enum PrecisionSpec {
-    /// binary64.
-    #[default]
-    #[serde(rename = "f64")]
-    F64,
-    /// binary32.
-    #[serde(rename = "f32")]
-    F32,
-    /// binary32, fast math.
-    #[serde(rename = "f32-fast")]
-    F32Fast,
 }
 
 /// Reads, checks and builds the scene in `path` (per-cell data relative to it).
@@ -190,11 +175,7 @@ pub fn build_scene(spec: &SceneSpec, base: &Path) -> Result<Scene, SceneError> {
             )));
         }
     };
-    let precision = match spec.precision {
-        PrecisionSpec::F64 => Precision::F64,
-        PrecisionSpec::F32 => Precision::F32,
-        PrecisionSpec::F32Fast => Precision::F32Fast,
-    };
+    let precision = spec.precision;
     Ok(Scene {
         grid,
         values,

@@ -62,10 +62,10 @@ impl Stats {
 /// Compares the kernel with the oracle on every case in each of `modes`, in parallel. The oracle runs once for the
 /// `f64` data and once for the `f32` data (shared by both `f32` modes), and prepares each surface once per run of
 /// consecutive cases that share it. Returns one [`Stats`] per mode, in order.
-pub fn evaluate(cases: &[SurfaceCase], modes: &[Mode]) -> Vec<Stats> {
+pub fn evaluate(cases: &[SurfaceCase], modes: &[Precision]) -> Vec<Stats> {
     let n = modes.len();
-    let need64 = modes.contains(&Mode::F64);
-    let need32 = modes.iter().any(|m| *m != Mode::F64);
+    let need64 = modes.contains(&Precision::F64);
+    let need32 = modes.iter().any(|m| *m != Precision::F64);
     cases
         .par_chunk_by(|a, b| a.kind == b.kind && a.p == b.p)
         .fold(
@@ -81,7 +81,7 @@ pub fn evaluate(cases: &[SurfaceCase], modes: &[Mode]) -> Vec<Stats> {
                     let o32 = s32.as_ref().map(|s| oracle_answer_on(s, &case.to_f32()));
                     for (slot, &mode) in acc.iter_mut().zip(modes) {
                         let o = match mode {
-                            Mode::F64 => o64.as_ref(),
+                            Precision::F64 => o64.as_ref(),
                             _ => o32.as_ref(),
                         };
                         let Some(o) = o else { continue };

@@ -28,7 +28,7 @@ pub(super) fn time_kind<T: Real, S: Surface<T>>(
 }
 
 /// The median ns per intersection for one kind and mode over the given cases (rounded to the mode first).
-pub fn median_ns(kind: Kind, mode: Mode, cases: &[SurfaceCase], reps: usize) -> f64 {
+pub fn median_ns(kind: Kind, mode: Precision, cases: &[SurfaceCase], reps: usize) -> f64 {
     fn go<T: Real>(kind: Kind, cases: &[SurfaceCase], reps: usize) -> f64 {
         let rays: Vec<Ray<T>> = cases
             .iter()
@@ -68,8 +68,8 @@ pub fn median_ns(kind: Kind, mode: Mode, cases: &[SurfaceCase], reps: usize) -> 
     }
     let cs: Vec<SurfaceCase> = cases.iter().map(|c| c.for_mode(mode)).collect();
     match mode {
-        Mode::F64 => go::<f64>(kind, &cs, reps),
-        Mode::F32 => go::<f32>(kind, &cs, reps),
-        Mode::F32Fast => go::<F32Fast>(kind, &cs, reps),
+        Precision::F64 => go::<f64>(kind, &cs, reps),
+        Precision::F32 => go::<f32>(kind, &cs, reps),
+        Precision::F32Fast => go::<F32Fast>(kind, &cs, reps),
     }
 }
