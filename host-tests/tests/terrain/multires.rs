@@ -402,34 +402,32 @@ fn min_level_at_full_depth_is_the_single_resolution_surface() {
 }
 
 /// The long run (`cargo test -p curvicast-host --release --test terrain multires -- --include-ignored`): more
-/// residency patterns and rays on four terrains, every `min_level`.
+/// residency patterns and rays on four terrains, every `min_level`. CI's long step runs one shard of the four
+/// per commit (`CURVICAST_LONG_SHARD`, tests/support: long_shard).
 #[test]
 #[ignore = "long: about a minute"]
 fn random_residency_full() {
-    run_suite(
-        "full: mid-latitude",
-        &dem_at(47.0, 8.0, 129, 31),
-        2,
-        8,
-        30,
-        400,
-    );
-    run_suite(
-        "full: 4-cell blocks",
-        &dem_at(12.0, -70.0, 129, 34),
-        3,
-        4,
-        30,
-        400,
-    );
-    run_suite("full: polar", &dem_at(-87.5, -179.0, 97, 32), 2, 8, 30, 400);
-    let spiky = synthetic(
-        TerrainKind::Spiky,
-        (60.0, -150.0, 0.003, 0.004),
-        (97, 97),
-        33,
-    );
-    run_suite("full: spiky", &spiky, 3, 8, 30, 400);
+    let suites: [(&str, fn() -> Dem, usize, usize); 4] = [
+        ("full: mid-latitude", || dem_at(47.0, 8.0, 129, 31), 2, 8),
+        ("full: 4-cell blocks", || dem_at(12.0, -70.0, 129, 34), 3, 4),
+        ("full: polar", || dem_at(-87.5, -179.0, 97, 32), 2, 8),
+        (
+            "full: spiky",
+            || {
+                synthetic(
+                    TerrainKind::Spiky,
+                    (60.0, -150.0, 0.003, 0.004),
+                    (97, 97),
+                    33,
+                )
+            },
+            3,
+            8,
+        ),
+    ];
+    for (name, dem, coarse, block) in crate::support::long_shard(suites.to_vec()) {
+        run_suite(name, &dem(), coarse, block, 30, 400);
+    }
 }
 
 /// Near a pole, coarse cells far wider than tall (0.0001° × 2.7° at 89.4°): a latitude cone's arc between two
