@@ -407,7 +407,9 @@ fn min_level_at_full_depth_is_the_single_resolution_surface() {
 #[test]
 #[ignore = "long: about a minute"]
 fn random_residency_full() {
-    let suites: [(&str, fn() -> Dem, usize, usize); 4] = [
+    /// A suite: its name, its terrain, the coarse level and the leaf blocks' cells.
+    type Suite = (&'static str, fn() -> Dem, usize, usize);
+    let suites: [Suite; 4] = [
         ("full: mid-latitude", || dem_at(47.0, 8.0, 129, 31), 2, 8),
         ("full: 4-cell blocks", || dem_at(12.0, -70.0, 129, 34), 3, 4),
         ("full: polar", || dem_at(-87.5, -179.0, 97, 32), 2, 8),
