@@ -1,6 +1,6 @@
 //! Packs a DEM given as a `TERRAIN.json` (its heights in the `.f32` file it names, or inline) into the project's
 //! lossless, self-describing `.dem.cc` format (see `curvicast_cli::formats::real_dem`), the ellipsoid and grid in
-//! its header: `cargo run --example pack_dem -- TERRAIN.json SCALE OUT.dem.cc`, where every present height is a
+//! its header: `cargo run -p curvicast-host --example pack_dem -- TERRAIN.json SCALE OUT.dem.cc`, where every present height is a
 //! multiple of `1/SCALE`.
 
 use curvicast_cli::formats::real_dem::{decode, encode, fnv1a_f32};

@@ -17,7 +17,7 @@
 //! Decoding checks the checksum, so the heights the kernel, the oracle and the baselines see are bit for bit the
 //! `f32` values of the source files (a missing vertex decodes as `f32::NAN`), and checks the georeference as
 //! [`Dem::new`] does. The first version, `CCDEM1`, had no georeference in its header; it is rejected with a
-//! message saying to re-encode it (`cargo run --example pack_dem`).
+//! message saying to re-encode it (`cargo run -p curvicast-host --example pack_dem`).
 
 use super::terrain::{Dem, WGS84_A, WGS84_B};
 use std::path::{Path, PathBuf};
@@ -153,7 +153,7 @@ pub fn decode_packed(bytes: &[u8]) -> Result<Packed, String> {
     if bytes.starts_with(b"CCDEM1") {
         return Err(
             "a CCDEM1 file, whose header holds no georeference: re-encode it as CCDEM2 \
-                    (cargo run --example pack_dem)"
+                    (cargo run -p curvicast-host --example pack_dem)"
                 .into(),
         );
     }
