@@ -48,7 +48,7 @@ fn sin_cos_deg_f32_within_2_ulp_of_f64() {
         let ulp = f64::from(f32::from_bits(w.abs().to_bits() + 1) - w.abs());
         (f64::from(got) - want).abs() / ulp
     };
-    let n: u32 = if cfg!(miri) { 1 << 10 } else { 1 << 16 };
+    let n: u32 = if cfg!(miri) { 1 << 8 } else { 1 << 16 };
     let mut worst = 0.0_f64;
     for i in 0..=n {
         let x = -720.0 + 1440.0 * (i as f32) / (n as f32);
@@ -71,7 +71,8 @@ fn sin_cos_deg_f32_within_2_ulp_of_f64() {
 fn reverse_f32_against_f64() {
     let (e32, e64) = (Ellipsoid::<f32>::wgs84(), Ellipsoid::<f64>::wgs84());
     let (mut dlat, mut dh) = (0.0_f64, 0.0_f64);
-    for i in 0..200 {
+    // 200 points natively, every fourth under Miri (the whole took ten seconds there)
+    for i in (0..200).step_by(if cfg!(miri) { 4 } else { 1 }) {
         let lat = -1.5 + 3.0 * f64::from(i) / 200.0;
         let lon = 0.1 * f64::from(i);
         let h = 9000.0 * f64::from(i % 7) - 3000.0;
