@@ -8,7 +8,7 @@
 use curvicast::F32Fast;
 use curvicast::ray::{Ray, RayError};
 use curvicast::real::Real;
-use curvicast::spherical::{CellCrossing, CylindricalGrid, MarchError, PolarGrid, SphericalGrid};
+use curvicast::march::{CellCrossing, CylindricalGrid, MarchError, PolarGrid, SphericalGrid};
 use libfuzzer_sys::fuzz_target;
 use std::f64::consts::PI;
 

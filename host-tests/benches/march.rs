@@ -20,9 +20,9 @@
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use curvicast::F32Fast;
+use curvicast::march::{SeparableMarch, SerialMarch, Spherical, SphericalGrid};
 use curvicast::ray::Ray;
 use curvicast::real::Real;
-use curvicast::spherical::{SeparableMarch, SerialMarch, SphericalGrid};
 use curvicast_cli::batch::march_batch;
 use curvicast_host::scenes::marching::{
     Breakpoints, GridKind, parallel_rays, perspective_rays, rays_in,
@@ -160,8 +160,8 @@ fn bench_batch(c: &mut Criterion) {
 fn benches(c: &mut Criterion) {
     println!(
         "size_of SerialMarch: f64 {} bytes, f32 {} bytes",
-        std::mem::size_of::<SerialMarch<'static, f64>>(),
-        std::mem::size_of::<SerialMarch<'static, f32>>()
+        std::mem::size_of::<SerialMarch<'static, f64, Spherical>>(),
+        std::mem::size_of::<SerialMarch<'static, f32, Spherical>>()
     );
     for kind in GridKind::ALL {
         bench_mode::<f64>(c, kind, false);

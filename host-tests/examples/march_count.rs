@@ -21,8 +21,8 @@
 //! shell r ∈ [0.3, 1], θ ∈ [0.4, 2.6], φ ∈ [−1, 4]), `M` (rays per side) and `PASSES`.
 
 use curvicast::F32Fast;
+use curvicast::march::SeparableMarch;
 use curvicast::real::Real;
-use curvicast::spherical::SeparableMarch;
 use curvicast_cli::batch::march_batch;
 use curvicast_host::scenes::marching::{Breakpoints, GridKind, parallel_rays, rays_in};
 use std::hint::black_box;

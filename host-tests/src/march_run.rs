@@ -5,9 +5,9 @@
 //! this module uses both.
 
 use crate::oracle::march::{KernelCrossing, MarchOracle, Mismatch, compare};
+use curvicast::march::{CylindricalGrid, PolarGrid, SphericalGrid};
 use curvicast::ray::Ray;
 use curvicast::real::{F32Fast, Real};
-use curvicast::spherical::{CylindricalGrid, PolarGrid, SphericalGrid};
 use curvicast_cli::formats::spec::{GridSpec, RaySpec};
 
 pub use curvicast_cli::precision::{Engine, Precision};
@@ -93,7 +93,7 @@ fn conv<T: Real>(v: &[f64]) -> Vec<T> {
 }
 
 fn collect<T: Real>(
-    it: impl Iterator<Item = curvicast::spherical::CellCrossing<T>>,
+    it: impl Iterator<Item = curvicast::march::CellCrossing<T>>,
 ) -> Vec<KernelCrossing> {
     it.map(|c| KernelCrossing {
         cell: c.cell,

@@ -4,7 +4,7 @@
 //! `unsafe`, no panics, fixed memory.
 //!
 //! ```
-//! use curvicast::{ray::Ray, spherical::SphericalGrid};
+//! use curvicast::{ray::Ray, march::SphericalGrid};
 //! use core::f64::consts::PI;
 //! // The cells of a ball of radius 1 (split at r = 0.5, the equator and the xz plane) that a ray crosses.
 //! let (r, theta, phi) = ([0.0, 0.5, 1.0], [0.0, PI / 2.0, PI], [0.0, PI, 2.0 * PI]);
@@ -16,7 +16,7 @@
 //! # Ok::<(), Box<dyn core::error::Error>>(())
 //! ```
 //!
-//! * [`spherical`]: marching through spherical, cylindrical and polar grids (Hannasch), serial and separable.
+//! * [`march`]: marching through spherical, cylindrical and polar grids (Hannasch), serial and separable.
 //! * [`terrain`]: the nearest hit of a ray with a regular geodetic DEM through a height-augmented quadtree that
 //!   the caller stores behind [`terrain::TerrainStorage`] (Wartell et al.), never missing a hit.
 //! * [`tessellate`]: rational corner-cutting and edge-beveling of circles, ellipses, spheres and ellipsoids at
@@ -73,10 +73,10 @@ extern crate std;
 pub mod dd;
 pub mod geodesy;
 mod interval;
+pub mod march;
 pub mod ray;
 pub mod real;
 mod sort;
-pub mod spherical;
 pub mod surface;
 pub mod terrain;
 pub mod tessellate;

@@ -8,7 +8,7 @@
 //! threads: each ray is marched exactly as `grid.march(&ray)` would march it alone.
 //!
 //! ```
-//! use curvicast::{ray::Ray, spherical::SphericalGrid};
+//! use curvicast::{ray::Ray, march::SphericalGrid};
 //! use curvicast_cli::batch::march_batch;
 //! use std::f64::consts::PI;
 //! let (r, th, ph) = ([0.0, 0.5, 1.0], [0.0, PI / 2.0, PI], [0.0, PI, 2.0 * PI]);
@@ -23,48 +23,24 @@
 //! assert!(image.iter().all(|&v| v > 0.0 && v <= 2.0));
 //! ```
 
+use curvicast::march::{Grid, GridKind, SerialMarch};
 use curvicast::ray::Ray;
 use curvicast::real::Real;
-use curvicast::spherical::{CylindricalGrid, PolarGrid, SerialMarch, SphericalGrid};
 use rayon::prelude::*;
 
 /// The fewest rays per rayon task: far more marching work than scheduling cost (a ray through a 64³ grid crosses
 /// tens to hundreds of cells), and still enough tasks that two cores share an image evenly.
 const MIN_RAYS_PER_TASK: usize = 64;
 
-/// A grid whose serial marcher can be started for any ray: the spherical, cylindrical and polar grids.
-pub trait MarchGrid<T: Real>: Sync {
-    /// The serial march of `ray` (see `SphericalGrid::march`).
-    fn march_ray<'g>(&'g self, ray: &Ray<T>) -> SerialMarch<'g, T>;
-}
-
-impl<T: Real> MarchGrid<T> for SphericalGrid<'_, T> {
-    fn march_ray<'g>(&'g self, ray: &Ray<T>) -> SerialMarch<'g, T> {
-        self.march(ray)
-    }
-}
-
-impl<T: Real> MarchGrid<T> for CylindricalGrid<'_, T> {
-    fn march_ray<'g>(&'g self, ray: &Ray<T>) -> SerialMarch<'g, T> {
-        self.march(ray)
-    }
-}
-
-impl<T: Real> MarchGrid<T> for PolarGrid<'_, T> {
-    fn march_ray<'g>(&'g self, ray: &Ray<T>) -> SerialMarch<'g, T> {
-        self.march(ray)
-    }
-}
-
 /// Marches every ray of `rays` through `grid` on rayon's thread pool and returns `sampler(index, march)` for
 /// each, in the order of `rays`. The sampler consumes the iterator as it likes (a sum, a compositing loop that
 /// stops early, a collect) and can ask `march.error()` afterwards.
-pub fn march_batch<T, G, S, F>(grid: &G, rays: &[Ray<T>], sampler: F) -> Vec<S>
+pub fn march_batch<T, K, S, F>(grid: &Grid<'_, T, K>, rays: &[Ray<T>], sampler: F) -> Vec<S>
 where
     T: Real,
-    G: MarchGrid<T> + ?Sized,
+    K: GridKind,
     S: Send,
-    F: Fn(usize, &mut SerialMarch<'_, T>) -> S + Sync,
+    F: Fn(usize, &mut SerialMarch<'_, T, K>) -> S + Sync,
 {
     // an indexed iterator: each task writes its answers straight into their places in the result (no per-task
     // lists to concatenate), and a task marches neighbouring rays through the same breakpoint tables
@@ -72,7 +48,7 @@ where
         .with_min_len(MIN_RAYS_PER_TASK)
         .enumerate()
         .map(|(i, ray)| {
-            let mut m = grid.march_ray(ray);
+            let mut m = grid.march(ray);
             sampler(i, &mut m)
         })
         .collect()
@@ -81,6 +57,7 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+    use curvicast::march::SphericalGrid;
     use std::f64::consts::PI;
 
     fn grid_and_rays() -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<Ray<f64>>) {

@@ -5,9 +5,9 @@
 //!
 //! Written once so that the three places measure the same rays through the same grids, bit for bit.
 
+use curvicast::march::{GridError, SphericalGrid};
 use curvicast::ray::{Ray, RayError};
 use curvicast::real::Real;
-use curvicast::spherical::{GridError, SphericalGrid};
 use curvicast_cli::formats::spec::{GridSpec, RaySpec};
 use rand::{Rng, SeedableRng};
 use std::f64::consts::{PI, TAU};

@@ -11,8 +11,8 @@
 //! * The field r² (remark after Fig. 6.14): the column is `(2/3)√(R² − ρ²)(R² + 2ρ²)`; each crossing contributes
 //!   the exact integral of the polynomial `|p + t d|²` over `[t_enter, t_exit]`.
 
+use curvicast::march::{CellCrossing, SphericalGrid};
 use curvicast::ray::Ray;
-use curvicast::spherical::{CellCrossing, SphericalGrid};
 use rand::{Rng, SeedableRng};
 use std::f64::consts::{PI, TAU};
 

@@ -3,9 +3,9 @@
 //! non-uniform grids (Hannasch: "both roots of one sphere from one square root"; the azimuth needs one
 //! division per facet). The counts are exact (not timings).
 
+use curvicast::march::{CellCrossing, CylindricalGrid, SphericalGrid};
 use curvicast::ray::Ray;
 use curvicast::real::Real;
-use curvicast::spherical::{CellCrossing, CylindricalGrid, SphericalGrid};
 use rand::{Rng, SeedableRng};
 use std::cell::Cell;
 use std::f64::consts::PI;

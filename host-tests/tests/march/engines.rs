@@ -4,8 +4,8 @@
 //! `acos`/`atan2` in f64, a different logic from the kernel's sign tests). The arbitrary-precision oracle
 //! comparisons live in their own suite.
 
+use curvicast::march::{CellCrossing, CylindricalGrid, PolarGrid, SphericalGrid};
 use curvicast::ray::Ray;
-use curvicast::spherical::{CellCrossing, CylindricalGrid, PolarGrid, SphericalGrid};
 use proptest::prelude::*;
 use std::f64::consts::PI;
 

@@ -12,8 +12,8 @@
 
 use curvicast::Real;
 use curvicast::geodesy::Ellipsoid;
+use curvicast::march::{AnyGrid, CylindricalGrid, MarchError, PolarGrid, SphericalGrid};
 use curvicast::ray::Ray;
-use curvicast::spherical::{CylindricalGrid, MarchError, PolarGrid, SerialMarch, SphericalGrid};
 use curvicast::terrain::build::{
     MultiRes, NodeRecord, Parts, SliceStorage, build_multires_tree, build_tree, node_slots,
 };
@@ -162,23 +162,6 @@ fn ray_of<T: Bits>(v: &[T]) -> Result<Ray<T>, S> {
     Ok(Ray::new([v[0], v[1], v[2]], [v[3], v[4], v[5]])?.with_interval(v[6], v[7])?)
 }
 
-/// One grid kind's march, behind one type.
-enum AnyGrid<'a, T> {
-    S(SphericalGrid<'a, T>),
-    C(CylindricalGrid<'a, T>),
-    P(PolarGrid<'a, T>),
-}
-
-impl<T: Real> AnyGrid<'_, T> {
-    fn march(&self, ray: &Ray<T>) -> SerialMarch<'_, T> {
-        match self {
-            AnyGrid::S(g) => g.march(ray),
-            AnyGrid::C(g) => g.march(ray),
-            AnyGrid::P(g) => g.march(ray),
-        }
-    }
-}
-
 fn march<T: Bits>(kind: char, t: &mut Tokens) -> Option<String> {
     let n_axes = if kind == 'P' { 2 } else { 3 };
     let axes: Vec<Vec<T>> = (0..n_axes).map(|_| t.list()).collect::<Option<_>>()?;
@@ -200,15 +183,15 @@ fn march<T: Bits>(kind: char, t: &mut Tokens) -> Option<String> {
     let grid: Result<AnyGrid<T>, S> = match kind {
         'S' => SphericalGrid::new(&axes[0], &axes[1], &axes[2], &mut ws)
             .and_then(|g| g.with_center(c3))
-            .map(AnyGrid::S)
+            .map(AnyGrid::from)
             .map_err(S::from),
         'C' => CylindricalGrid::new(&axes[0], &axes[1], &axes[2], &mut ws)
             .and_then(|g| g.with_center(c3))
-            .map(AnyGrid::C)
+            .map(AnyGrid::from)
             .map_err(S::from),
         _ => PolarGrid::new(&axes[0], &axes[1], &mut ws)
             .and_then(|g| g.with_center([c3[0], c3[1]]))
-            .map(AnyGrid::P)
+            .map(AnyGrid::from)
             .map_err(S::from),
     };
     let grid = match grid {

@@ -17,8 +17,9 @@
 use crate::{CRay, Holds, curvicast_ray_f32, curvicast_ray_f64, curvicast_status};
 use crate::{get, get_mut, init, out, point_or_origin, read, slice, slice_mut};
 use curvicast::Real;
-use curvicast::ray::Ray;
-use curvicast::spherical::{CellCrossing, CylindricalGrid, PolarGrid, SerialMarch, SphericalGrid};
+use curvicast::march::{
+    AnyGrid, AnyMarch, CellCrossing, CylindricalGrid, PolarGrid, SphericalGrid,
+};
 
 /// The storage words of a grid (any kind): a tag, the kind, and the grid's borrowed axes.
 pub const CURVICAST_GRID_WORDS: usize = 32;
@@ -78,42 +79,24 @@ pub struct curvicast_crossing_f64 {
     pub t_exit: f64,
 }
 
-/// The grid kinds behind one C type.
-#[derive(Clone, Copy)]
-pub(crate) enum AnyGrid<T: 'static> {
-    Spherical(SphericalGrid<'static, T>),
-    Cylindrical(CylindricalGrid<'static, T>),
-    Polar(PolarGrid<'static, T>),
-}
-
-impl<T: Real> AnyGrid<T> {
-    fn march(&'static self, ray: &Ray<T>) -> SerialMarch<'static, T> {
-        match self {
-            AnyGrid::Spherical(g) => g.march(ray),
-            AnyGrid::Cylindrical(g) => g.march(ray),
-            AnyGrid::Polar(g) => g.march(ray),
-        }
-    }
-}
-
 // SAFETY: arrays of u64; the tags are distinct across `Holds` implementors (module `terrain` uses 0x…7xx).
 unsafe impl Holds for curvicast_grid_f32 {
-    type Value = AnyGrid<f32>;
+    type Value = AnyGrid<'static, f32>;
     const TAG: u64 = 0x6375_7276_6963_0601;
 }
 // SAFETY: as above.
 unsafe impl Holds for curvicast_grid_f64 {
-    type Value = AnyGrid<f64>;
+    type Value = AnyGrid<'static, f64>;
     const TAG: u64 = 0x6375_7276_6963_0602;
 }
 // SAFETY: as above.
 unsafe impl Holds for curvicast_march_f32 {
-    type Value = SerialMarch<'static, f32>;
+    type Value = AnyMarch<'static, f32>;
     const TAG: u64 = 0x6375_7276_6963_0603;
 }
 // SAFETY: as above.
 unsafe impl Holds for curvicast_march_f64 {
-    type Value = SerialMarch<'static, f64>;
+    type Value = AnyMarch<'static, f64>;
     const TAG: u64 = 0x6375_7276_6963_0604;
 }
 
@@ -148,7 +131,7 @@ unsafe fn spherical<T: Real>(
     phi: (*const T, usize),
     center: *const T,
     workspace: (*mut T, usize),
-) -> Result<AnyGrid<T>, curvicast_status> {
+) -> Result<AnyGrid<'static, T>, curvicast_status> {
     // SAFETY: the caller's contract: valid arrays (or NULL), kept alive and unchanged while the grid is used.
     let (r, theta, phi, center, ws) = unsafe {
         (
@@ -172,7 +155,7 @@ unsafe fn cylindrical<T: Real>(
     z: (*const T, usize),
     center: *const T,
     workspace: (*mut T, usize),
-) -> Result<AnyGrid<T>, curvicast_status> {
+) -> Result<AnyGrid<'static, T>, curvicast_status> {
     // SAFETY: as in `spherical`.
     let (rho, phi, z, center, ws) = unsafe {
         (
@@ -195,7 +178,7 @@ unsafe fn polar<T: Real>(
     phi: (*const T, usize),
     center: *const T,
     workspace: (*mut T, usize),
-) -> Result<AnyGrid<T>, curvicast_status> {
+) -> Result<AnyGrid<'static, T>, curvicast_status> {
     // SAFETY: as in `spherical`.
     let (r, phi, center, ws) = unsafe {
         (
@@ -435,7 +418,7 @@ pub unsafe extern "C" fn curvicast_march_f64_begin(
 /// `*written`: `CURVICAST_OK` when the array is full (more may follow), `CURVICAST_DONE` when the march is over,
 /// or the error that stopped it.
 fn fill<T: Real, C: From<CellCrossing<T>>>(
-    march: &mut SerialMarch<'static, T>,
+    march: &mut AnyMarch<'static, T>,
     crossings: &mut [C],
     written: &mut usize,
 ) -> curvicast_status {
@@ -456,7 +439,7 @@ fn fill<T: Real, C: From<CellCrossing<T>>>(
 /// One crossing into `crossing`: `CURVICAST_OK`, `CURVICAST_DONE` when the march is over, or the error that
 /// stopped it.
 fn next<T: Real, C: From<CellCrossing<T>>>(
-    march: &mut SerialMarch<'static, T>,
+    march: &mut AnyMarch<'static, T>,
     crossing: &mut C,
 ) -> curvicast_status {
     match march.next() {

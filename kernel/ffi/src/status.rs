@@ -2,7 +2,7 @@
 
 use curvicast::RayError;
 use curvicast::geodesy::GeodesyError;
-use curvicast::spherical::{GridError, MarchError};
+use curvicast::march::{GridError, MarchError};
 use curvicast::terrain::TerrainError;
 use curvicast::terrain::build::BuildError;
 use curvicast::tessellate::TessellateError;

@@ -39,7 +39,7 @@ use cortex_m_semihosting::{debug, hio};
 use curvicast::Real;
 use curvicast::geodesy::Ellipsoid;
 use curvicast::ray::{Ray, RayError};
-use curvicast::spherical::SphericalGrid;
+use curvicast::march::SphericalGrid;
 use curvicast::surface::{
     AxialCone, Crossings, HalfPlane, PlaneZ, Side, Spheroid, Surface, SurfaceError,
 };

@@ -16,11 +16,11 @@ use super::io::{RayLine, UsageError, error_line, stream_answers};
 use crate::formats::spec::{GridSpec, RaySpec};
 pub use crate::precision::{Engine, Precision};
 use curvicast::F32Fast;
+use curvicast::march::{
+    AnyGrid, CellCrossing, CylindricalGrid, MarchError, PolarGrid, SeparableMarch, SphericalGrid,
+};
 use curvicast::ray::Ray;
 use curvicast::real::Real;
-use curvicast::spherical::{
-    CellCrossing, CylindricalGrid, MarchError, PolarGrid, SerialMarch, SphericalGrid,
-};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -60,30 +60,19 @@ fn conv<T: Real>(v: &[f64]) -> Vec<T> {
     v.iter().map(|&x| T::from_f64(x)).collect()
 }
 
-/// A grid of any kind behind one marching interface.
-enum AnyGrid<'a, T> {
-    S(SphericalGrid<'a, T>),
-    C(CylindricalGrid<'a, T>),
-    P(PolarGrid<'a, T>),
-}
-
-impl<T: Real + Send + Sync> AnyGrid<'_, T> {
-    /// The serial march (Hannasch ch. 5): an iterator of crossings with constant-size state.
-    fn march(&self, ray: &Ray<T>) -> SerialMarch<'_, T> {
-        match self {
-            AnyGrid::S(g) => g.march(ray),
-            AnyGrid::C(g) => g.march(ray),
-            AnyGrid::P(g) => g.march(ray),
-        }
-    }
-
+/// The separable engine on a grid of any kind (the kernel's [`AnyGrid`] marches with the serial one).
+trait Separable<T> {
     /// The largest capacity's buffers (3·N events of 24 bytes in f64: 2.4 MB for N = 32768, and the value is
     /// moved a few times) do not fit the main thread's stack: that march runs on a thread of its own.
     fn separable_on_own_stack<const N: usize>(
         &self,
         ray: &Ray<T>,
-    ) -> Result<Vec<CellCrossing<T>>, String> {
-        let bytes = std::mem::size_of::<curvicast::spherical::SeparableMarch<T, N>>();
+    ) -> Result<Vec<CellCrossing<T>>, String>
+    where
+        Self: Sync,
+        T: Send + Sync,
+    {
+        let bytes = std::mem::size_of::<SeparableMarch<T, N>>();
         std::thread::scope(|s| {
             std::thread::Builder::new()
                 .stack_size(bytes.saturating_mul(8).saturating_add(1 << 20))
@@ -98,12 +87,16 @@ impl<T: Real + Send + Sync> AnyGrid<'_, T> {
     /// Not inlined: the engine's buffers (3·N events, 24 bytes each in f64) live in this function's own frame,
     /// allocated only when this capacity is used (inlined, every capacity's frame would be reserved on every
     /// call of the caller, serial or not, and the largest overflows the main thread's stack).
+    fn separable<const N: usize>(&self, ray: &Ray<T>) -> Result<Vec<CellCrossing<T>>, MarchError>;
+}
+
+impl<T: Real> Separable<T> for AnyGrid<'_, T> {
     #[inline(never)]
     fn separable<const N: usize>(&self, ray: &Ray<T>) -> Result<Vec<CellCrossing<T>>, MarchError> {
         Ok(match self {
-            AnyGrid::S(g) => g.march_separable::<N>(ray)?.collect(),
-            AnyGrid::C(g) => g.march_separable::<N>(ray)?.collect(),
-            AnyGrid::P(g) => g.march_separable::<N>(ray)?.collect(),
+            AnyGrid::Spherical(g) => g.march_separable::<N>(ray)?.collect(),
+            AnyGrid::Cylindrical(g) => g.march_separable::<N>(ray)?.collect(),
+            AnyGrid::Polar(g) => g.march_separable::<N>(ray)?.collect(),
         })
     }
 }
@@ -115,7 +108,7 @@ fn run_in<T: Real + Send + Sync>(
     engine: Engine,
     out: &mut dyn Write,
 ) -> anyhow::Result<()> {
-    let bad = |e: curvicast::spherical::GridError| {
+    let bad = |e: curvicast::march::GridError| {
         UsageError(format!("{}: invalid grid: {e}", path.display()))
     };
     let (a, b, c, center, polar) = match spec {
@@ -146,7 +139,7 @@ fn run_in<T: Real + Send + Sync>(
     match spec {
         GridSpec::Spherical { .. } => {
             ws = vec![T::ZERO; SphericalGrid::<T>::workspace_len(a.len(), b.len(), c.len())];
-            grid = AnyGrid::S(
+            grid = AnyGrid::Spherical(
                 SphericalGrid::new(&a, &b, &c, &mut ws)
                     .and_then(|g| g.with_center(center3))
                     .map_err(bad)?,
@@ -154,7 +147,7 @@ fn run_in<T: Real + Send + Sync>(
         }
         GridSpec::Cylindrical { .. } => {
             ws = vec![T::ZERO; CylindricalGrid::<T>::workspace_len(a.len(), b.len())];
-            grid = AnyGrid::C(
+            grid = AnyGrid::Cylindrical(
                 CylindricalGrid::new(&a, &b, &c, &mut ws)
                     .and_then(|g| g.with_center(center3))
                     .map_err(bad)?,
@@ -162,7 +155,7 @@ fn run_in<T: Real + Send + Sync>(
         }
         GridSpec::Polar { .. } => {
             ws = vec![T::ZERO; PolarGrid::<T>::workspace_len(a.len(), b.len())];
-            grid = AnyGrid::P(
+            grid = AnyGrid::Polar(
                 PolarGrid::new(&a, &b, &mut ws)
                     .and_then(|g| g.with_center([center3[0], center3[1]]))
                     .map_err(bad)?,

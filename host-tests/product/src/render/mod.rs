@@ -21,14 +21,13 @@ pub mod image;
 pub mod sampler;
 pub mod scene;
 
-use crate::batch::MarchGrid;
 use crate::precision::Precision;
 use camera::Camera;
 use cartesian::VoxelValues;
 use curvicast::F32Fast;
+use curvicast::march::{CylindricalGrid, Grid, GridError, GridKind, PolarGrid, SphericalGrid};
 use curvicast::ray::Ray;
 use curvicast::real::Real;
-use curvicast::spherical::{CylindricalGrid, GridError, PolarGrid, SphericalGrid};
 use field::Cells;
 use rayon::prelude::*;
 use sampler::{Accumulator, Mode};
@@ -161,9 +160,9 @@ fn render_native<T: Real>(scene: &Scene, progress: &(dyn Fn() + Sync)) -> Render
 }
 
 /// Casts the pixel rays of `scene` through the kernel's grid with the serial engine.
-fn cast_native<T: Real, G: MarchGrid<T>>(
+fn cast_native<T: Real, K: GridKind>(
     scene: &Scene,
-    grid: &G,
+    grid: &Grid<'_, T, K>,
     progress: &(dyn Fn() + Sync),
 ) -> Rendered {
     rows(scene, progress, |i, j| {
@@ -173,7 +172,7 @@ fn cast_native<T: Real, G: MarchGrid<T>>(
         };
         let mut acc = Accumulator::new(scene.mode);
         let mut n = 0u64;
-        let mut march = grid.march_ray(&ray);
+        let mut march = grid.march(&ray);
         for c in march.by_ref() {
             n += 1;
             let v = scene

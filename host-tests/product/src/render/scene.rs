@@ -188,8 +188,8 @@ pub fn build_scene(spec: &SceneSpec, base: &Path) -> Result<Scene, SceneError> {
 }
 
 /// The grid of a GRID.json object, checked by the kernel's own validation of the breakpoints and center.
-pub fn grid_cells(spec: &GridSpec) -> Result<Cells, curvicast::spherical::GridError> {
-    use curvicast::spherical::{CylindricalGrid, PolarGrid, SphericalGrid};
+pub fn grid_cells(spec: &GridSpec) -> Result<Cells, curvicast::march::GridError> {
+    use curvicast::march::{CylindricalGrid, PolarGrid, SphericalGrid};
     Ok(match spec {
         GridSpec::Spherical {
             center,

@@ -10,8 +10,8 @@ use crate::{curvicast_ray_f32, curvicast_ray_f64};
 use core::f64::consts::PI;
 use core::ptr::{null, null_mut};
 use curvicast::geodesy::Ellipsoid;
+use curvicast::march::SphericalGrid;
 use curvicast::ray::Ray;
-use curvicast::spherical::SphericalGrid;
 use std::vec;
 use std::vec::Vec;
 

@@ -23,7 +23,7 @@ use cortex_m_semihosting::{debug, hio};
 use curvicast::Real;
 use curvicast::geodesy::{Ellipsoid, HeightQuadBounds};
 use curvicast::ray::Ray;
-use curvicast::spherical::{CylindricalGrid, PolarGrid, SphericalGrid};
+use curvicast::march::{CylindricalGrid, PolarGrid, SphericalGrid};
 use curvicast::surface::{AxialCone, HalfPlane, PlaneZ, Spheroid, Surface};
 use curvicast::terrain::boxes::NodeBox;
 use curvicast::terrain::subset::{BlockSubset, Quadrant};

@@ -1,11 +1,15 @@
 //! The three grids: spherical (r, θ, φ), cylindrical (ρ, φ, z) and 2-D polar (r, φ).
 
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
-use super::engine::{Axes, SeparableMarch, SerialMarch, SlotKind};
-use super::{Axis, GridError, MarchError};
+use super::error::{Axis, GridError, MarchError};
+use super::kind::{Cylindrical, GridKind, Polar, Spherical};
+use super::separable::SeparableMarch;
+use super::serial::SerialMarch;
+use super::tables::Axes;
 use crate::ray::Ray;
 use crate::real::Real;
 use crate::vec3::V3;
+use core::marker::PhantomData;
 
 fn check_center<T: Real>(c: V3<T>) -> Result<V3<T>, GridError> {
     if c.is_finite() {
@@ -23,6 +27,70 @@ fn check_workspace(got: usize, needed: usize) -> Result<(), GridError> {
     }
 }
 
+/// A grid of kind `K` ([`Spherical`], [`Cylindrical`] or [`Polar`]) over borrowed breakpoints, ready to march
+/// rays (Hannasch): built by [`SphericalGrid::new`], [`CylindricalGrid::new`] or [`PolarGrid::new`]. The kind
+/// is a type, so a program compiles the marchers of the kinds it uses only; [`AnyGrid`](super::AnyGrid) holds
+/// any of the three when the kind is chosen at run time.
+#[derive(Debug, Clone, Copy)]
+pub struct Grid<'a, T, K> {
+    axes: Axes<'a, T>,
+    kind: PhantomData<K>,
+}
+
+impl<'a, T: Real, K: GridKind> Grid<'a, T, K> {
+    fn of(axes: Axes<'a, T>) -> Self {
+        Grid {
+            axes,
+            kind: PhantomData,
+        }
+    }
+
+    /// The center (a cylinder's: the point of its axis where z = 0).
+    pub fn center(&self) -> V3<T> {
+        self.axes.center
+    }
+
+    /// March `ray` through the grid with the serial engine (Hannasch ch. 5): a lazy iterator of the cells in
+    /// increasing `t`, in constant memory.
+    ///
+    /// ```
+    /// # use curvicast::{march::SphericalGrid, ray::Ray};
+    /// # use core::f64::consts::PI;
+    /// # let (r, theta, phi) = ([0.0, 1.0], [0.0, PI], [0.0, 2.0 * PI]);
+    /// # let mut ws = [0.0; SphericalGrid::<f64>::workspace_len(2, 2, 2)];
+    /// # let grid = SphericalGrid::new(&r, &theta, &phi, &mut ws)?;
+    /// // projection sampler (§6.1): Σ value × length, here a constant density 1 in the unit ball
+    /// let ray = Ray::new([-3.0, 0.6, 0.0], [1.0, 0.0, 0.0])?;
+    /// let column: f64 = grid.march(&ray).map(|c| 1.0 * (c.t_exit - c.t_enter)).sum();
+    /// assert!((column - 1.6).abs() < 1e-12); // the chord 2·sqrt(1 − 0.6²)
+    /// # Ok::<(), Box<dyn core::error::Error>>(())
+    /// ```
+    pub fn march(&self, ray: &Ray<T>) -> SerialMarch<'_, T, K> {
+        SerialMarch::new(&self.axes, ray)
+    }
+
+    /// March `ray` with the separable engine (Hannasch §3): each coordinate's crossings are listed into
+    /// buffers of capacity `N` first. Agrees exactly with [`Grid::march`]; a buffer that would overflow
+    /// is [`MarchError::BufferFull`].
+    pub fn march_separable<const N: usize>(
+        &self,
+        ray: &Ray<T>,
+    ) -> Result<SeparableMarch<T, N>, MarchError> {
+        SeparableMarch::new::<K>(&self.axes, ray)
+    }
+
+    /// As [`Self::march_separable`], but listing into `march`'s buffers in place (no copy of the `N`-sized
+    /// buffers on return), so one [`SeparableMarch`] (e.g. `SeparableMarch::default()`) serves many rays. On an
+    /// error `march` is left empty.
+    pub fn march_separable_into<const N: usize>(
+        &self,
+        ray: &Ray<T>,
+        march: &mut SeparableMarch<T, N>,
+    ) -> Result<(), MarchError> {
+        march.fill::<K>(&self.axes, ray)
+    }
+}
+
 /// A spherical grid (Hannasch): radius `r`, zenith angle θ from +z in [0, π], azimuth φ from +x toward +y.
 ///
 /// Cell `[i, j, k]` is `r[i] <= r < r[i+1]`, `theta[j] <= θ < theta[j+1]`, `phi[k] <= φ < phi[k+1]` (φ taken
@@ -37,7 +105,7 @@ fn check_workspace(got: usize, needed: usize) -> Result<(), GridError> {
 ///
 /// ```
 /// use curvicast::ray::Ray;
-/// use curvicast::spherical::SphericalGrid;
+/// use curvicast::march::SphericalGrid;
 /// use core::f64::consts::PI;
 /// let (r, theta, phi) = ([0.0, 0.5, 1.0], [0.0, PI / 2.0, PI], [0.0, PI, 2.0 * PI]);
 /// let mut ws = [0.0; SphericalGrid::<f64>::workspace_len(3, 3, 3)];
@@ -49,12 +117,9 @@ fn check_workspace(got: usize, needed: usize) -> Result<(), GridError> {
 /// assert_eq!(cells.len(), 3); // outer shell, inner ball, outer shell
 /// # Ok::<(), Box<dyn core::error::Error>>(())
 /// ```
-#[derive(Debug, Clone, Copy)]
-pub struct SphericalGrid<'a, T> {
-    axes: Axes<'a, T>,
-}
+pub type SphericalGrid<'a, T> = Grid<'a, T, Spherical>;
 
-impl<T> SphericalGrid<'_, T> {
+impl<T> Grid<'_, T, Spherical> {
     /// The workspace length (in scalars) that [`SphericalGrid::new`] needs: `nr + 2 nθ + 2 nφ`.
     pub const fn workspace_len(nr: usize, ntheta: usize, nphi: usize) -> usize {
         nr.saturating_add(ntheta.saturating_mul(2))
@@ -62,7 +127,7 @@ impl<T> SphericalGrid<'_, T> {
     }
 }
 
-impl<'a, T: Real> SphericalGrid<'a, T> {
+impl<'a, T: Real> Grid<'a, T, Spherical> {
     /// A grid centred at the origin. Validates the breakpoints (at least 2 each, finite, strictly increasing,
     /// `r[0] >= 0`, θ in [0, π], φ span at most 2π) and fills `workspace` with their pseudospherical form.
     pub fn new(
@@ -82,27 +147,18 @@ impl<'a, T: Real> SphericalGrid<'a, T> {
         let scale = r.last().copied().unwrap_or(T::ZERO);
         zenith.scale = scale;
         azimuth.scale = scale;
-        Ok(SphericalGrid {
-            axes: Axes::new(
-                radial,
-                Some(zenith),
-                azimuth,
-                None,
-                false,
-                [SlotKind::Radial, SlotKind::Zenith, SlotKind::Azimuth],
-            ),
-        })
+        Ok(Grid::of(Axes::new::<Spherical>(
+            radial,
+            Some(zenith),
+            azimuth,
+            None,
+        )))
     }
 
     /// The same grid centred at `center` (an error if it is not finite).
     pub fn with_center(mut self, center: impl Into<V3<T>>) -> Result<Self, GridError> {
         self.axes.center = check_center(center.into())?;
         Ok(self)
-    }
-
-    /// The center.
-    pub fn center(&self) -> V3<T> {
-        self.axes.center
     }
 
     /// The number of cells along each axis `[r, θ, φ]`.
@@ -118,46 +174,6 @@ impl<'a, T: Real> SphericalGrid<'a, T> {
     pub fn azimuth_is_full_turn(&self) -> bool {
         self.axes.azimuth.full
     }
-
-    /// March `ray` through the grid with the serial engine (Hannasch ch. 5): a lazy iterator of the cells in
-    /// increasing `t`, in constant memory.
-    ///
-    /// ```
-    /// # use curvicast::{ray::Ray, spherical::SphericalGrid};
-    /// # use core::f64::consts::PI;
-    /// # let (r, theta, phi) = ([0.0, 1.0], [0.0, PI], [0.0, 2.0 * PI]);
-    /// # let mut ws = [0.0; SphericalGrid::<f64>::workspace_len(2, 2, 2)];
-    /// # let grid = SphericalGrid::new(&r, &theta, &phi, &mut ws)?;
-    /// // projection sampler (§6.1): Σ value × length, here a constant density 1 in the unit ball
-    /// let ray = Ray::new([-3.0, 0.6, 0.0], [1.0, 0.0, 0.0])?;
-    /// let column: f64 = grid.march(&ray).map(|c| 1.0 * (c.t_exit - c.t_enter)).sum();
-    /// assert!((column - 1.6).abs() < 1e-12); // the chord 2·sqrt(1 − 0.6²)
-    /// # Ok::<(), Box<dyn core::error::Error>>(())
-    /// ```
-    pub fn march(&self, ray: &Ray<T>) -> SerialMarch<'_, T> {
-        SerialMarch::new(&self.axes, ray)
-    }
-
-    /// March `ray` with the separable engine (Hannasch §3): each coordinate's crossings are listed into
-    /// buffers of capacity `N` first. Agrees exactly with [`SphericalGrid::march`]; a buffer that would overflow
-    /// is [`MarchError::BufferFull`].
-    pub fn march_separable<const N: usize>(
-        &self,
-        ray: &Ray<T>,
-    ) -> Result<SeparableMarch<T, N>, MarchError> {
-        SeparableMarch::new(&self.axes, ray)
-    }
-
-    /// As [`Self::march_separable`], but listing into `march`'s buffers in place (no copy of the `N`-sized
-    /// buffers on return), so one [`SeparableMarch`] (e.g. `SeparableMarch::default()`) serves many rays. On an
-    /// error `march` is left empty.
-    pub fn march_separable_into<const N: usize>(
-        &self,
-        ray: &Ray<T>,
-        march: &mut SeparableMarch<T, N>,
-    ) -> Result<(), MarchError> {
-        march.fill(&self.axes, ray)
-    }
 }
 
 /// A cylindrical grid: radius ρ from the z axis, azimuth φ, height z; cell `[i, k, m]` is
@@ -167,7 +183,7 @@ impl<'a, T: Real> SphericalGrid<'a, T> {
 ///
 /// ```
 /// use curvicast::ray::Ray;
-/// use curvicast::spherical::CylindricalGrid;
+/// use curvicast::march::CylindricalGrid;
 /// use core::f64::consts::PI;
 /// let (rho, phi, z) = ([0.0, 1.0, 2.0], [0.0, PI, 2.0 * PI], [-1.0, 0.0, 1.0]);
 /// let mut ws = [0.0; CylindricalGrid::<f64>::workspace_len(3, 3)];
@@ -177,19 +193,16 @@ impl<'a, T: Real> SphericalGrid<'a, T> {
 /// assert_eq!(cells, [[0, 0, 0], [0, 0, 1]]);
 /// # Ok::<(), Box<dyn core::error::Error>>(())
 /// ```
-#[derive(Debug, Clone, Copy)]
-pub struct CylindricalGrid<'a, T> {
-    axes: Axes<'a, T>,
-}
+pub type CylindricalGrid<'a, T> = Grid<'a, T, Cylindrical>;
 
-impl<T> CylindricalGrid<'_, T> {
+impl<T> Grid<'_, T, Cylindrical> {
     /// The workspace length (in scalars) that [`CylindricalGrid::new`] needs: `nρ + 2 nφ`.
     pub const fn workspace_len(nrho: usize, nphi: usize) -> usize {
         nrho.saturating_add(nphi.saturating_mul(2))
     }
 }
 
-impl<'a, T: Real> CylindricalGrid<'a, T> {
+impl<'a, T: Real> Grid<'a, T, Cylindrical> {
     /// A grid around the z axis through the origin; validates like [`SphericalGrid::new`] (z: finite, strictly
     /// increasing, at least 2).
     pub fn new(
@@ -204,16 +217,12 @@ impl<'a, T: Real> CylindricalGrid<'a, T> {
         let mut azimuth = AzimuthAxis::build(phi, &mut ws)?;
         azimuth.scale = rho.last().copied().unwrap_or(T::ZERO);
         let height = HeightAxis::build(z)?;
-        Ok(CylindricalGrid {
-            axes: Axes::new(
-                radial,
-                None,
-                azimuth,
-                Some(height),
-                true,
-                [SlotKind::Radial, SlotKind::Azimuth, SlotKind::Height],
-            ),
-        })
+        Ok(Grid::of(Axes::new::<Cylindrical>(
+            radial,
+            None,
+            azimuth,
+            Some(height),
+        )))
     }
 
     /// The same grid with its axis through `center` (z breakpoints are relative to `center.z`).
@@ -230,30 +239,6 @@ impl<'a, T: Real> CylindricalGrid<'a, T> {
             self.axes.height.map_or(0, |h| h.len.saturating_sub(1)),
         ]
     }
-
-    /// The serial march (see [`SphericalGrid::march`]).
-    pub fn march(&self, ray: &Ray<T>) -> SerialMarch<'_, T> {
-        SerialMarch::new(&self.axes, ray)
-    }
-
-    /// The separable march (see [`SphericalGrid::march_separable`]).
-    pub fn march_separable<const N: usize>(
-        &self,
-        ray: &Ray<T>,
-    ) -> Result<SeparableMarch<T, N>, MarchError> {
-        SeparableMarch::new(&self.axes, ray)
-    }
-
-    /// As [`Self::march_separable`], but listing into `march`'s buffers in place (no copy of the `N`-sized
-    /// buffers on return), so one [`SeparableMarch`] (e.g. `SeparableMarch::default()`) serves many rays. On an
-    /// error `march` is left empty.
-    pub fn march_separable_into<const N: usize>(
-        &self,
-        ray: &Ray<T>,
-        march: &mut SeparableMarch<T, N>,
-    ) -> Result<(), MarchError> {
-        march.fill(&self.axes, ray)
-    }
 }
 
 /// A 2-D polar grid (Hannasch §3.4): radius r and azimuth φ in the plane; the rays' z components are ignored.
@@ -263,7 +248,7 @@ impl<'a, T: Real> CylindricalGrid<'a, T> {
 ///
 /// ```
 /// use curvicast::ray::Ray;
-/// use curvicast::spherical::PolarGrid;
+/// use curvicast::march::PolarGrid;
 /// let (r, phi) = ([1.0, 2.0], [-0.5, 0.5]); // an annular wedge across φ = 0
 /// let mut ws = [0.0; PolarGrid::<f64>::workspace_len(2, 2)];
 /// let grid = PolarGrid::new(&r, &phi, &mut ws)?;
@@ -273,19 +258,16 @@ impl<'a, T: Real> CylindricalGrid<'a, T> {
 /// assert_eq!((c[0].cell, c[0].t_enter, c[0].t_exit), ([0, 0, 0], 1.0, 2.0));
 /// # Ok::<(), Box<dyn core::error::Error>>(())
 /// ```
-#[derive(Debug, Clone, Copy)]
-pub struct PolarGrid<'a, T> {
-    axes: Axes<'a, T>,
-}
+pub type PolarGrid<'a, T> = Grid<'a, T, Polar>;
 
-impl<T> PolarGrid<'_, T> {
+impl<T> Grid<'_, T, Polar> {
     /// The workspace length (in scalars) that [`PolarGrid::new`] needs: `nr + 2 nφ`.
     pub const fn workspace_len(nr: usize, nphi: usize) -> usize {
         nr.saturating_add(nphi.saturating_mul(2))
     }
 }
 
-impl<'a, T: Real> PolarGrid<'a, T> {
+impl<'a, T: Real> Grid<'a, T, Polar> {
     /// A polar grid centred at the origin; validates like [`SphericalGrid::new`].
     pub fn new(r: &'a [T], phi: &'a [T], workspace: &'a mut [T]) -> Result<Self, GridError> {
         check_workspace(workspace.len(), Self::workspace_len(r.len(), phi.len()))?;
@@ -293,16 +275,7 @@ impl<'a, T: Real> PolarGrid<'a, T> {
         let radial = RadialAxis::build(Axis::R, r, &mut ws)?;
         let mut azimuth = AzimuthAxis::build(phi, &mut ws)?;
         azimuth.scale = r.last().copied().unwrap_or(T::ZERO);
-        Ok(PolarGrid {
-            axes: Axes::new(
-                radial,
-                None,
-                azimuth,
-                None,
-                true,
-                [SlotKind::Radial, SlotKind::Azimuth, SlotKind::Absent],
-            ),
-        })
+        Ok(Grid::of(Axes::new::<Polar>(radial, None, azimuth, None)))
     }
 
     /// The same grid centred at `(cx, cy)`.
@@ -318,29 +291,5 @@ impl<'a, T: Real> PolarGrid<'a, T> {
             self.axes.radial.len.saturating_sub(1),
             self.axes.azimuth.sectors,
         ]
-    }
-
-    /// The serial march (see [`SphericalGrid::march`]); cells are `[i, k, 0]`.
-    pub fn march(&self, ray: &Ray<T>) -> SerialMarch<'_, T> {
-        SerialMarch::new(&self.axes, ray)
-    }
-
-    /// The separable march (see [`SphericalGrid::march_separable`]).
-    pub fn march_separable<const N: usize>(
-        &self,
-        ray: &Ray<T>,
-    ) -> Result<SeparableMarch<T, N>, MarchError> {
-        SeparableMarch::new(&self.axes, ray)
-    }
-
-    /// As [`Self::march_separable`], but listing into `march`'s buffers in place (no copy of the `N`-sized
-    /// buffers on return), so one [`SeparableMarch`] (e.g. `SeparableMarch::default()`) serves many rays. On an
-    /// error `march` is left empty.
-    pub fn march_separable_into<const N: usize>(
-        &self,
-        ray: &Ray<T>,
-        march: &mut SeparableMarch<T, N>,
-    ) -> Result<(), MarchError> {
-        march.fill(&self.axes, ray)
     }
 }

@@ -1,0 +1,329 @@
+//! Rays through the hard places of a grid: the center, the z axis, tangents, edges and corners, starting on
+//! boundaries, huge and tiny scales.
+
+use super::*;
+use crate::ray::Ray;
+use core::f64::consts::PI;
+use std::vec::Vec;
+
+#[test]
+fn ray_through_the_origin_steps_theta_then_phi_at_the_center() {
+    let ray = Ray::new([-2.0, -2.0, -2.0], [1.0, 1.0, 1.0]).unwrap();
+    let s3 = 3f64.sqrt();
+    let c = march_s(&R, &TH, &PH, &ray);
+    expect(
+        &c,
+        &[
+            ([1, 1, 1], 2.0 - 1.0 / s3, 2.0 - 0.5 / s3),
+            ([0, 1, 1], 2.0 - 0.5 / s3, 2.0),
+            ([0, 0, 1], 2.0, 2.0), // θ jumps to π − θ at the center ...
+            ([0, 0, 0], 2.0, 2.0 + 0.5 / s3), // ... then φ by π
+            ([1, 0, 0], 2.0 + 0.5 / s3, 2.0 + 1.0 / s3),
+        ],
+        1e-15,
+    );
+}
+
+#[test]
+fn ray_along_plus_z_axis_is_outside_below_the_center() {
+    // On the −z axis θ = π, outside a grid whose last θ is π; on the +z axis θ = 0 and φ = 0 by convention.
+    let ray = Ray::new([0.0, 0.0, -2.0], [0.0, 0.0, 1.0]).unwrap();
+    let c = march_s(&R, &TH, &PH, &ray);
+    expect(
+        &c,
+        &[
+            ([0, 1, 0], 2.0, 2.0),
+            ([0, 0, 0], 2.0, 2.5),
+            ([1, 0, 0], 2.5, 3.0),
+        ],
+        0.0,
+    );
+}
+
+#[test]
+fn ray_along_minus_z_axis_leaves_the_domain_at_the_center() {
+    let ray = Ray::new([0.0, 0.0, 2.0], [0.0, 0.0, -1.0]).unwrap();
+    let c = march_s(&R, &TH, &PH, &ray);
+    expect(
+        &c,
+        &[
+            ([1, 0, 0], 1.0, 1.5),
+            ([0, 0, 0], 1.5, 2.0),
+            ([0, 1, 0], 2.0, 2.0),
+        ],
+        0.0,
+    );
+}
+
+#[test]
+fn ray_in_the_plane_z0_has_theta_half_pi_cell() {
+    let ray = Ray::new([-2.0, 0.3, 0.0], [1.0, 0.0, 0.0]).unwrap();
+    let a = (1.0f64 - 0.09).sqrt();
+    let c = march_s(&R, &TH, &PH, &ray);
+    expect(
+        &c,
+        &[
+            ([1, 1, 0], 2.0 - a, 1.6),
+            ([0, 1, 0], 1.6, 2.4),
+            ([1, 1, 0], 2.4, 2.0 + a),
+        ],
+        1e-15,
+    );
+}
+
+#[test]
+fn ray_crossing_the_z_axis_off_the_origin_jumps_phi_by_pi() {
+    let ray = Ray::new([-2.0, 0.0, 0.3], [1.0, 0.0, 0.0]).unwrap();
+    let a = (1.0f64 - 0.09).sqrt();
+    let c = march_s(&R, &TH, &PH, &ray);
+    expect(
+        &c,
+        &[
+            ([1, 0, 1], 2.0 - a, 1.6),
+            ([0, 0, 1], 1.6, 2.0),
+            ([0, 0, 0], 2.0, 2.4),
+            ([1, 0, 0], 2.4, 2.0 + a),
+        ],
+        1e-15,
+    );
+}
+
+#[test]
+fn ray_tangent_to_a_shell_stays_in_the_outer_cell() {
+    // distance of the line from the center = |(0, 0.375, 0.5)| = 0.625 exactly: a touch, not an entry.
+    let r = [0.0, 0.625, 1.0];
+    let ray = Ray::new([-2.0, 0.375, 0.5], [1.0, 0.0, 0.0]).unwrap();
+    let h = (1.0f64 - 0.390625).sqrt();
+    let c = march_s(&r, &TH, &PH, &ray);
+    expect(&c, &[([1, 0, 0], 2.0 - h, 2.0 + h)], 1e-15);
+}
+
+#[test]
+fn ray_through_an_edge_sphere_and_cone() {
+    // through (0, 0.5, 0): on the sphere r = 0.5 and the plane θ = π/2 at t = 1 exactly
+    let ray = Ray::new([-0.25, 1.5, -1.0], [0.25, -1.0, 1.0]).unwrap();
+    let s = 7.1875f64.sqrt();
+    let c = march_s(&R, &TH, &PH, &ray);
+    expect(
+        &c,
+        &[
+            ([1, 1, 0], (5.125 - s) / 4.125, 1.0),
+            ([0, 1, 0], 1.0, 1.0),
+            ([0, 0, 0], 1.0, 3.0625 / 2.0625),
+            ([1, 0, 0], 3.0625 / 2.0625, 1.5),
+            ([1, 0, 1], 1.5, (5.125 + s) / 4.125),
+        ],
+        1e-15,
+    );
+}
+
+#[test]
+fn ray_through_a_corner_sphere_cone_and_half_plane() {
+    // through (0.5, 0, 0) at t = 1: r = 0.5, θ = π/2 and φ = 0 at once; one index per crossing
+    let ray = Ray::new([1.5, -1.0, -1.0], [-1.0, 1.0, 1.0]).unwrap();
+    let s = 10f64.sqrt();
+    let c = march_s(&R, &TH, &PH, &ray);
+    expect(
+        &c,
+        &[
+            ([1, 1, 1], (7.0 - s) / 6.0, 1.0),
+            ([0, 1, 1], 1.0, 1.0),
+            ([0, 0, 1], 1.0, 1.0),
+            ([0, 0, 0], 1.0, 4.0 / 3.0),
+            ([1, 0, 0], 4.0 / 3.0, (7.0 + s) / 6.0),
+        ],
+        1e-15,
+    );
+}
+
+#[test]
+fn ray_starting_exactly_on_a_sphere_going_inward() {
+    // |(0.25, 0.375, 0.75)| = 0.875 exactly
+    let r = [0.0, 0.875, 2.0];
+    let ray = Ray::new([0.25, 0.375, 0.75], [-1.0, 0.0, 0.0]).unwrap();
+    let out = 0.25 + (4.0f64 - 0.703125).sqrt();
+    let c = march_s(&r, &TH, &PH, &ray);
+    expect(
+        &c,
+        &[
+            ([1, 0, 0], 0.0, 0.0),
+            ([0, 0, 0], 0.0, 0.5),
+            ([1, 0, 0], 0.5, out),
+        ],
+        1e-15,
+    );
+}
+
+#[test]
+fn ray_starting_exactly_on_the_theta_half_pi_plane_going_up() {
+    let ray = Ray::new([0.3, 0.2, 0.0], [0.0, 0.0, 1.0]).unwrap();
+    let top = (0.25f64 - 0.13).sqrt();
+    let c = march_s(&R, &TH, &PH, &ray);
+    assert_eq!(c[0].cell, [0, 1, 0]);
+    assert_eq!((c[0].t_enter, c[0].t_exit), (0.0, 0.0));
+    expect(
+        &c[1..],
+        &[
+            ([0, 0, 0], 0.0, top),
+            ([1, 0, 0], top, (1.0f64 - 0.13).sqrt()),
+        ],
+        1e-15,
+    );
+}
+
+#[test]
+fn ray_starting_exactly_on_an_azimuth_boundary() {
+    // on the half-plane φ = π (x < 0, y = 0), moving toward y > 0 (φ decreasing into [0, π))
+    let ray = Ray::new([-0.3, 0.0, 0.2], [0.0, 1.0, 0.0]).unwrap();
+    let c = march_s(&R, &TH, &PH, &ray);
+    // the stored boundary is at φ = fl(π), whose sine is 1.2e-16: the crossing is at t ≈ 4e-17, not 0
+    assert_eq!((c[0].cell, c[0].t_enter), ([0, 0, 1], 0.0));
+    assert!(c[0].t_exit < 1e-15);
+    assert_eq!(c[1].cell, [0, 0, 0]);
+    assert_eq!(c[1].t_enter, c[0].t_exit);
+}
+
+#[test]
+fn segment_starting_and_ending_inside_one_cell() {
+    let ray = Ray::new([0.1, 0.1, 0.1], [1.0, 0.0, 0.0])
+        .unwrap()
+        .with_interval(0.05, 0.1)
+        .unwrap();
+    let c = march_s(&R, &TH, &PH, &ray);
+    expect(&c, &[([0, 0, 0], 0.05, 0.1)], 0.0);
+}
+
+#[test]
+fn ray_leaving_and_reentering_a_wedge_wider_than_pi() {
+    // polar wedge φ ∈ [0, 3π/2] (the fourth quadrant is outside), disc r < 2
+    let (r, ph) = ([0.0, 2.0], [0.0, 1.5 * PI]);
+    let mut ws = [0.0; 8];
+    let g = PolarGrid::new(&r, &ph, &mut ws).unwrap();
+    let ray = Ray::new([-1.0, -1.5, 0.0], [1.0, 1.0, 0.0]).unwrap();
+    let a: Vec<_> = g.march(&ray).collect();
+    let b: Vec<_> = g.march_separable::<8>(&ray).unwrap().collect();
+    assert_eq!(a, b);
+    let out = (5.0 + 31f64.sqrt()) / 4.0;
+    expect(&a, &[([0, 0, 0], 0.0, 1.0), ([0, 0, 0], 1.5, out)], 1e-15);
+}
+
+#[test]
+fn vertical_ray_crosses_the_theta_half_pi_boundary() {
+    let ray = Ray::new([0.25, 0.25, -1.0], [0.0, 0.0, 1.0]).unwrap();
+    let (o, i) = (0.875f64.sqrt(), 0.125f64.sqrt());
+    let c = march_s(&R, &TH, &PH, &ray);
+    expect(
+        &c,
+        &[
+            ([1, 1, 0], 1.0 - o, 1.0 - i),
+            ([0, 1, 0], 1.0 - i, 1.0),
+            ([0, 0, 0], 1.0, 1.0 + i),
+            ([1, 0, 0], 1.0 + i, 1.0 + o),
+        ],
+        1e-15,
+    );
+}
+
+#[test]
+fn ray_parallel_to_a_cone_generator() {
+    // cone θ = π/4 has cos = sin: the quadratic is linear; the line (t − 1, 0.25, t − 0.5) enters it once
+    let th = [0.0, PI / 4.0, PI / 2.0, PI];
+    let r = [0.0, 1.0];
+    let ray = Ray::new([-1.0, 0.25, -0.5], [1.0, 0.0, 1.0]).unwrap();
+    let s = 6.5f64.sqrt();
+    let c = march_s(&r, &th, &PH, &ray);
+    expect(
+        &c,
+        &[
+            ([0, 2, 0], (3.0 - s) / 4.0, 0.5),
+            ([0, 1, 0], 0.5, 0.8125),
+            ([0, 0, 0], 0.8125, (3.0 + s) / 4.0),
+        ],
+        1e-14,
+    );
+}
+
+#[test]
+fn earth_scale_shells_of_one_meter_and_microradian_bands() {
+    let r0 = 6.4e6;
+    let r = [r0, r0 + 1.0, r0 + 2.0];
+    let th = [PI / 2.0 - 1e-6, PI / 2.0, PI / 2.0 + 1e-6];
+    let ph = [0.0, 1e-6];
+    let (c, s) = (0.5e-6f64.cos(), 0.5e-6f64.sin());
+    let ray = Ray::new([7e6 * c, 7e6 * s, 0.1], [-c, -s, 0.0]).unwrap();
+    let got = march_s(&r, &th, &ph, &ray);
+    assert_eq!(got.len(), 2, "{got:?}");
+    assert_eq!(got[0].cell, [1, 0, 0]);
+    assert_eq!(got[1].cell, [0, 0, 0]);
+    // radial distance along the ray: s(r) = 7e6 − sqrt(r² − 0.01) (the line is 0.1 m off the center)
+    let t = |rr: f64| 7e6 - (rr * rr - 0.01).sqrt();
+    for (g, (a, b)) in got
+        .iter()
+        .zip([(t(r0 + 2.0), t(r0 + 1.0)), (t(r0 + 1.0), t(r0))])
+    {
+        assert!(
+            (g.t_enter - a).abs() < 1e-6 && (g.t_exit - b).abs() < 1e-6,
+            "{g:?}"
+        );
+    }
+}
+
+#[test]
+fn micro_scale_grid_matches_unit_grid() {
+    let k = 1e-6;
+    let r = R.map(|x| x * k);
+    let ray = Ray::new([-2.0 * k, 0.0, 0.3 * k], [1.0, 0.0, 0.0]).unwrap();
+    let unit = march_s(
+        &R,
+        &TH,
+        &PH,
+        &Ray::new([-2.0, 0.0, 0.3], [1.0, 0.0, 0.0]).unwrap(),
+    );
+    let small = march_s(&r, &TH, &PH, &ray);
+    assert_eq!(unit.len(), small.len());
+    for (u, s) in unit.iter().zip(&small) {
+        assert_eq!(u.cell, s.cell);
+        assert!((u.t_enter * k - s.t_enter).abs() < 1e-15 * k * 4.0);
+    }
+}
+
+#[test]
+fn direction_lengths_1e_minus_30_and_1e30_scale_t_exactly() {
+    let base = march_s(
+        &R,
+        &TH,
+        &PH,
+        &Ray::new([-2.0, 0.1, 0.3], [1.0, 0.2, 0.0]).unwrap(),
+    );
+    for s in [1e-30, 1e30] {
+        let c = march_s(
+            &R,
+            &TH,
+            &PH,
+            &Ray::new([-2.0, 0.1, 0.3], [s, 0.2 * s, 0.0]).unwrap(),
+        );
+        assert_eq!(c.len(), base.len());
+        for (a, b) in c.iter().zip(&base) {
+            assert_eq!(a.cell, b.cell);
+            assert!((a.t_enter * s - b.t_enter).abs() <= 1e-15 * b.t_enter.abs().max(1.0));
+            assert!((a.t_exit * s - b.t_exit).abs() <= 1e-15 * b.t_exit.abs().max(1.0));
+        }
+    }
+}
+
+#[test]
+fn f32_ray_through_the_origin_has_the_same_cells() {
+    let (r, th, ph) = (
+        R.map(|x| x as f32),
+        TH.map(|x| x as f32),
+        PH.map(|x| x as f32),
+    );
+    let mut ws = [0.0f32; 32];
+    let g = SphericalGrid::new(&r, &th, &ph, &mut ws).unwrap();
+    let ray = Ray::new([-2.0f32, -2.0, -2.0], [1.0, 1.0, 1.0]).unwrap();
+    let cells: Vec<_> = g.march(&ray).map(|c| c.cell).collect();
+    assert_eq!(
+        cells,
+        [[1, 1, 1], [0, 1, 1], [0, 0, 1], [0, 0, 0], [1, 0, 0]]
+    );
+}
