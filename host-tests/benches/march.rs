@@ -25,7 +25,7 @@ use curvicast::ray::Ray;
 use curvicast::real::Real;
 use curvicast_cli::batch::march_batch;
 use curvicast_host::scenes::marching::{
-    Breakpoints, GridKind, parallel_rays, perspective_rays, rays_in,
+    Breakpoints, GridLayout, parallel_rays, perspective_rays, rays_in,
 };
 use std::hint::black_box;
 
@@ -87,7 +87,7 @@ fn separable_by_value_sum<T: Real>(grid: &SphericalGrid<'_, T>, rays: &[Ray<T>])
     acc
 }
 
-fn bench_mode<T: Real>(c: &mut Criterion, kind: GridKind, perspective: bool) {
+fn bench_mode<T: Real>(c: &mut Criterion, kind: GridLayout, perspective: bool) {
     let mut breakpoints = Breakpoints::<T>::new(kind);
     let grid = breakpoints.grid().expect("valid grid");
     let scene = if perspective {
@@ -122,7 +122,7 @@ fn bench_mode<T: Real>(c: &mut Criterion, kind: GridKind, perspective: bool) {
     g.bench_function(BenchmarkId::new("separable_into", T::NAME), |b| {
         b.iter(|| black_box(separable_into_sum(&grid, &rays, &mut march)))
     });
-    if kind == GridKind::Uniform && !perspective && T::NAME == "f64" {
+    if kind == GridLayout::Uniform && !perspective && T::NAME == "f64" {
         g.bench_function(BenchmarkId::new("separable_by_value", T::NAME), |b| {
             b.iter(|| black_box(separable_by_value_sum(&grid, &rays)))
         });
@@ -132,7 +132,7 @@ fn bench_mode<T: Real>(c: &mut Criterion, kind: GridKind, perspective: bool) {
 
 /// The batch entry on 1 and 2 threads: a projection image of the parallel view in f64.
 fn bench_batch(c: &mut Criterion) {
-    let mut breakpoints = Breakpoints::<f64>::new(GridKind::Uniform);
+    let mut breakpoints = Breakpoints::<f64>::new(GridLayout::Uniform);
     let grid = breakpoints.grid().expect("valid grid");
     let rays = rays_in::<f64>(&parallel_rays(SIDE)).expect("valid rays");
     let mut g = c.benchmark_group("march_batch");
@@ -163,13 +163,13 @@ fn benches(c: &mut Criterion) {
         std::mem::size_of::<SerialMarch<'static, f64, Spherical>>(),
         std::mem::size_of::<SerialMarch<'static, f32, Spherical>>()
     );
-    for kind in GridKind::ALL {
+    for kind in GridLayout::ALL {
         bench_mode::<f64>(c, kind, false);
         bench_mode::<f32>(c, kind, false);
         bench_mode::<F32Fast>(c, kind, false);
     }
-    bench_mode::<f64>(c, GridKind::Uniform, true);
-    bench_mode::<f32>(c, GridKind::Uniform, true);
+    bench_mode::<f64>(c, GridLayout::Uniform, true);
+    bench_mode::<f32>(c, GridLayout::Uniform, true);
     bench_batch(c);
 }
 

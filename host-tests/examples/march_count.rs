@@ -24,10 +24,10 @@ use curvicast::F32Fast;
 use curvicast::march::SeparableMarch;
 use curvicast::real::Real;
 use curvicast_cli::batch::march_batch;
-use curvicast_host::scenes::marching::{Breakpoints, GridKind, parallel_rays, rays_in};
+use curvicast_host::scenes::marching::{Breakpoints, GridLayout, parallel_rays, rays_in};
 use std::hint::black_box;
 
-fn run<T: Real>(engine: &str, kind: GridKind, m: usize, passes: usize) {
+fn run<T: Real>(engine: &str, kind: GridLayout, m: usize, passes: usize) {
     let mut breakpoints = Breakpoints::<T>::new(kind);
     let grid = breakpoints.grid().expect("valid grid");
     let rays = rays_in::<T>(&parallel_rays(m)).expect("valid rays");
@@ -107,7 +107,7 @@ fn main() {
         );
         std::process::exit(2);
     };
-    let kind = GridKind::from_name(kind).expect("GRID is uniform, nonuniform or partial");
+    let kind = GridLayout::from_name(kind).expect("GRID is uniform, nonuniform or partial");
     let m: usize = m.parse().expect("M is a number");
     let passes: usize = passes.parse().expect("PASSES is a number");
     match precision.as_str() {

@@ -76,7 +76,7 @@ OBJDUMP=$OBJDUMP ./text-by-function.sh "$march32" 64 | tee march-f32-text.txt
 echo "pick-f32 .text (opt \"s\") by kernel function, 512 B or more:"
 OBJDUMP=$OBJDUMP ./text-by-function.sh "$pick32" 512
 # What of the march firmware's kernel code (opt "s") the benchmark's rays execute, and what they never reach (the
-# paths for hard cases, errors and other grid kinds): from QEMU's execution log, by profile.sh.
+# paths for hard cases, errors; no other grid kind is compiled in): from QEMU's execution log, by profile.sh.
 # (profile.sh's own output on stderr is the firmware's, already shown above)
 if ! split=$(BYTES=1 ./profile.sh march-f32 release-s 1000000 2>/dev/null | awk '$2 == "kernel" { print $1 }' | tr '\n' ' '); then
     echo "!!! march-f32: profile.sh BYTES=1 failed"; status=1
@@ -166,7 +166,7 @@ verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "me
          "$(verdict "$march_stack" 1024)). Of the kernel's code in the march-f32 firmware at opt \"s\"," \
          "${kernel_ran:-?} B ran on the benchmark's rays and ${kernel_never:-?} B never did: the paths for what" \
          "these rays do not meet (rays through the centre or along the z axis, repairs near the axis, errors," \
-         "other grid kinds; \`BYTES=1 ./profile.sh march-f32 release-s\` by function). docs/performance.md's \"How far the" \
+         "rays that end near the z axis; \`BYTES=1 ./profile.sh march-f32 release-s\` by function). docs/performance.md's \"How far the" \
          "targets are\" and docs/embedded.md's \"The M4F firmwares\" give the floor of the instructions per crossing, measured."
     echo
     echo "Where the march-f32 firmware's \`.text\` goes (opt \"s\"; each instruction charged to the outermost kernel" \
@@ -181,7 +181,7 @@ verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "me
     echo
     echo "The march's stack by frame (opt 3, from each function's prologue by \`stack-frames.sh\`; a frame holds" \
          "what was inlined into it): the firmware's \`march_once\` holds the \`SerialMarch\` itself, and the per-ray" \
-         "set-up (\`engine::setup\`, kept out of line) adds its frame below it while it runs;" \
+         "set-up (\`event::setup\`, kept out of line) adds its frame below it while it runs;" \
          "$(awk '$2 ~ /march_once|curvicast::/ { b = $1; $1 = ""; sub(/^ /, ""); printf "%s`%s` %d B", sep, $0, b; sep = ", " }' march-f32-frames.txt)."
 } > embedded.md
 rm -f march-f32-text.txt march-f32-frames.txt march-f32-all-frames.txt

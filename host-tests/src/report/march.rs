@@ -6,7 +6,7 @@ use super::{Options, Section};
 use crate::march_run::{self as run, Engine, Precision, Rounded};
 use crate::oracle::march::{KernelCrossing, MarchOracle, compare, same_sequence};
 use crate::scenes::march_cases as mc;
-use crate::scenes::marching::{Breakpoints, CELLS, GridKind, parallel_rays, perspective_rays};
+use crate::scenes::marching::{Breakpoints, CELLS, GridLayout, parallel_rays, perspective_rays};
 use curvicast::march::SeparableMarch;
 use curvicast::ray::Ray;
 use curvicast::real::{F32Fast, Real};
@@ -30,7 +30,7 @@ struct Timing {
 /// (`march_separable_into`), as a caller marching many rays does. A ray the kernel rejects or an engine error is
 /// an error of the section (nothing is skipped silently).
 fn time_engine<T: Real>(
-    kind: GridKind,
+    kind: GridLayout,
     rays: &[RaySpec],
     engine: Engine,
     reps: usize,
@@ -98,7 +98,7 @@ fn time_engine<T: Real>(
 }
 
 fn time_mode(
-    kind: GridKind,
+    kind: GridLayout,
     rays: &[RaySpec],
     e: Engine,
     p: Precision,
@@ -163,15 +163,15 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
     let quick = opts.quick;
     let m = if quick { 64 } else { 256 };
     let reps = if quick { 1 } else { 3 };
-    let grid = GridKind::Uniform.spec();
+    let grid = GridLayout::Uniform.spec();
     let parallel = parallel_rays(m);
     let views = [
-        ("parallel", GridKind::Uniform, parallel.clone()),
-        ("parallel", GridKind::NonUniform, parallel.clone()),
-        ("parallel", GridKind::Partial, parallel),
+        ("parallel", GridLayout::Uniform, parallel.clone()),
+        ("parallel", GridLayout::NonUniform, parallel.clone()),
+        ("parallel", GridLayout::Partial, parallel),
         (
             "perspective from 3R",
-            GridKind::Uniform,
+            GridLayout::Uniform,
             perspective_rays(m),
         ),
     ];
@@ -251,7 +251,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
             })
             .count();
         for (vi, (vname, kind, rays)) in views.iter().enumerate() {
-            if *kind != GridKind::Uniform {
+            if *kind != GridLayout::Uniform {
                 continue;
             }
             let mut out = Vec::new();

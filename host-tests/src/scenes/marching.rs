@@ -20,7 +20,7 @@ const NONUNIFORM_SEED: u64 = 16;
 
 /// The three grids of the scene.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum GridKind {
+pub enum GridLayout {
     /// Uniform in r ∈ [0, 1], θ ∈ [0, π], φ ∈ [0, 2π].
     Uniform,
     /// The same ranges with random (seeded) cell widths between 0.25 and 1.75 times the mean.
@@ -30,47 +30,51 @@ pub enum GridKind {
     Partial,
 }
 
-impl GridKind {
+impl GridLayout {
     /// Every grid of the scene.
-    pub const ALL: [GridKind; 3] = [GridKind::Uniform, GridKind::NonUniform, GridKind::Partial];
+    pub const ALL: [GridLayout; 3] = [
+        GridLayout::Uniform,
+        GridLayout::NonUniform,
+        GridLayout::Partial,
+    ];
 
     /// The grid's name on command lines and in benchmark ids: `uniform`, `nonuniform`, `partial`.
     pub fn name(self) -> &'static str {
         match self {
-            GridKind::Uniform => "uniform",
-            GridKind::NonUniform => "nonuniform",
-            GridKind::Partial => "partial",
+            GridLayout::Uniform => "uniform",
+            GridLayout::NonUniform => "nonuniform",
+            GridLayout::Partial => "partial",
         }
     }
 
     /// The grid of that [`name`](Self::name).
-    pub fn from_name(name: &str) -> Option<GridKind> {
-        GridKind::ALL.into_iter().find(|k| k.name() == name)
+    pub fn from_name(name: &str) -> Option<GridLayout> {
+        GridLayout::ALL.into_iter().find(|k| k.name() == name)
     }
 
     /// What the grid is, in words (for the report).
     pub fn describe(self) -> &'static str {
         match self {
-            GridKind::Uniform => "uniform",
-            GridKind::NonUniform => "random non-uniform breakpoints",
-            GridKind::Partial => "partial (shell, zenith band, wedge)",
+            GridLayout::Uniform => "uniform",
+            GridLayout::NonUniform => "random non-uniform breakpoints",
+            GridLayout::Partial => "partial (shell, zenith band, wedge)",
         }
     }
 
     /// True when the φ breakpoints span a full turn.
     pub fn full_turn(self) -> bool {
-        self != GridKind::Partial
+        self != GridLayout::Partial
     }
 
     /// The breakpoints `[r, θ, φ]` in `f64`.
     pub fn breakpoints(self) -> [Vec<f64>; 3] {
         match self {
-            GridKind::Uniform => [
+            GridLayout::Uniform => [
                 uniform(CELLS, 0.0, 1.0),
                 uniform(CELLS, 0.0, PI),
                 uniform(CELLS, 0.0, TAU),
             ],
-            GridKind::NonUniform => {
+            GridLayout::NonUniform => {
                 let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(NONUNIFORM_SEED);
                 [
                     random(CELLS, 0.0, 1.0, &mut rng),
@@ -78,7 +82,7 @@ impl GridKind {
                     random(CELLS, 0.0, TAU, &mut rng),
                 ]
             }
-            GridKind::Partial => [
+            GridLayout::Partial => [
                 uniform(CELLS, 0.3, 1.0),
                 uniform(CELLS, 0.4, 2.6),
                 uniform(CELLS, -1.0, 4.0),
@@ -113,7 +117,7 @@ pub struct Breakpoints<T> {
 
 impl<T: Real> Breakpoints<T> {
     /// The breakpoints of `kind` in `T`.
-    pub fn new(kind: GridKind) -> Breakpoints<T> {
+    pub fn new(kind: GridLayout) -> Breakpoints<T> {
         let conv = |v: Vec<f64>| v.into_iter().map(T::from_f64).collect::<Vec<T>>();
         let [r, theta, phi] = kind.breakpoints();
         let (r, theta, mut phi) = (conv(r), conv(theta), conv(phi));
@@ -232,7 +236,7 @@ mod tests {
 
     #[test]
     fn uniform_parallel_scene_crosses_the_known_number_of_cells() {
-        let mut b = Breakpoints::<f64>::new(GridKind::Uniform);
+        let mut b = Breakpoints::<f64>::new(GridLayout::Uniform);
         let grid = b.grid().unwrap();
         let rays = rays_in::<f64>(&parallel_rays(64)).unwrap();
         let n: usize = rays.iter().map(|r| grid.march(r).count()).sum();
@@ -242,8 +246,8 @@ mod tests {
 
     #[test]
     fn every_grid_is_valid_and_spans_its_range() {
-        for kind in GridKind::ALL {
-            assert_eq!(GridKind::from_name(kind.name()), Some(kind));
+        for kind in GridLayout::ALL {
+            assert_eq!(GridLayout::from_name(kind.name()), Some(kind));
             let [r, th, ph] = kind.breakpoints();
             assert!([&r, &th, &ph].iter().all(|v| v.len() == CELLS + 1));
             assert!(
@@ -256,7 +260,7 @@ mod tests {
             assert!(b32.grid().is_ok(), "{kind:?}");
             assert_eq!(b32.grid().unwrap().azimuth_is_full_turn(), kind.full_turn());
         }
-        let [r, _, ph] = GridKind::NonUniform.breakpoints();
+        let [r, _, ph] = GridLayout::NonUniform.breakpoints();
         let widths: Vec<f64> = r.windows(2).map(|w| w[1] - w[0]).collect();
         let (lo, hi) = widths
             .iter()
@@ -272,7 +276,7 @@ mod tests {
             let e = s.origin;
             assert!(((e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt() - 3.0).abs() < 1e-12);
         }
-        let mut b = Breakpoints::<f64>::new(GridKind::Uniform);
+        let mut b = Breakpoints::<f64>::new(GridLayout::Uniform);
         let grid = b.grid().unwrap();
         let hits = rays_in::<f64>(&rays)
             .unwrap()

@@ -1,6 +1,7 @@
 //! Marching from C (Hannasch, *Spherical Ray-Tracing*, ch. 5: the serial engine): a grid over the caller's
 //! breakpoints and workspace, a march over the grid in the caller's storage, one crossing per
-//! `curvicast_march_*_next` (or a batch per `curvicast_march_*_fill`) until `CURVICAST_DONE`.
+//! `curvicast_march_*_next` (or a batch per `curvicast_march_*_fill`) until `CURVICAST_DONE`. A grid of any kind is
+//! held as the kernel's `Grid<_, _, Dynamic>`: one marcher serves the three kinds, so a firmware links one.
 //!
 //! ```c
 //! float r[] = {0.0f, 0.5f, 1.0f}, th[] = {0.0f, 1.5707964f, 3.1415927f}, ph[] = {0.0f, 3.1415927f, 6.2831855f};
@@ -18,7 +19,7 @@ use crate::{CRay, Holds, curvicast_ray_f32, curvicast_ray_f64, curvicast_status}
 use crate::{get, get_mut, init, out, point_or_origin, read, slice, slice_mut};
 use curvicast::Real;
 use curvicast::march::{
-    AnyGrid, AnyMarch, CellCrossing, CylindricalGrid, PolarGrid, SphericalGrid,
+    CellCrossing, CylindricalGrid, Dynamic, Grid, PolarGrid, SerialMarch, SphericalGrid,
 };
 
 /// The storage words of a grid (any kind): a tag, the kind, and the grid's borrowed axes.
@@ -81,22 +82,22 @@ pub struct curvicast_crossing_f64 {
 
 // SAFETY: arrays of u64; the tags are distinct across `Holds` implementors (module `terrain` uses 0x…7xx).
 unsafe impl Holds for curvicast_grid_f32 {
-    type Value = AnyGrid<'static, f32>;
+    type Value = Grid<'static, f32, Dynamic>;
     const TAG: u64 = 0x6375_7276_6963_0601;
 }
 // SAFETY: as above.
 unsafe impl Holds for curvicast_grid_f64 {
-    type Value = AnyGrid<'static, f64>;
+    type Value = Grid<'static, f64, Dynamic>;
     const TAG: u64 = 0x6375_7276_6963_0602;
 }
 // SAFETY: as above.
 unsafe impl Holds for curvicast_march_f32 {
-    type Value = AnyMarch<'static, f32>;
+    type Value = SerialMarch<'static, f32, Dynamic>;
     const TAG: u64 = 0x6375_7276_6963_0603;
 }
 // SAFETY: as above.
 unsafe impl Holds for curvicast_march_f64 {
-    type Value = AnyMarch<'static, f64>;
+    type Value = SerialMarch<'static, f64, Dynamic>;
     const TAG: u64 = 0x6375_7276_6963_0604;
 }
 
@@ -131,7 +132,7 @@ unsafe fn spherical<T: Real>(
     phi: (*const T, usize),
     center: *const T,
     workspace: (*mut T, usize),
-) -> Result<AnyGrid<'static, T>, curvicast_status> {
+) -> Result<Grid<'static, T, Dynamic>, curvicast_status> {
     // SAFETY: the caller's contract: valid arrays (or NULL), kept alive and unchanged while the grid is used.
     let (r, theta, phi, center, ws) = unsafe {
         (
@@ -142,9 +143,9 @@ unsafe fn spherical<T: Real>(
             slice_mut(workspace.0, workspace.1)?,
         )
     };
-    Ok(AnyGrid::Spherical(
-        SphericalGrid::new(r, theta, phi, ws)?.with_center(center)?,
-    ))
+    Ok(SphericalGrid::new(r, theta, phi, ws)?
+        .with_center(center)?
+        .into_dynamic())
 }
 
 /// # Safety
@@ -155,7 +156,7 @@ unsafe fn cylindrical<T: Real>(
     z: (*const T, usize),
     center: *const T,
     workspace: (*mut T, usize),
-) -> Result<AnyGrid<'static, T>, curvicast_status> {
+) -> Result<Grid<'static, T, Dynamic>, curvicast_status> {
     // SAFETY: as in `spherical`.
     let (rho, phi, z, center, ws) = unsafe {
         (
@@ -166,9 +167,9 @@ unsafe fn cylindrical<T: Real>(
             slice_mut(workspace.0, workspace.1)?,
         )
     };
-    Ok(AnyGrid::Cylindrical(
-        CylindricalGrid::new(rho, phi, z, ws)?.with_center(center)?,
-    ))
+    Ok(CylindricalGrid::new(rho, phi, z, ws)?
+        .with_center(center)?
+        .into_dynamic())
 }
 
 /// # Safety
@@ -178,7 +179,7 @@ unsafe fn polar<T: Real>(
     phi: (*const T, usize),
     center: *const T,
     workspace: (*mut T, usize),
-) -> Result<AnyGrid<'static, T>, curvicast_status> {
+) -> Result<Grid<'static, T, Dynamic>, curvicast_status> {
     // SAFETY: as in `spherical`.
     let (r, phi, center, ws) = unsafe {
         (
@@ -188,9 +189,9 @@ unsafe fn polar<T: Real>(
             slice_mut(workspace.0, workspace.1)?,
         )
     };
-    Ok(AnyGrid::Polar(
-        PolarGrid::new(r, phi, ws)?.with_center(center)?,
-    ))
+    Ok(PolarGrid::new(r, phi, ws)?
+        .with_center(center)?
+        .into_dynamic())
 }
 
 /// Fills `grid` with a spherical grid (Hannasch ch. 2): cell `[i, j, k]` is `r[i] ≤ r < r[i+1]`,
@@ -418,7 +419,7 @@ pub unsafe extern "C" fn curvicast_march_f64_begin(
 /// `*written`: `CURVICAST_OK` when the array is full (more may follow), `CURVICAST_DONE` when the march is over,
 /// or the error that stopped it.
 fn fill<T: Real, C: From<CellCrossing<T>>>(
-    march: &mut AnyMarch<'static, T>,
+    march: &mut SerialMarch<'static, T, Dynamic>,
     crossings: &mut [C],
     written: &mut usize,
 ) -> curvicast_status {
@@ -439,7 +440,7 @@ fn fill<T: Real, C: From<CellCrossing<T>>>(
 /// One crossing into `crossing`: `CURVICAST_OK`, `CURVICAST_DONE` when the march is over, or the error that
 /// stopped it.
 fn next<T: Real, C: From<CellCrossing<T>>>(
-    march: &mut AnyMarch<'static, T>,
+    march: &mut SerialMarch<'static, T, Dynamic>,
     crossing: &mut C,
 ) -> curvicast_status {
     match march.next() {

@@ -4,8 +4,8 @@
 
 use super::crossing::CellCrossing;
 use super::error::MarchError;
-use super::grid::{CylindricalGrid, PolarGrid, SphericalGrid};
-use super::kind::{Cylindrical, Polar, Spherical};
+use super::grid::{CylindricalGrid, Grid, PolarGrid, SphericalGrid};
+use super::kind::{Cylindrical, Dynamic, Polar, Spherical};
 use super::serial::SerialMarch;
 use crate::ray::Ray;
 use crate::real::Real;
@@ -72,7 +72,7 @@ macro_rules! each {
     };
 }
 
-impl<T: Real> AnyGrid<'_, T> {
+impl<'a, T: Real> AnyGrid<'a, T> {
     /// The serial march of `ray` (see [`Grid::march`](super::Grid::march)).
     pub fn march(&self, ray: &Ray<T>) -> AnyMarch<'_, T> {
         match self {
@@ -89,6 +89,15 @@ impl<T: Real> AnyGrid<'_, T> {
             AnyGrid::Spherical(_) => Spherical::NAME,
             AnyGrid::Cylindrical(_) => Cylindrical::NAME,
             AnyGrid::Polar(_) => Polar::NAME,
+        }
+    }
+
+    /// The grid with its kind left to run time (see [`Dynamic`](super::Dynamic)).
+    pub fn into_dynamic(self) -> Grid<'a, T, Dynamic> {
+        match self {
+            AnyGrid::Spherical(g) => g.into_dynamic(),
+            AnyGrid::Cylindrical(g) => g.into_dynamic(),
+            AnyGrid::Polar(g) => g.into_dynamic(),
         }
     }
 }

@@ -3,7 +3,7 @@
 //! each kind's code holds only its own coordinates' steps.
 
 use super::error::MarchError;
-use super::kind::{GridKind, SlotKind, slots};
+use super::kind::{GridKind, SlotKind, coordinates, may_have_height, may_have_zenith};
 use super::stream::{RadialLine, SecondRoots, StepKind, Stream};
 use super::tables::Axes;
 use crate::ray::{Line, Ray};
@@ -71,12 +71,12 @@ pub(crate) fn next_event<T: Real, K: GridKind>(
     };
     match s.step_kind() {
         StepKind::Radial => s.next_radial(&axes.radial, &rays.radial, rays.t_max()),
-        StepKind::Zenith if K::ZENITH => axes
+        StepKind::Zenith if may_have_zenith::<K>() => axes
             .zenith
             .as_ref()
             .is_some_and(|z| s.next_zenith(z, &rays.rel, rays.t_max(), roots)),
         StepKind::Azimuth => s.next_azimuth(&axes.azimuth, &rays.rel, rays.t_max()),
-        StepKind::Height if K::HEIGHT => axes
+        StepKind::Height if may_have_height::<K>() => axes
             .height
             .as_ref()
             .is_some_and(|h| s.next_height(h, &rays.rel, rays.t_max())),
@@ -172,7 +172,7 @@ pub(crate) fn setup<T: Real, K: GridKind>(
     rays.rel.recenter(axes.center).map_err(MarchError::Ray)?;
     rays.t_max = ray.t_max();
     let t_min = ray.t_min();
-    let radial = if K::FLAT_RADIUS {
+    let radial = if coordinates::<K>(axes.coordinates).flat_radius() {
         flat_radial_start(axes, ray, &rays.rel, &mut rays.radial)?
     } else {
         Some(radial_start(
@@ -213,13 +213,13 @@ pub(crate) fn setup<T: Real, K: GridKind>(
         *s = rs;
     }
     for slot in 1..3 {
-        let (s, _) = match slots::<K>().get(slot) {
-            Some(SlotKind::Zenith) if K::ZENITH => match axes.zenith.as_ref() {
+        let (s, _) = match coordinates::<K>(axes.coordinates).slots.get(slot) {
+            Some(SlotKind::Zenith) if may_have_zenith::<K>() => match axes.zenith.as_ref() {
                 Some(z) if t0.is_finite() => Stream::zenith(z, &rays.rel, t0),
                 _ => (Stream::fixed(0), 0),
             },
             Some(SlotKind::Azimuth) => Stream::azimuth(&axes.azimuth, &rays.rel, t0),
-            Some(SlotKind::Height) if K::HEIGHT => match axes.height.as_ref() {
+            Some(SlotKind::Height) if may_have_height::<K>() => match axes.height.as_ref() {
                 Some(h) => Stream::height(h, &rays.rel, t0),
                 None => (Stream::fixed(0), 0),
             },

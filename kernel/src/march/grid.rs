@@ -2,7 +2,7 @@
 
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
 use super::error::{Axis, GridError, MarchError};
-use super::kind::{Cylindrical, GridKind, Polar, Spherical};
+use super::kind::{Coordinates, Cylindrical, Dynamic, GridKind, Polar, Spherical};
 use super::separable::SeparableMarch;
 use super::serial::SerialMarch;
 use super::tables::Axes;
@@ -43,6 +43,17 @@ impl<'a, T: Real, K: GridKind> Grid<'a, T, K> {
             axes,
             kind: PhantomData,
         }
+    }
+
+    /// The same grid with its kind left to run time: its marches are [`Dynamic`]'s (the same answers, one
+    /// marcher for every kind a program holds this way).
+    pub fn into_dynamic(self) -> Grid<'a, T, Dynamic> {
+        Grid::of(self.axes)
+    }
+
+    /// The kind's coordinates.
+    pub fn coordinates(&self) -> Coordinates {
+        self.axes.coordinates
     }
 
     /// The center (a cylinder's: the point of its axis where z = 0).
@@ -147,7 +158,8 @@ impl<'a, T: Real> Grid<'a, T, Spherical> {
         let scale = r.last().copied().unwrap_or(T::ZERO);
         zenith.scale = scale;
         azimuth.scale = scale;
-        Ok(Grid::of(Axes::new::<Spherical>(
+        Ok(Grid::of(Axes::new(
+            Coordinates::SPHERICAL,
             radial,
             Some(zenith),
             azimuth,
@@ -217,7 +229,8 @@ impl<'a, T: Real> Grid<'a, T, Cylindrical> {
         let mut azimuth = AzimuthAxis::build(phi, &mut ws)?;
         azimuth.scale = rho.last().copied().unwrap_or(T::ZERO);
         let height = HeightAxis::build(z)?;
-        Ok(Grid::of(Axes::new::<Cylindrical>(
+        Ok(Grid::of(Axes::new(
+            Coordinates::CYLINDRICAL,
             radial,
             None,
             azimuth,
@@ -275,7 +288,13 @@ impl<'a, T: Real> Grid<'a, T, Polar> {
         let radial = RadialAxis::build(Axis::R, r, &mut ws)?;
         let mut azimuth = AzimuthAxis::build(phi, &mut ws)?;
         azimuth.scale = r.last().copied().unwrap_or(T::ZERO);
-        Ok(Grid::of(Axes::new::<Polar>(radial, None, azimuth, None)))
+        Ok(Grid::of(Axes::new(
+            Coordinates::POLAR,
+            radial,
+            None,
+            azimuth,
+            None,
+        )))
     }
 
     /// The same grid centred at `(cx, cy)`.

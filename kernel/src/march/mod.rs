@@ -11,6 +11,17 @@
 //! * the **separable** engine ([`SphericalGrid::march_separable`], §3) lists each coordinate's crossings into
 //!   `heapless` buffers of capacity `N` and interleaves them in linear time; a full buffer is an error.
 //!
+//! # Grid kinds
+//!
+//! A grid's kind is a type: [`Grid`]`<'a, T, K>` with `K` one of [`Spherical`], [`Cylindrical`] and [`Polar`]
+//! ([`GridKind`]: which coordinate each slot of the cell index holds, and whether the radius is measured from
+//! the z axis), with [`SphericalGrid`], [`CylindricalGrid`] and [`PolarGrid`] its aliases. Each kind's marcher is
+//! compiled with only its own coordinates' steps, so a program that marches spheres only links no cylinder or
+//! polar code. When the kind is read at run time (a grid file), [`AnyGrid`] holds any of the three, each
+//! marching with its own marcher; [`Grid::into_dynamic`] gives instead one marcher for every kind, which
+//! switches on the grid's coordinates as it steps ([`Dynamic`]: the smallest code when a program marches
+//! several kinds). All of them give the same crossings, bit for bit.
+//!
 //! # Semantics
 //!
 //! Cells are half-open: `[i, j, k]` is `r[i] <= r < r[i+1]`, `theta[j] <= θ < theta[j+1]`,
@@ -94,7 +105,7 @@ pub use any::{AnyGrid, AnyMarch};
 pub use crossing::CellCrossing;
 pub use error::{Axis, GridError, MarchError};
 pub use grid::{CylindricalGrid, Grid, PolarGrid, SphericalGrid};
-pub use kind::{Cylindrical, GridKind, Polar, Spherical};
+pub use kind::{Coordinates, Cylindrical, Dynamic, GridKind, Polar, Spherical};
 pub use separable::SeparableMarch;
 pub use serial::SerialMarch;
 

@@ -3,16 +3,17 @@
 
 use super::crossing::CellCrossing;
 use super::emitter::Emitter;
+use super::error::Axis;
 use super::error::MarchError;
 use super::event::{Rays, next_event, setup};
-use super::kind::GridKind;
+use super::kind::{GridKind, coordinates};
 use super::stream::{Event, SecondRoots, Stream};
 use super::tables::{Axes, CellRule};
 use crate::ray::Ray;
 use crate::real::Real;
 
 /// The separable marcher (Hannasch §3): each coordinate's crossings are listed into a `heapless` buffer of
-/// capacity `N`, then interleaved in linear time. Iterates the same [`CellCrossing`]s as [`SerialMarch`].
+/// capacity `N`, then interleaved in linear time. Iterates the same [`CellCrossing`]s as [`SerialMarch`](super::SerialMarch).
 ///
 /// Built by [`Grid::march_separable`](super::Grid::march_separable); a buffer that would overflow is
 /// [`MarchError::BufferFull`] at construction, never a truncated answer.
@@ -105,7 +106,11 @@ impl<T: Real, const N: usize> SeparableMarch<T, N> {
                     break;
                 }
                 list.push((t, b)).map_err(|_| MarchError::BufferFull {
-                    axis: K::AXES.get(slot).copied().unwrap_or(super::error::Axis::Z),
+                    axis: coordinates::<K>(axes.coordinates)
+                        .axes()
+                        .get(slot)
+                        .copied()
+                        .unwrap_or(Axis::Z),
                     capacity: N,
                 })?;
                 last_band = b;

@@ -2,7 +2,7 @@
 //! form a cell of the domain.
 
 use super::axes::{AzimuthAxis, HeightAxis, RadialAxis, ZenithAxis};
-use super::kind::{GridKind, SlotKind, slots};
+use super::kind::{Coordinates, SlotKind};
 use crate::real::Real;
 use crate::vec3::V3;
 
@@ -14,6 +14,8 @@ pub(crate) struct Axes<'a, T> {
     pub azimuth: AzimuthAxis<'a, T>,
     pub height: Option<HeightAxis<'a, T>>,
     pub center: V3<T>,
+    /// The grid's coordinates (what its kind supplies; read by the engines of [`Dynamic`](super::Dynamic)).
+    pub coordinates: Coordinates,
     /// The cell rule, formed once with the grid.
     pub rule: CellRule,
 }
@@ -51,8 +53,9 @@ impl CellRule {
 }
 
 impl<'a, T: Real> Axes<'a, T> {
-    /// The tables of a grid of kind `K` centred at the origin.
-    pub(crate) fn new<K: GridKind>(
+    /// The tables of a grid of `coordinates`, centred at the origin.
+    pub(crate) fn new(
+        coordinates: Coordinates,
         radial: RadialAxis<'a, T>,
         zenith: Option<ZenithAxis<'a, T>>,
         azimuth: AzimuthAxis<'a, T>,
@@ -64,12 +67,13 @@ impl<'a, T: Real> Axes<'a, T> {
             azimuth,
             height,
             center: V3::ZERO,
+            coordinates,
             rule: CellRule {
                 first: [0; 3],
                 count: [u32::MAX; 3],
             },
         };
-        axes.rule = axes.cell_rule(slots::<K>());
+        axes.rule = axes.cell_rule(coordinates.slots);
         axes
     }
 

@@ -181,8 +181,10 @@ impl<T: Real> Stream<T> {
     }
 
     /// The next step of a walk, at the walk's `t` (clamped to the last event); false when the walk is done or
-    /// its `t` lies past `t_max`. `nb` is the azimuth's boundary count (for a cyclic walk).
-    #[inline(always)]
+    /// its `t` lies past `t_max`. `nb` is the azimuth's boundary count (for a cyclic walk). Out of line: only a
+    /// line through the center or the z axis walks, and off the engines' loops it leaves them more registers (on
+    /// a Cortex-M4F, 181.5 → 180.6 instructions per crossing of march-f32, and 192 bytes less code).
+    #[inline(never)]
     pub(crate) fn next_walk(&mut self, nb: u32, t_max: T) -> bool {
         let Kind::Walk {
             t,
