@@ -8,6 +8,10 @@
 //! coordinates); `quadtree_t_block*` is `Picker::pick_t`, the same traversal returning `t` and the cell, which is
 //! what parry's `cast_local_ray` returns.
 //!
+//! With `--features embree` (Embree 3 installed: Debian's `libembree-dev`), Embree's single-ray
+//! `rtcIntersect1` over the same triangles in `f32`, in ECEF (`Embree_ECEF`) and in a frame centred on the DEM
+//! (`Embree_local_frame`).
+//!
 //! Quick run: `cargo bench -p curvicast-host --bench terrain -- --warm-up-time 1 --measurement-time 2`.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
@@ -17,6 +21,7 @@ use curvicast_cli::formats::real_dem;
 use curvicast_cli::formats::spec::RaySpec;
 use curvicast_cli::formats::terrain::Dem;
 use curvicast_cli::storage::DemStorage;
+use curvicast_host::baselines::embree_baselines;
 use curvicast_host::baselines::terrain::{BruteForceTerrain, ParryTerrain};
 use curvicast_host::scenes::terrain_cases::{TerrainKind, camera_rays, orbit_rays, synthetic};
 use std::hint::black_box;
@@ -33,6 +38,8 @@ fn bench_scene(c: &mut Criterion, name: &str, dem: &Dem) {
         .collect();
     let parry = ParryTerrain::new(dem).expect("parry mesh");
     let brute = BruteForceTerrain::new(dem);
+    // Embree in ECEF and in a local frame, with `--features embree` (none otherwise).
+    let embree = embree_baselines(dem).expect("Embree scenes");
     let mut g = c.benchmark_group(format!("terrain/{name}"));
     g.sample_size(10);
     for (kind, rays) in BATCHES.into_iter().flat_map(|n| {
@@ -88,6 +95,16 @@ fn bench_scene(c: &mut Criterion, name: &str, dem: &Dem) {
                 })
             },
         );
+        for e in &embree {
+            let id = BenchmarkId::new(e.name.replace(' ', "_"), kind);
+            g.bench_with_input(id, &rays, |b, rays: &Vec<RaySpec>| {
+                b.iter(|| {
+                    rays.iter()
+                        .filter(|r| (e.pick)(black_box(r)).is_some())
+                        .count()
+                })
+            });
+        }
         // Brute force is sampled: one ray per iteration (once per kind of ray).
         if rays.len() == BATCHES[0] {
             g.throughput(Throughput::Elements(1));

@@ -4,6 +4,8 @@
 
 use super::{Options, Section};
 use crate::baselines::terrain::{BruteForceTerrain, ParryTerrain};
+use crate::baselines::{TerrainBaseline, embree_baselines};
+use crate::oracle::terrain::TerrainOracle;
 use crate::scenes::terrain_cases::{TerrainKind, camera_rays, orbit_rays, synthetic};
 use curvicast::Ray;
 use curvicast::terrain::{PickStats, Picker};
@@ -32,6 +34,53 @@ struct Row {
     t_differs: usize,
     /// Largest `|t(pick_t) − t(pick)|·|d|`: what the refinement moves the hit.
     t_refined_by: f64,
+    /// The other baselines' (Embree's) rays/s, in the order given.
+    extra: Vec<f64>,
+}
+
+/// How far a method's hits are from the oracle's, on the first rays of a row.
+struct OracleError {
+    /// Largest `|t − t_oracle|·|d|` over the rays both hit, metres.
+    max: f64,
+    /// Its 99th percentile.
+    p99: f64,
+    /// Rays that one of the method and the oracle hits and the other misses.
+    status_differs: usize,
+}
+
+impl OracleError {
+    fn of(answers: &[Option<f64>], oracle: &[Option<f64>], rays: &[RaySpec]) -> OracleError {
+        let mut d: Vec<f64> = Vec::new();
+        let mut status_differs = 0;
+        for ((a, o), r) in answers.iter().zip(oracle).zip(rays) {
+            match (a, o) {
+                (Some(t), Some(to)) => {
+                    let dl = (r.dir[0].powi(2) + r.dir[1].powi(2) + r.dir[2].powi(2)).sqrt();
+                    d.push((t - to).abs() * dl);
+                }
+                (None, None) => {}
+                _ => status_differs += 1,
+            }
+        }
+        d.sort_by(f64::total_cmp);
+        let p99 = d
+            .get(((d.len() as f64 * 0.99).ceil() as usize).saturating_sub(1))
+            .copied()
+            .unwrap_or(0.0);
+        OracleError {
+            max: d.last().copied().unwrap_or(0.0),
+            p99,
+            status_differs,
+        }
+    }
+}
+
+/// One row of the Embree table: a scene's rays, each method's speed and its error against the oracle.
+struct ExtraRow {
+    scene: String,
+    rays: String,
+    /// The method's name, rays/s and error; ours (`pick` and `pick_t` with 8 × 8 blocks) first.
+    methods: Vec<(String, f64, OracleError)>,
 }
 
 /// A kernel answer: the hit's `t` and cell, or a miss.
@@ -54,6 +103,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
     let n_syn = if opts.quick { 1024 } else { 4096 };
     let n_rays = if opts.quick { 1000 } else { 10_000 };
     let n_brute = if opts.quick { 2 } else { 5 };
+    let n_oracle = if opts.quick { 200 } else { 1000 };
     let scenes: Vec<(String, Dem)> = vec![
         (
             "Trinidad 1201 × 2401 (USGS 3″)".into(),
@@ -70,6 +120,8 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
         ),
     ];
     let mut rows = Vec::new();
+    let mut extra_rows = Vec::new();
+    let mut extra_mem = String::new();
     let mut mem = String::from(
         "| scene | ours: block | triangles | heights (f32) | ours: quadtree overhead | ours: build | parry TriMesh (BVH + vertices + indices) | parry: build | brute force: f64 vertices + indices |\n|---|---|---|---|---|---|---|---|---|\n",
     );
@@ -78,6 +130,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
         let parry = ParryTerrain::new(dem)?;
         let parry_build = t0.elapsed().as_secs_f64();
         let brute = BruteForceTerrain::new(dem);
+        let extra = embree_baselines(dem)?;
         let triangles = parry.mesh.indices().len();
         let mut storages = Vec::new();
         for block in BLOCKS {
@@ -98,6 +151,17 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
             ));
             storages.push((block, storage));
         }
+        for b in &extra {
+            let (_, ours) = &storages[0];
+            extra_mem.push_str(&format!(
+                "| {name} | {} | {} | {:.2} s | {:.1}× ours (8 × 8 blocks) + heights |\n",
+                b.name,
+                mb(b.memory_bytes),
+                b.build_seconds,
+                b.memory_bytes as f64 / (ours.overhead_bytes() + ours.heights_bytes()) as f64,
+            ));
+        }
+        let oracle = (!extra.is_empty()).then(|| TerrainOracle::new(dem));
         let pickers = storages
             .iter()
             .map(|(block, s)| {
@@ -113,10 +177,41 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
             ),
             ("orbit (4e7 m)", orbit_rays(dem, n_rays, 2)),
         ] {
-            rows.extend(measure(
-                name, kind, &rays, &pickers, &parry, &brute, n_brute,
-            )?);
+            let (scene_rows, answers) =
+                measure(name, kind, &rays, &pickers, &parry, &brute, n_brute, &extra)?;
+            if let Some(oracle) = &oracle {
+                let sample = &rays[..n_oracle.min(rays.len())];
+                let truth: Vec<Option<f64>> =
+                    sample.iter().map(|r| oracle.pick(r).map(|h| h.t)).collect();
+                let mut methods = Vec::new();
+                for (k, (label, rate)) in [
+                    ("ours: pick, 8 × 8 blocks", scene_rows[0].ours),
+                    ("ours: pick_t, 8 × 8 blocks", scene_rows[0].ours_t),
+                ]
+                .into_iter()
+                .enumerate()
+                {
+                    let a: Vec<Option<f64>> =
+                        answers.ours[k].iter().take(sample.len()).copied().collect();
+                    methods.push((label.to_string(), rate, OracleError::of(&a, &truth, sample)));
+                }
+                for (b, (rate, a)) in extra
+                    .iter()
+                    .zip(scene_rows[0].extra.iter().zip(&answers.extra))
+                {
+                    let a = &a[..sample.len()];
+                    methods.push((b.name.clone(), *rate, OracleError::of(a, &truth, sample)));
+                }
+                extra_rows.push(ExtraRow {
+                    scene: name.clone(),
+                    rays: kind.into(),
+                    methods,
+                });
+            }
+            rows.extend(scene_rows);
         }
+        drop(oracle);
+        drop(extra);
         drop(pickers);
         drop(storages);
         drop(brute);
@@ -174,6 +269,44 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
                  its own `TriMesh::total_memory_size()` estimate (vertex array of f64 triples, index triples, BVH \
                  nodes and auxiliary buffers); it holds ECEF vertices instead of heights.\n\n");
     md.push_str(&mem);
+    if extra_rows.is_empty() {
+        md.push_str(
+            "\nEmbree: not in this build. `--features embree` (with Embree 3 installed, Debian's `libembree-dev`) \
+             adds its rows: speed, memory, build time and the error of its hits against the oracle, in ECEF and in \
+             a local frame.\n",
+        );
+    } else {
+        md.push_str(&format!(
+            "\nAgainst Embree 3 (`embree3` crate, default build quality, `rtcIntersect1` one ray at a time, single \
+             thread), over the same triangles: its vertices and rays are `f32`, once in ECEF metres and once in a \
+             frame centred on the DEM (vertices and ray origins shifted by its centre vertex in `f64`, then \
+             rounded). Rays/s as above (same passes, interleaved). The error columns: the distance \
+             `|t − t_oracle|·|d|` to the oracle's hit (256-bit, `oracle::terrain`) over the first {n_oracle} rays of \
+             each row where both hit, largest and 99th percentile, and the rays where one hits and the other \
+             misses. Ours: `pick` and `pick_t` with 8 × 8 blocks.\n\n\
+             | scene | rays | method | rays/s | ours pick_t / it | max distance to oracle | 99th percentile | hit/miss differs from oracle |\n\
+             |---|---|---|---|---|---|---|---|\n"
+        ));
+        for r in &extra_rows {
+            let ours_t = r.methods.get(1).map_or(f64::NAN, |m| m.1);
+            for (name, rate, e) in &r.methods {
+                md.push_str(&format!(
+                    "| {} | {} | {name} | {rate:.0} | {:.2}× | {:.2e} m | {:.2e} m | {} |\n",
+                    r.scene,
+                    r.rays,
+                    ours_t / rate,
+                    e.max,
+                    e.p99,
+                    e.status_differs,
+                ));
+            }
+        }
+        md.push_str(
+            "\nEmbree's memory (its memory monitor callback: vertices, indices and BVH) and build time:\n\n\
+             | scene | method | memory | build | against ours |\n|---|---|---|---|---|\n",
+        );
+        md.push_str(&extra_mem);
+    }
     Ok(Section {
         title: "Terrain picking: height-augmented quadtree vs parry3d BVH vs brute force".into(),
         markdown: md,
@@ -185,6 +318,7 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
 /// region (`curvicast::Ray::new`, parry's `Ray::new`), and each pass times every method once (brute force on
 /// the first `n_brute` rays) and the best of `PASSES` passes is kept per method (a background load slows a pass,
 /// never speeds one up).
+#[allow(clippy::too_many_arguments)]
 fn measure(
     scene: &str,
     kind: &str,
@@ -193,7 +327,8 @@ fn measure(
     parry: &ParryTerrain,
     brute: &BruteForceTerrain,
     n_brute: usize,
-) -> anyhow::Result<Vec<Row>> {
+    extra: &[TerrainBaseline<'_>],
+) -> anyhow::Result<(Vec<Row>, Answers)> {
     let ray = |r: &RaySpec| Ray::new(r.origin, r.dir).map_err(|e| anyhow::anyhow!("{scene}: {e}"));
     let n = rays.len();
     let mut best_brute = f64::INFINITY;
@@ -204,6 +339,8 @@ fn measure(
     let mut answers: Vec<Vec<TCell>> = vec![Vec::new(); pickers.len()];
     let mut theirs: Vec<Option<f64>> = Vec::new();
     let (mut tris, mut quads) = (vec![0u64; pickers.len()], vec![0u64; pickers.len()]);
+    let mut best_extra = vec![f64::INFINITY; extra.len()];
+    let mut extra_answers: Vec<Vec<Option<f64>>> = vec![Vec::new(); extra.len()];
     for pass in 0..PASSES {
         for (k, (_, picker)) in pickers.iter().enumerate() {
             let mut stats = PickStats::default();
@@ -240,6 +377,14 @@ fn measure(
         best_parry = best_parry.min(t0.elapsed().as_secs_f64());
         if pass == 0 {
             theirs = got;
+        }
+        for (k, b) in extra.iter().enumerate() {
+            let t0 = Instant::now();
+            let got: Vec<Option<f64>> = rays.iter().map(|r| (b.pick)(r)).collect();
+            best_extra[k] = best_extra[k].min(t0.elapsed().as_secs_f64());
+            if pass == 0 {
+                extra_answers[k] = got;
+            }
         }
         let t0 = Instant::now();
         for r in rays.iter().take(n_brute) {
@@ -290,7 +435,21 @@ fn measure(
             quads_per_ray: quads[k] as f64 / n as f64,
             t_differs,
             t_refined_by,
+            extra: best_extra.iter().map(|&b| n as f64 / b).collect(),
         });
     }
-    Ok(out)
+    let t_of = |v: &[TCell]| v.iter().map(|a| a.map(|(t, _)| t)).collect::<Vec<_>>();
+    let first = |v: &[Vec<TCell>]| v.first().map_or_else(Vec::new, |a| t_of(a));
+    let answers = Answers {
+        ours: [first(&answers), first(&answers_t)],
+        extra: extra_answers,
+    };
+    Ok((out, answers))
+}
+
+/// The first pass's answers of a row, for the oracle comparison: ours (`pick`, `pick_t`) with the first block
+/// size, and each other baseline's.
+struct Answers {
+    ours: [Vec<Option<f64>>; 2],
+    extra: Vec<Vec<Option<f64>>>,
 }

@@ -8,6 +8,8 @@ mod support;
 
 mod block_subset;
 mod boxes;
+#[cfg(feature = "embree")]
+mod embree;
 mod multires;
 mod oracle;
 mod pick_defects;
