@@ -8,6 +8,9 @@
 //! valgrind --tool=callgrind --callgrind-out-file=/dev/null target/release/examples/pick_count orbit 8 2000 3
 //! ```
 //!
+//! `host-tests/examples/pick_phases.sh` runs this under callgrind on the report's Trinidad rows and splits the
+//! instructions per pick by phase (set-up, quads, box tests, leaf cells, triangles, refinement, geodetic output).
+//!
 //! The difference of the two totals, divided by `(3 − 1) · N`, is the instructions per pick (`Picker::pick`: the
 //! traversal, the refinement and the geodetic coordinates); loading the DEM, building the tree and forming the
 //! rays cancel out.
