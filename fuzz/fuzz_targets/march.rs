@@ -6,9 +6,9 @@
 #![no_main]
 
 use curvicast::F32Fast;
+use curvicast::march::{CellCrossing, CylindricalGrid, MarchError, PolarGrid, SphericalGrid};
 use curvicast::ray::{Ray, RayError};
 use curvicast::real::Real;
-use curvicast::march::{CellCrossing, CylindricalGrid, MarchError, PolarGrid, SphericalGrid};
 use libfuzzer_sys::fuzz_target;
 use std::f64::consts::PI;
 

@@ -36,8 +36,8 @@ use cortex_m::peripheral::SYST;
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m_semihosting::{debug, hio};
 use curvicast::Real;
-use curvicast::ray::Ray;
 use curvicast::march::SphericalGrid;
+use curvicast::ray::Ray;
 use curvicast::vec3::V3;
 
 /// SysTick as a free-running 24-bit down-counter on the core clock (interrupts off).

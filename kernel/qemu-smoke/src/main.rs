@@ -38,8 +38,8 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hio};
 use curvicast::Real;
 use curvicast::geodesy::Ellipsoid;
-use curvicast::ray::{Ray, RayError};
 use curvicast::march::SphericalGrid;
+use curvicast::ray::{Ray, RayError};
 use curvicast::surface::{
     AxialCone, Crossings, HalfPlane, PlaneZ, Side, Spheroid, Surface, SurfaceError,
 };
