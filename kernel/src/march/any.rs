@@ -73,7 +73,7 @@ macro_rules! each {
 }
 
 impl<'a, T: Real> AnyGrid<'a, T> {
-    /// The serial march of `ray` (see [`Grid::march`](super::Grid::march)).
+    /// The serial march of `ray` (see `Grid::march`).
     pub fn march(&self, ray: &Ray<T>) -> AnyMarch<'_, T> {
         match self {
             AnyGrid::Spherical(g) => AnyMarch::Spherical(g.march(ray)),
@@ -92,7 +92,7 @@ impl<'a, T: Real> AnyGrid<'a, T> {
         }
     }
 
-    /// The grid with its kind left to run time (see [`Dynamic`](super::Dynamic)).
+    /// The grid with its kind left to run time (see `Dynamic`).
     pub fn into_dynamic(self) -> Grid<'a, T, Dynamic> {
         match self {
             AnyGrid::Spherical(g) => g.into_dynamic(),

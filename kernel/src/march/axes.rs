@@ -9,7 +9,7 @@
 //! outside the domain). For the azimuth the bands are *sectors* between consecutive boundary half-planes, taken
 //! cyclically (see [`AzimuthAxis`]).
 
-use super::{Axis, GridError};
+use super::error::{Axis, GridError};
 use crate::real::Real;
 use crate::surface::{AxialCone, HalfPlane};
 use crate::vec3::V3;

@@ -29,7 +29,7 @@ fn check_workspace(got: usize, needed: usize) -> Result<(), GridError> {
 
 /// A grid of kind `K` ([`Spherical`], [`Cylindrical`] or [`Polar`]) over borrowed breakpoints, ready to march
 /// rays (Hannasch): built by [`SphericalGrid::new`], [`CylindricalGrid::new`] or [`PolarGrid::new`]. The kind
-/// is a type, so a program compiles the marchers of the kinds it uses only; [`AnyGrid`](super::AnyGrid) holds
+/// is a type, so a program compiles the marchers of the kinds it uses only; `AnyGrid` holds
 /// any of the three when the kind is chosen at run time.
 #[derive(Debug, Clone, Copy)]
 pub struct Grid<'a, T, K> {

@@ -89,7 +89,7 @@ pub struct Cylindrical;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Polar;
 
-/// Any of the three kinds, decided by each grid at run time ([`Grid::into_dynamic`](super::Grid::into_dynamic)):
+/// Any of the three kinds, decided by each grid at run time (`Grid::into_dynamic`):
 /// one marcher whose steps switch on the grid's coordinates, as every marcher did before the kinds were types.
 /// Its answers are the typed kind's, bit for bit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

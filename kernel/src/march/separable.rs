@@ -13,9 +13,9 @@ use crate::ray::Ray;
 use crate::real::Real;
 
 /// The separable marcher (Hannasch §3): each coordinate's crossings are listed into a `heapless` buffer of
-/// capacity `N`, then interleaved in linear time. Iterates the same [`CellCrossing`]s as [`SerialMarch`](super::SerialMarch).
+/// capacity `N`, then interleaved in linear time. Iterates the same [`CellCrossing`]s as `SerialMarch`.
 ///
-/// Built by [`Grid::march_separable`](super::Grid::march_separable); a buffer that would overflow is
+/// Built by `Grid::march_separable`; a buffer that would overflow is
 /// [`MarchError::BufferFull`] at construction, never a truncated answer.
 #[derive(Debug, Clone)]
 pub struct SeparableMarch<T, const N: usize> {

@@ -15,7 +15,7 @@ use core::marker::PhantomData;
 /// constant memory. Each coordinate's next crossing is computed once and cached until that coordinate's index
 /// changes.
 ///
-/// Built by [`Grid::march`](super::Grid::march); `K` is the grid's kind. When the ray is invalid for the grid or
+/// Built by `Grid::march`; `K` is the grid's kind. When the ray is invalid for the grid or
 /// a bound is exceeded, iteration stops and [`SerialMarch::error`] says why.
 #[derive(Debug, Clone)]
 pub struct SerialMarch<'g, T, K> {

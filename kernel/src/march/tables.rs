@@ -14,7 +14,7 @@ pub(crate) struct Axes<'a, T> {
     pub azimuth: AzimuthAxis<'a, T>,
     pub height: Option<HeightAxis<'a, T>>,
     pub center: V3<T>,
-    /// The grid's coordinates (what its kind supplies; read by the engines of [`Dynamic`](super::Dynamic)).
+    /// The grid's coordinates (what its kind supplies; read by the engines of `Dynamic`).
     pub coordinates: Coordinates,
     /// The cell rule, formed once with the grid.
     pub rule: CellRule,

@@ -12,7 +12,7 @@ use crate::geodesy::Ellipsoid;
 use crate::real::Real;
 use crate::terrain::boxes::NodeBox;
 use crate::terrain::grid::{Grid, Node, NodeId};
-use crate::terrain::parallel::Parallel;
+use crate::terrain::parallel::{Parallel, col_sin_cos_dd, row_parallel};
 use crate::terrain::storage::{TerrainCaches, TerrainStorage};
 use core::sync::atomic::{AtomicBool, Ordering};
 
@@ -31,7 +31,7 @@ pub struct Parts<'a, T, H, X = (), R = ()> {
     /// Per-node residency of a multi-resolution tree's blocks ([`node_slots`](super::node_slots) flags, indexed
     /// by node id), or empty (all resident). The caller pages blocks in and out by setting them (Wartell et al. §5);
     /// the picker reports a block it needs that is not resident as
-    /// [`super::super::TerrainError::NeedsBlock`].
+    /// [`TerrainError::NeedsBlock`](crate::terrain::error::TerrainError::NeedsBlock).
     pub resident: &'a [R],
 }
 
@@ -288,7 +288,7 @@ impl<T: Real, B: Buffers<T>> TerrainCaches<T> for TreeStorage<T, B> {
             .parts()
             .trig
             .and_then(|t| t.row_parallel.get(usize::try_from(i).ok()?).copied());
-        cached.unwrap_or_else(|| super::super::row_parallel(&self.ellipsoid, &self.grid, i))
+        cached.unwrap_or_else(|| row_parallel(&self.ellipsoid, &self.grid, i))
     }
     fn col_sin_cos_dd(&self, j: u32) -> (Dd<T>, Dd<T>) {
         let cached = self
@@ -296,7 +296,7 @@ impl<T: Real, B: Buffers<T>> TerrainCaches<T> for TreeStorage<T, B> {
             .parts()
             .trig
             .and_then(|t| t.col_sin_cos_dd.get(usize::try_from(j).ok()?).copied());
-        cached.unwrap_or_else(|| super::super::col_sin_cos_dd(&self.grid, j))
+        cached.unwrap_or_else(|| col_sin_cos_dd(&self.grid, j))
     }
     #[inline]
     fn node_box(&self, id: NodeId) -> Option<NodeBox> {
