@@ -355,7 +355,9 @@ fn refined_hits_lie_on_their_triangles_exact_plane_far_below_the_f64_vertices_ro
         dot(n, ao).over(dot(n, [dd(d.x), dd(d.y), dd(d.z)])).value()
     };
     let (mut worst_refined, mut worst_traversal, mut hits) = (0.0_f64, 0.0_f64, 0);
-    for k in 0..60 {
+    // (under Miri, whose interpreter is slow, the first six rays)
+    let n = if cfg!(miri) { 6 } else { 60 };
+    for k in 0..n {
         let lat = g.lat_deg(2) + (g.lat_deg(14) - g.lat_deg(2)) * r.next();
         let lon = g.lon_deg(2) + (g.lon_deg(14) - g.lon_deg(2)) * r.next();
         let target = e.geodetic_deg_to_ecef(lat, lon, 1000.0 * r.next());
@@ -384,7 +386,7 @@ fn refined_hits_lie_on_their_triangles_exact_plane_far_below_the_f64_vertices_ro
         worst_refined = worst_refined.max((hit.t - t_exact).abs() * len);
         worst_traversal = worst_traversal.max((t_trav - t_exact).abs() * len);
     }
-    assert!(hits >= 40, "{hits} hits of 60");
+    assert!(3 * hits >= 2 * n, "{hits} hits of {n}");
     assert!(worst_refined < 1e-10, "refined: {worst_refined} m");
     // (what the refinement improves on: the traversal's t is far coarser, so the bound above can fail)
     assert!(
