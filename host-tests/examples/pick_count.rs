@@ -1,6 +1,7 @@
-//! A fixed picking workload for instruction counting (callgrind): the report's terrain scene — the Trinidad DEM
-//! (1201 × 2401 vertices) under the host's `DemStorage` with node boxes and leaf blocks of `BLOCK × BLOCK` cells,
-//! and the report's rays from a camera 2 km above the ground or from orbit — picked `passes` times.
+//! A fixed picking workload for instruction counting (callgrind): one of the report's terrain scenes — the Trinidad
+//! DEM (1201 × 2401 vertices), or with `dem=synthetic` the quick report's synthetic fractal DEM (1024 × 1024) —
+//! under the host's `DemStorage` with node boxes and leaf blocks of `BLOCK × BLOCK` cells, and the report's rays
+//! from a camera 2 km above the ground or from orbit, picked `passes` times.
 //!
 //! ```sh
 //! cargo build --release -p curvicast-host --example pick_count
@@ -18,7 +19,8 @@
 //! Arguments: `RAYS` (`camera`, `orbit`, or `random`: the terrain oracle's random rays from above, half of them
 //! with a finite `t_max`), `BLOCK` (cells per leaf side), `N` (rays), `PASSES`, and optionally `multires`: a
 //! multi-resolution tree, full resolution only over the middle ninth of the DEM and blocks two levels coarser
-//! elsewhere, so that coarse cells are stitched to finer ones; and optionally which of the storage's caches
+//! elsewhere, so that coarse cells are stitched to finer ones; optionally `dem=trinidad` (the default) or
+//! `dem=synthetic`; and optionally which of the storage's caches
 //! ([`TerrainCaches`]) the picker sees, to measure what each saves: `caches=all` (the default), `no-trig` (no
 //! per-row and per-column sines and cosines), `no-dd` (no double-double parallels and meridians), `no-boxes` (no
 //! node boxes: the spheroidal volumes, each built on every visit), `bounds` (no node boxes, the volumes cached
@@ -35,29 +37,38 @@ use curvicast::terrain::{
 };
 use curvicast_cli::formats::real_dem;
 use curvicast_cli::storage::{DemStorage, MultiRes};
-use curvicast_host::scenes::terrain_cases::{camera_rays, orbit_rays, random_rays};
+use curvicast_host::scenes::terrain_cases::{
+    TerrainKind, camera_rays, orbit_rays, random_rays, synthetic,
+};
 use std::hash::{DefaultHasher, Hash, Hasher};
 use std::hint::black_box;
 
 fn main() -> anyhow::Result<()> {
     let mut args: Vec<String> = std::env::args().collect();
-    let caches = match args.last().and_then(|a| a.strip_prefix("caches=")) {
-        Some(v) => {
-            let v = v.to_string();
-            args.pop();
-            v
-        }
-        None => "all".to_string(),
+    let mut option = |name: &str, default: &str| match args.iter().position(|a| a.starts_with(name)) {
+        Some(k) => args.remove(k)[name.len()..].to_string(),
+        None => default.to_string(),
     };
+    let caches = option("caches=", "all");
+    let dem_name = option("dem=", "trinidad");
     let (kind, block, n, passes, multires) = match args.as_slice() {
         [_, kind, block, n, passes] => (kind, block, n, passes, false),
         [_, kind, block, n, passes, tree] if tree == "multires" => (kind, block, n, passes, true),
         _ => anyhow::bail!(
-            "usage: pick_count camera|orbit|random BLOCK N PASSES [multires] [caches=all|no-trig|no-dd|no-boxes|bounds|none]"
+            "usage: pick_count camera|orbit|random BLOCK N PASSES [multires] [dem=trinidad|synthetic] [caches=all|no-trig|no-dd|no-boxes|bounds|none]"
         ),
     };
     let (block, n, passes): (usize, usize, usize) = (block.parse()?, n.parse()?, passes.parse()?);
-    let dem = real_dem::trinidad()?;
+    let dem = match dem_name.as_str() {
+        "trinidad" => real_dem::trinidad()?,
+        "synthetic" => synthetic(
+            TerrainKind::Fractal,
+            (36.0, -118.0, -1.0 / 1200.0, 1.0 / 1200.0),
+            (1024, 1024),
+            42,
+        ),
+        other => anyhow::bail!("unknown DEM {other:?} (trinidad or synthetic)"),
+    };
     let specs = match kind.as_str() {
         "camera" => camera_rays(&dem, n, 2000.0, 1),
         "orbit" => orbit_rays(&dem, n, 2),

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Where a pick's instructions go, by phase: callgrind over `pick_count` (the report's Trinidad rows: rays from a
-# camera 2 km up and from orbit, leaf blocks of 8 × 8 and 16 × 16 cells), 3 passes minus 1 pass so that loading
+# Where a pick's instructions go, by phase: callgrind over `pick_count` (the report's terrain rows, Trinidad and the
+# quick report's synthetic 1024 × 1024 DEM: rays from a camera 2 km up and from orbit, leaf blocks of 8 × 8 and
+# 16 × 16 cells), 3 passes minus 1 pass so that loading
 # the DEM, building the tree and forming the rays cancel, each instruction charged to a phase by the kernel source
 # file it comes from (code inlined from the kernel counts for the file it was written in; code inlined from the
 # standard library or from the kernel's arithmetic helpers counts for the function it was inlined into).
@@ -10,6 +11,8 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 N=${1:-2000}
+# The report's two terrains: Trinidad and the quick report's synthetic fractal DEM (DEMS="trinidad" for one).
+DEMS=${DEMS:-trinidad synthetic}
 cargo build -q --release -p curvicast-host --example pick_count
 BIN=target/release/examples/pick_count
 WORK=$(mktemp -d)
@@ -45,13 +48,14 @@ phase_of() {
 }
 
 ROWS=()
+for dem in $DEMS; do
 for rays in camera orbit; do
     for block in 8 16; do
-        row="$rays, ${block} × ${block}"
+        row="$dem $rays, ${block} × ${block}"
         ROWS+=("$row")
         for passes in 1 3; do
             valgrind --tool=callgrind --callgrind-out-file="$WORK/cg.$passes" "$BIN" "$rays" "$block" "$N" "$passes" \
-                >/dev/null 2>&1
+                "dem=$dem" >/dev/null 2>&1
             callgrind_annotate --auto=no --threshold=100 "$WORK/cg.$passes" 2>/dev/null | phase_of |
                 awk -F'\t' '{ s[$1] += $2 } END { for (p in s) printf "%s\t%d\n", p, s[p] }' >"$WORK/p.$passes"
         done
@@ -59,6 +63,7 @@ for rays in camera orbit; do
             FNR == NR { one[$1] = $2; next }
             { printf "%s\t%s\t%.1f\n", row, $1, ($2 - one[$1]) / (2 * n) }' "$WORK/p.1" "$WORK/p.3" >>"$WORK/all"
     done
+done
 done
 
 awk -F'\t' -v nrows="${#ROWS[@]}" -v rows="$(IFS='|'; echo "${ROWS[*]}")" '
