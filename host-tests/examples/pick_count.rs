@@ -45,7 +45,8 @@ use std::hint::black_box;
 
 fn main() -> anyhow::Result<()> {
     let mut args: Vec<String> = std::env::args().collect();
-    let mut option = |name: &str, default: &str| match args.iter().position(|a| a.starts_with(name)) {
+    let mut option = |name: &str, default: &str| match args.iter().position(|a| a.starts_with(name))
+    {
         Some(k) => args.remove(k)[name.len()..].to_string(),
         None => default.to_string(),
     };
