@@ -168,22 +168,26 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
         let [c0, c1] = u.cols;
         let [j, j1] = col.cols;
         let (first_row, end_row) = self.column_rows(tr, col, row_hint);
-        let mut wall_a = self.row_wall(tr, col, first_row, false);
+        // Each row's values are fetched once, for its wall and its vertices.
+        let mut row_a = self.row_at(&tr.rows, first_row);
+        let mut wall_a = row_wall(tr, col, row_a, false);
         // The northern (higher-row) corners of the last cell traced in this column, reused as the next cell's
         // southern ones.
         let mut shared: Option<RowCorners<T>> = None;
         let mut i = first_row;
         while i < end_row {
             let i1 = i.saturating_add(u.stride).min(r1);
-            let wall_b = self.row_wall(tr, col, i1, false);
+            let row_b = self.row_at(&tr.rows, i1);
+            let wall_b = row_wall(tr, col, row_b, false);
             let (mut low, mut high) = (wall_a, wall_b);
-            wall_a = wall_b;
+            let (row_lo, row_hi) = (row_a, row_b);
+            (wall_a, row_a) = (wall_b, row_b);
             let (row_i, row_i1) = (i, i1);
             i = i1;
             let border = row_i == r0 || row_i1 == r1 || j == c0 || j1 == c1;
             if tr.stitchable && border {
-                low = self.border_wall(tr, col, row_i, true);
-                high = self.border_wall(tr, col, row_i1, false);
+                low = border_wall(tr, col, row_lo, true);
+                high = border_wall(tr, col, row_hi, false);
             }
             let Some((cell_lo, cell_hi)) =
                 clip_cell(tr.north_up, low, high, col.lo, col.hi.min(w.best_t()))
@@ -196,17 +200,22 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
                 cols: [j, j1],
             };
             let reuse = shared.filter(|(r, _, _)| *r == row_i);
-            let v00 = reuse.map_or_else(|| self.grid_vertex(tr, row_i, j, col.west), |(_, a, _)| a);
-            let v11 = self.grid_vertex(tr, row_i1, j1, col.east);
+            let v00 = reuse.map_or_else(
+                || self.grid_vertex(row_lo, row_i, j, col.west),
+                |(_, a, _)| a,
+            );
+            let v11 = self.grid_vertex(row_hi, row_i1, j1, col.east);
             if tr.stitchable && border {
                 match self.stitch(u, &cell, v00, v11, w, cell_lo)? {
                     Stitch::Done => continue,
                     Stitch::Plain => {}
                 }
             }
-            let v01 =
-                reuse.map_or_else(|| self.grid_vertex(tr, row_i, j1, col.east), |(_, _, b)| b);
-            let v10 = self.grid_vertex(tr, row_i1, j, col.west);
+            let v01 = reuse.map_or_else(
+                || self.grid_vertex(row_lo, row_i, j1, col.east),
+                |(_, _, b)| b,
+            );
+            let v10 = self.grid_vertex(row_hi, row_i1, j, col.west);
             shared = Some((row_i1, v10, v11));
             let corners = [v00, v01, v10, v11];
             if tr.cull.passes_clear_of(&corners, cell_lo, cell_hi) {
@@ -249,45 +258,6 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
         )
     }
 
-    /// Row plane `i` of a column (§4: the plane through the spheroid normals at the row's vertices on the
-    /// column's two meridians, which both pass through the latitude cone's apex `(0, 0, k_i)`):
-    /// `m = (−sin ψ cos λm, −sin ψ sin λm, cos ψ cos(w/2))` with `λm` the column's middle meridian and `w` its
-    /// width, and `m·(P − k ẑ) > 0` north of it. With `tangent`, `cos(w/2)` is replaced by 1: the plane tangent
-    /// to the latitude cone along the middle meridian, which bounds the cone's arc over the cell from the other
-    /// side (stitched sides, [`Picker::border_wall`]).
-    #[inline(always)]
-    fn row_wall(&self, tr: &UnitTrace<T>, col: &Column<T>, i: u32, tangent: bool) -> Wall<T> {
-        let (o, d) = (tr.origin, tr.dir);
-        let (radial_o, radial_d) = col.radial;
-        let (sin_lat, cos_lat, apex_z, _) = self.row_at(&tr.rows, i);
-        let cos_half = if tangent { T::ONE } else { col.cos_half };
-        let z_above_apex = o.z - apex_z;
-        Wall {
-            at_origin: cos_lat * cos_half * z_above_apex - sin_lat * radial_o,
-            rate: cos_lat * cos_half * d.z - sin_lat * radial_d,
-            tol: tr.tau * (col.row_mag + z_above_apex.abs()),
-        }
-    }
-
-    /// The row wall of a border cell of a coarse unit, which may be stitched (§6, the containment problem of §4
-    /// at a block's border): vertices of a finer neighbour on its rows lie on the latitude cones between its
-    /// meridians, and near a pole a cell far wider than tall has cone arcs that sag across even the opposite
-    /// row's chord plane. So both row walls of such a cell bound the whole latitude band in the wedge: the chord
-    /// plane where the band lies on its concave side (a northern wall with ψ > 0, a southern one with ψ < 0),
-    /// the tangent plane along the middle meridian where it lies on the convex side (a southern wall with
-    /// ψ > 0, a northern one with ψ < 0). `low`: the cell's lower-row wall.
-    #[inline(always)]
-    fn border_wall(&self, tr: &UnitTrace<T>, col: &Column<T>, i: u32, low: bool) -> Wall<T> {
-        let south = low == tr.north_up;
-        let sin_lat = self.row_at(&tr.rows, i).0;
-        self.row_wall(
-            tr,
-            col,
-            i,
-            (south && sin_lat > T::ZERO) || (!south && sin_lat < T::ZERO),
-        )
-    }
-
     /// A lattice row's values, from the unit's cache when the row is one of its lattice rows.
     #[inline(always)]
     fn row_at(&self, rows: &RowCache<T>, i: u32) -> RowValues<T> {
@@ -314,12 +284,12 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
         )
     }
 
-    /// Grid vertex `(i, j)` in ECEF, `j` a column meridian with `(sin λ, cos λ)` = `lon`; `None` where it has no
-    /// data.
+    /// Grid vertex `(i, j)` in ECEF, `row` row `i`'s values and `j` a column meridian with `(sin λ, cos λ)` = `lon`;
+    /// `None` where it has no data.
     #[inline(always)]
     fn grid_vertex(
         &self,
-        tr: &UnitTrace<T>,
+        row: RowValues<T>,
         i: u32,
         j: u32,
         (s_lon, c_lon): (T, T),
@@ -328,7 +298,7 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
         if !h.is_finite() {
             return None;
         }
-        let (sin_lat, cos_lat, _, prime_vertical) = self.row_at(&tr.rows, i);
+        let (sin_lat, cos_lat, _, prime_vertical) = row;
         Some(
             self.ellipsoid
                 .ecef_from_parts(sin_lat, cos_lat, prime_vertical, s_lon, c_lon, h),
@@ -452,6 +422,55 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
     }
 }
 
+/// Row plane of a column (§4: the plane through the spheroid normals at the row's vertices on the column's two
+/// meridians, which both pass through the latitude cone's apex `(0, 0, k_i)`), for the row with values `row`:
+/// `m = (−sin ψ cos λm, −sin ψ sin λm, cos ψ cos(w/2))` with `λm` the column's middle meridian and `w` its width,
+/// and `m·(P − k ẑ) > 0` north of it. With `tangent`, `cos(w/2)` is replaced by 1: the plane tangent to the
+/// latitude cone along the middle meridian, which bounds the cone's arc over the cell from the other side
+/// (stitched sides, [`border_wall`]).
+#[inline(always)]
+fn row_wall<T: Real>(
+    tr: &UnitTrace<T>,
+    col: &Column<T>,
+    row: RowValues<T>,
+    tangent: bool,
+) -> Wall<T> {
+    let (o, d) = (tr.origin, tr.dir);
+    let (radial_o, radial_d) = col.radial;
+    let (sin_lat, cos_lat, apex_z, _) = row;
+    let cos_half = if tangent { T::ONE } else { col.cos_half };
+    let z_above_apex = o.z - apex_z;
+    Wall {
+        at_origin: cos_lat * cos_half * z_above_apex - sin_lat * radial_o,
+        rate: cos_lat * cos_half * d.z - sin_lat * radial_d,
+        tol: tr.tau * (col.row_mag + z_above_apex.abs()),
+    }
+}
+
+/// The row wall of a border cell of a coarse unit, which may be stitched (§6, the containment problem of §4 at a
+/// block's border): vertices of a finer neighbour on its rows lie on the latitude cones between its meridians,
+/// and near a pole a cell far wider than tall has cone arcs that sag across even the opposite row's chord plane.
+/// So both row walls of such a cell bound the whole latitude band in the wedge: the chord plane where the band
+/// lies on its concave side (a northern wall with ψ > 0, a southern one with ψ < 0), the tangent plane along the
+/// middle meridian where it lies on the convex side (a southern wall with ψ > 0, a northern one with ψ < 0).
+/// `low`: the cell's lower-row wall.
+#[inline(always)]
+fn border_wall<T: Real>(
+    tr: &UnitTrace<T>,
+    col: &Column<T>,
+    row: RowValues<T>,
+    low: bool,
+) -> Wall<T> {
+    let south = low == tr.north_up;
+    let sin_lat = row.0;
+    row_wall(
+        tr,
+        col,
+        row,
+        (south && sin_lat > T::ZERO) || (!south && sin_lat < T::ZERO),
+    )
+}
+
 /// The per-unit constants of a leaf trace (§4).
 struct UnitTrace<T> {
     unit: Unit,
@@ -537,9 +556,14 @@ impl<T: Real> HeightCull<T> {
     fn passes_clear_of(&self, corners: &[Option<V3<T>>; 4], cell_lo: T, cell_hi: T) -> bool {
         let (mut z_min, mut z_max) = (T::INFINITY, T::NEG_INFINITY);
         for v in corners.iter().flatten() {
+            // (comparisons, not `min`/`max`: the up coordinates are never NaN, and these are cheaper)
             let z = self.frame.up(*v);
-            z_min = z_min.min(z);
-            z_max = z_max.max(z);
+            if z < z_min {
+                z_min = z;
+            }
+            if z > z_max {
+                z_max = z;
+            }
         }
         let (up_lo, up_hi) = (
             self.up_origin + cell_lo * self.up_rate,
