@@ -221,26 +221,31 @@ fn pick_statistics_count_the_work() {
 
 #[test]
 fn normal_on_a_parallel_at_a_column_middle_crosses_only_the_cell_south_of_the_row_chord() {
-    // An 8 × 8-cell leaf at 30° N. The normal line through a point of parallel 4 on the middle meridian of
-    // column 3 lies on the latitude cone, which bulges south of the row's chord plane there by the sagitta
-    // (about 2 cm for these 1 km cells): so the ray crosses the cell south of row 4 only, clear of the
-    // northern cell's wall by far more than the walls' rounding tolerance (about 1e-7 m). The count pins the
-    // walls: a tolerance of metres would add the northern cell.
+    // An 8 × 8-cell leaf at 30° N. The normal line through a point of parallel 4 on the middle meridian of a
+    // column lies on the latitude cone, which bulges south of the row's chord plane there (by about 1 cm along
+    // the plane's normal for these 1 km cells): so the ray crosses the cell south of row 4 only, clear of the
+    // northern cell's wall by far more than the walls' rounding tolerance (about 1e-7 m). Column 3 is inside
+    // the leaf, column 0 on its western border. The count pins the walls: a tolerance of metres, or a
+    // full-resolution border cell bounded by the cone's tangent plane (which a coarse unit's stitched border
+    // cells use, and which this normal lies on), would add the northern cell.
     let g = grid(30.0, 10.0, 0.01, 0.01, 17, 17);
     let dem = TestDem::new(g, std::vec![0.0; 289], 8);
     let s = dem.storage();
     let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
-    let ray = radial_ray(&dem.surface.e, 30.04, 10.035, 100.0);
-    let mut st = PickStats::default();
-    let hit = p.pick_with_stats(&ray, &mut st).unwrap().unwrap();
-    assert_eq!(hit.cell, [3, 3], "{st:?}");
-    assert_eq!(st.triangle_pairs_visited, 1, "{st:?}");
-    same_hit(
-        &ray,
-        Some((hit.t, hit.cell)),
-        dem.surface.brute(&ray),
-        "normal on parallel 4",
-    );
+    for col in [3u32, 0] {
+        let lon = 10.0 + 0.01 * (f64::from(col) + 0.5);
+        let ray = radial_ray(&dem.surface.e, 30.04, lon, 100.0);
+        let mut st = PickStats::default();
+        let hit = p.pick_with_stats(&ray, &mut st).unwrap().unwrap();
+        assert_eq!(hit.cell, [3, col], "column {col}: {st:?}");
+        assert_eq!(st.triangle_pairs_visited, 1, "column {col}: {st:?}");
+        same_hit(
+            &ray,
+            Some((hit.t, hit.cell)),
+            dem.surface.brute(&ray),
+            &std::format!("normal on parallel 4, column {col}"),
+        );
+    }
 }
 
 #[test]
