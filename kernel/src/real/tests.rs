@@ -140,6 +140,8 @@ fn check_binade<T: Real>(bits_of: impl Fn(T) -> u64) {
         (None, None) => true,
         _ => false,
     };
+    // Every binade; under Miri every eighth (the same code path, 8 times fewer steps of the interpreter).
+    let stride = if cfg!(miri) { 8 } else { 1 };
     let mut x = T::MIN_POSITIVE.scalbn(-20);
     let mut count = 0;
     while x.is_finite() {
@@ -152,9 +154,9 @@ fn check_binade<T: Real>(bits_of: impl Fn(T) -> u64) {
             assert!(same(v.binade(), reference(v)), "{}", v.to_f64());
             count += 1;
         }
-        x *= T::TWO;
+        x = x.scalbn(stride);
     }
-    assert!(count >= 4 * (254 + 20));
+    assert!(count >= 4 * (254 + 20) / stride);
     for v in [
         T::ZERO,
         T::MAX,

@@ -239,6 +239,9 @@ fn normal_on_a_parallel_at_a_column_middle_crosses_only_the_cell_south_of_the_ro
         let hit = p.pick_with_stats(&ray, &mut st).unwrap().unwrap();
         assert_eq!(hit.cell, [3, col], "column {col}: {st:?}");
         assert_eq!(st.triangle_pairs_visited, 1, "column {col}: {st:?}");
+        if cfg!(miri) {
+            continue; // the brute force over the 512 triangles takes most of a minute there
+        }
         same_hit(
             &ray,
             Some((hit.t, hit.cell)),
