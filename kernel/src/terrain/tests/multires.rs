@@ -25,9 +25,14 @@ struct Dem {
 }
 
 fn dem() -> Dem {
+    dem_at(10.0)
+}
+
+/// [`dem`] with its first row at latitude `lat0`.
+fn dem_at(lat0: f64) -> Dem {
     let mut heights = vec![0.0; (ROWS * COLS) as usize];
     heights[9 + 4] = 300.0;
-    let grid = grid(10.0, 20.0, 0.01, 0.01, ROWS, COLS);
+    let grid = grid(lat0, 20.0, 0.01, 0.01, ROWS, COLS);
     let mut nodes = vec![NodeRecord::EMPTY; node_slots(ROWS, COLS, 4)];
     let tree = build_multires_tree(&heights, &grid, 4, MultiRes::default(), &mut nodes).unwrap();
     assert_eq!(tree.depth(), 1);
@@ -53,6 +58,14 @@ impl Dem {
             .nodes
             .iter()
             .position(|n| n.level == 1 && n.rows == [0, 4] && n.cols == [0, 4]);
+        NodeId(k.unwrap() as u32)
+    }
+    /// The child covering `rows` and `cols`.
+    fn child(&self, rows: [u32; 2], cols: [u32; 2]) -> NodeId {
+        let k = self
+            .nodes
+            .iter()
+            .position(|n| n.level == 1 && n.rows == rows && n.cols == cols);
         NodeId(k.unwrap() as u32)
     }
     fn evict(&self, id: NodeId) {
@@ -135,5 +148,94 @@ fn needs_block_below_min_level_and_full_resolution_when_all_resident() {
             single.pick(&r).unwrap().unwrap(),
         );
         assert_eq!((a.t, a.cell, a.stride), (b.t, b.cell, 1));
+    }
+}
+
+#[test]
+fn ray_in_the_sag_beside_a_fine_vertex_on_the_parallel_shared_with_a_coarse_block_hits_its_stitched_fan()
+ {
+    // A child missing, so that its cells are traced from the zone's stride-2 block and stitched to the
+    // resident fine child across row 4. V(4, 1), a vertex of the fine child on the shared parallel, lies on the
+    // latitude cone, which at the middle meridian of the coarse column 0–2 bulges equatorward of the coarse
+    // cell's chord plane through V(4, 0) and V(4, 2) (by about 1.7 cm along the plane's normal for these 2 km
+    // cells). The coarse cell's stitched fan reaches V(4, 1), so a ray 0.2 to
+    // 5 mm from it, on the coarse side, meets the fan between the chord plane and the fine cells' walls: only
+    // the coarse cell's wall on that row taken as the cone's tangent plane (its band's convex side: the
+    // southern wall in the north, the northern wall in the south) lets the traversal test that fan. North:
+    // the child of rows 4–8 missing, rays north of V(4, 1) at 10.04°; south: the child of rows 0–4 missing,
+    // rays south of V(4, 1) at −10.16°. The terrain is flat at 0 m there.
+    for (lat0, missing, coarse_cell, away) in
+        [(10.0, [4, 8], [4, 0], 1.0), (-10.2, [0, 4], [2, 0], -1.0)]
+    {
+        let d = dem_at(lat0);
+        d.evict(d.child(missing, [0, 4]));
+        let s = d.paged();
+        let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
+        let e = Ellipsoid::wgs84();
+        let lat4 = lat0 + 0.04;
+        // Metres from V(4, 1) into the coarse cell, as degrees of latitude (1° is about 110.6 km there).
+        // (one distance under Miri)
+        let distances: &[f64] = if cfg!(miri) {
+            &[0.001]
+        } else {
+            &[0.0002, 0.001, 0.005]
+        };
+        for &m in distances {
+            let ray = down_at(&e, lat4 + away * m / 110_600.0, 20.01);
+            let what = std::format!("{m} m from V(4, 1) at {lat4}°");
+            let hit = p.pick(&ray).unwrap();
+            assert!(hit.is_some(), "{what}: no hit");
+            let hit = hit.unwrap();
+            assert_eq!(
+                (hit.level, hit.stride, hit.cell),
+                (0, 2, coarse_cell),
+                "{what}: {hit:?}"
+            );
+            // (a planar triangle lies below the spheroid between its vertices: 1.3 µm at 5 mm from one here)
+            assert!(hit.h.abs() < 1e-4, "{what}: {hit:?}");
+            assert!((hit.t - 2000.0).abs() < 1e-3, "{what}: {hit:?}");
+        }
+    }
+}
+
+#[test]
+fn ray_beside_the_fine_chord_on_the_parallel_shared_with_a_coarse_block_hits_its_stitched_fan() {
+    // The test above from the other side of the shared parallel: the coarse block equatorward of row 4 (north:
+    // the child of rows 0–4 missing; south: the child of rows 4–8), and rays on
+    // the coarse side of the parallel midway between V(4, 1) and V(4, 2) (20.015° E). There the coarse cell's
+    // wall on row 4 must be its chord plane (the band's concave side): the cone's tangent plane along the
+    // coarse column's middle meridian (20.01° E) passes 4 mm on the coarse side of these points (the cone
+    // falls away from it by 1 − cos 0.005°), so a coarse cell bounded by it would not test the fan there, while
+    // the points lie on the coarse side of the fine cells' walls too (the parallel bulges 4 mm equatorward of
+    // the fine chord's plane midway). Rays 0.2 to 2 mm from the parallel; the fan's triangle sags up to 2 cm
+    // below the flat 0 m spheroid there.
+    for (lat0, missing, coarse_cell, away) in
+        [(10.0, [0, 4], [2, 0], -1.0), (-10.2, [4, 8], [4, 0], 1.0)]
+    {
+        let d = dem_at(lat0);
+        d.evict(d.child(missing, [0, 4]));
+        let s = d.paged();
+        let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
+        let e = Ellipsoid::wgs84();
+        let lat4 = lat0 + 0.04;
+        let distances: &[f64] = if cfg!(miri) {
+            &[0.001]
+        } else {
+            &[0.0002, 0.001, 0.002]
+        };
+        for &m in distances {
+            let ray = down_at(&e, lat4 + away * m / 110_600.0, 20.015);
+            let what = std::format!("{m} m from row 4 at {lat4}°, 20.015°");
+            let hit = p.pick(&ray).unwrap();
+            assert!(hit.is_some(), "{what}: no hit");
+            let hit = hit.unwrap();
+            assert_eq!(
+                (hit.level, hit.stride, hit.cell),
+                (0, 2, coarse_cell),
+                "{what}: {hit:?}"
+            );
+            assert!(hit.h.abs() < 0.05, "{what}: {hit:?}");
+            assert!((hit.t - 2000.0).abs() < 0.05, "{what}: {hit:?}");
+        }
     }
 }
