@@ -252,6 +252,38 @@ fn normal_on_a_parallel_at_a_column_middle_crosses_only_the_cell_south_of_the_ro
 }
 
 #[test]
+fn shallow_ray_over_flat_cells_tests_the_triangles_of_the_cell_it_reaches_only() {
+    // A ray from 100 m above flat 0 m terrain descending eastwards at about 1 in 29 onto the middle of cell
+    // (2, 3) of an 8 × 8-cell leaf whose box a 300 m peak at V(7, 7) makes tall: it crosses cells 0 to 3 of
+    // row 2 inside the leaf's box, the first three wholly above their corners (the height cull skips them),
+    // so only the last cell's two triangles are tested.
+    let g = grid(30.0, 10.0, 0.01, 0.01, 17, 17);
+    let mut heights = std::vec![0.0; 289];
+    heights[7 * 17 + 7] = 300.0;
+    let dem = TestDem::new(g, heights, 8);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = dem.surface.e;
+    let from = e.geodetic_deg_to_ecef(30.025, 10.005, 100.0);
+    let to = e.geodetic_deg_to_ecef(30.025, 10.035, 0.0);
+    let ray = Ray::new(from, to.minus(from)).unwrap();
+    let mut st = PickStats::default();
+    let hit = p.pick_with_stats(&ray, &mut st).unwrap().unwrap();
+    assert_eq!(hit.cell, [2, 3], "{st:?}");
+    assert!(st.triangle_pairs_visited >= 4, "{st:?}");
+    assert_eq!(st.triangles_tested, 2, "{st:?}");
+    if cfg!(miri) {
+        return; // the brute force over the 512 triangles takes most of a minute there
+    }
+    same_hit(
+        &ray,
+        Some((hit.t, hit.cell)),
+        dem.surface.brute(&ray),
+        "shallow ray",
+    );
+}
+
+#[test]
 fn typed_errors() {
     let bad = GridOnly(grid(0.0, 0.0, 0.0, 0.01, 3, 3));
     assert_eq!(
