@@ -69,6 +69,25 @@ impl<T: Real> LocalFrame<T> {
         self.up_dir(p) - self.a
     }
 
+    /// The frame's `a`: the origin lies at `a·u`.
+    #[inline]
+    pub fn a(&self) -> T {
+        self.a
+    }
+
+    /// The largest up coordinate of a point of the spheroid with semi-axes `a` (the frame's) and `b`: its
+    /// support function in the direction `u`, `√(a²(u_x² + u_y²) + b² u_z²) − a`, a bound that holds for the `u`
+    /// formed from the rounded sines and cosines too (no tangency is assumed). Rounded to within a few ulps of `a`.
+    #[inline]
+    pub fn spheroid_top(&self, b: T) -> T {
+        let (ux, uy, uz) = (
+            self.cos_lat * self.cos_lon,
+            self.cos_lat * self.sin_lon,
+            self.sin_lat,
+        );
+        (self.a * self.a * (ux * ux + uy * uy) + b * b * (uz * uz)).sqrt() - self.a
+    }
+
     /// The up component `u·d` of a direction.
     #[inline]
     pub fn up_dir(&self, d: V3<T>) -> T {

@@ -13,7 +13,9 @@
 //! Beyond the paper, two shortcuts: at full resolution, away from the axis, a column's row planes are ordered,
 //! so only the rows between those of the column segment's two ends are visited ([`Picker::crossed_rows`]
 //! states the bound); and a cell's two triangles are tested only when the ray's part inside the cell is not
-//! wholly above (or below) its four corners in the unit's local frame — the triangles are their convex hull.
+//! wholly above (or below) its four corners in the unit's local frame — the triangles are their convex hull
+//! (`cull.rs`; a cell the ray passes high above is skipped from its corner heights alone, before its vertices
+//! are formed).
 //! A coarse unit's border cells are stitched to finer neighbours (`stitch.rs`).
 //!
 //! # Cost
@@ -24,7 +26,6 @@
 //! storage caches the sines and cosines of its rows and columns ([`TerrainCaches::row_sin_cos`]); the prime
 //! vertical radius is computed once per row of a leaf.
 
-use super::boxes::LocalFrame;
 use super::error::TerrainError;
 use super::picker::{Picker, div_ceil_pow2};
 use super::refine::{self, Tri, TriRef, Vtx};
@@ -38,6 +39,8 @@ use crate::real::Real;
 use crate::vec3::V3;
 use core::cell::Cell;
 mod crossed;
+mod cull;
+use cull::HeightCull;
 
 impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
     Picker<'_, T, S, STACK, ZONES>
@@ -84,12 +87,13 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
             north_up: self.grid.dlat_deg > T::ZERO,
             stitchable: u.stride > 1,
             rows: RowCache::new(u),
-            cull: HeightCull {
+            cull: HeightCull::new(
                 frame,
-                up_origin: frame.up(o),
-                up_rate: frame.up_dir(d),
-                tol: up_tol,
-            },
+                (o, d),
+                up_tol,
+                self.ellipsoid.b(),
+                self.unit_cos_tilt(u),
+            ),
             az_rate: o.x * d.y - o.y * d.x,
         }
     }
@@ -199,6 +203,16 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
                 rows: [row_i, row_i1],
                 cols: [j, j1],
             };
+            // A plain cell the ray passes high above is skipped from its heights alone, before its vertices are
+            // formed ([`HeightCull::surely_above`]: it implies the cull below).
+            let plain = !(tr.stitchable && border);
+            if plain
+                && self
+                    .corner_height_max(cell.rows, cell.cols)
+                    .is_some_and(|h| tr.cull.surely_above(h, cell_lo, cell_hi))
+            {
+                continue;
+            }
             let reuse = shared.filter(|(r, _, _)| *r == row_i);
             let v00 = reuse.map_or_else(
                 || self.grid_vertex(row_lo, row_i, j, col.west),
@@ -256,6 +270,27 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
             },
             row_hint,
         )
+    }
+
+    /// [`cull::cos_tilt`] for the unit: its latitude and longitude spans from the middle vertex (the frame's,
+    /// [`ranges_frame`]) to the farthest row and column.
+    fn unit_cos_tilt(&self, u: &Unit) -> T {
+        let half = |[a, b]: [u32; 2]| {
+            let n = b.saturating_sub(a);
+            T::from_f64(f64::from(n.saturating_sub(n / 2)))
+        };
+        cull::cos_tilt(
+            half(u.rows) * self.grid.dlat_deg,
+            half(u.cols) * self.grid.dlon_deg,
+        )
+    }
+
+    /// The highest of a cell's four corner heights, or `None` unless all four have data.
+    #[inline(always)]
+    fn corner_height_max(&self, [i, i1]: [u32; 2], [j, j1]: [u32; 2]) -> Option<T> {
+        let h = |i, j| self.storage.height(i, j).filter(|h: &T| h.is_finite());
+        let (a, b, c, d) = (h(i, j)?, h(i, j1)?, h(i1, j)?, h(i1, j1)?);
+        Some(a.max(b).max(c.max(d)))
     }
 
     /// A lattice row's values, from the unit's cache when the row is one of its lattice rows.
@@ -536,41 +571,6 @@ fn clip_cell<T: Real>(north_up: bool, low: Wall<T>, high: Wall<T>, lo: T, hi: T)
         north.tol,
     );
     (cell_lo <= cell_hi).then_some((cell_lo, cell_hi))
-}
-
-/// The height cull (beyond the paper): in the unit's local frame, a cell whose part of the ray lies wholly above
-/// (or below) its four corners' up coordinates cannot meet its triangles, the convex hulls of those corners. The
-/// tolerance covers the rounding of both sides' up coordinates, like the node boxes'.
-struct HeightCull<T> {
-    frame: LocalFrame<T>,
-    /// The ray's up coordinate at its origin and its rate along the ray.
-    up_origin: T,
-    up_rate: T,
-    tol: T,
-}
-
-impl<T: Real> HeightCull<T> {
-    /// Whether the ray's part `[clo, chi]` in a cell passes wholly above or below the cell's corners (those
-    /// with data).
-    #[inline(always)]
-    fn passes_clear_of(&self, corners: &[Option<V3<T>>; 4], cell_lo: T, cell_hi: T) -> bool {
-        let (mut z_min, mut z_max) = (T::INFINITY, T::NEG_INFINITY);
-        for v in corners.iter().flatten() {
-            // (comparisons, not `min`/`max`: the up coordinates are never NaN, and these are cheaper)
-            let z = self.frame.up(*v);
-            if z < z_min {
-                z_min = z;
-            }
-            if z > z_max {
-                z_max = z;
-            }
-        }
-        let (up_lo, up_hi) = (
-            self.up_origin + cell_lo * self.up_rate,
-            self.up_origin + cell_hi * self.up_rate,
-        );
-        up_lo.min(up_hi) > z_max + self.tol || up_lo.max(up_hi) < z_min - self.tol
-    }
 }
 
 /// Which triangle of a traced cell `first` names (`V00 V01 V11`, else `V00 V11 V10`): by its half of the cell
