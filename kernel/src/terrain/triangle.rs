@@ -599,6 +599,143 @@ mod tests {
         }
     }
 
+    /// The edges a ray is asked about (`near`), answered `Shared` (the scalar decision stands); `None` when it
+    /// passes no edge within the band and is not asked.
+    fn asked(r: &WatertightRay<f64>, [v0, v1, v2]: [V3<f64>; 3]) -> Option<[bool; 3]> {
+        let asked = core::cell::Cell::new(None);
+        let _ = r.intersect_with_border(v0, v1, v2, 0.0, 10.0, |near| {
+            asked.set(Some(near));
+            [Edge::Shared; 3]
+        });
+        asked.get()
+    }
+
+    /// The triangle `[p, q, r]` with its vertices rotated `k` places: the edge `p–q` is then the edge of index
+    /// `2 − k` (`v1–v2`, `v2–v0`, `v0–v1`).
+    fn rotated<V: Copy>(t: [V; 3], k: usize) -> [V; 3] {
+        [t[k % 3], t[(k + 1) % 3], t[(k + 2) % 3]]
+    }
+
+    /// An isosceles triangle at z = 0 over the point (0, 0): its base `p–q`, 8 long along x (`along_x`) or y,
+    /// at `offset` from the point (positive: the point lies outside the base), and its apex `height` beyond the
+    /// base.
+    fn isosceles(along_x: bool, offset: f64, height: f64) -> [V3<f64>; 3] {
+        let at = |along: f64, across: f64| {
+            if along_x {
+                V3::new(along, across, 0.0)
+            } else {
+                V3::new(across, along, 0.0)
+            }
+        };
+        [at(-4.0, offset), at(4.0, offset), at(0.0, offset + height)]
+    }
+
+    #[test]
+    fn each_edge_is_asked_about_within_64_eps_m_times_its_length_in_the_sheared_frame() {
+        // A ray straight down from (0, 0, 0.25) past the base of an isosceles triangle (8 long, along x or y,
+        // the ray a distance δ outside it): m = 0.25 + 8 (the origin's largest coordinate plus the vertices'
+        // largest one relative to it), the base's edge function 8δ, its band 64 ε m · 8 (the sheared frame is
+        // the world's, with x and y swapped). The ray is asked about the base at δ = 64 ε m / 2 and not at
+        // 2 · 64 ε m, whichever place the base has in the vertex order (the other edges are 3.6 away).
+        let band = 64.0 * f64::EPSILON * (0.25 + 8.0);
+        let r = WatertightRay::new(V3::new(0.0, 0.0, 0.25), V3::new(0.0, 0.0, -1.0)).unwrap();
+        for along_x in [true, false] {
+            for k in 0..3 {
+                let mut expected = [false; 3];
+                expected[2 - k] = true;
+                for side in [1.0, -1.0] {
+                    let near = rotated(isosceles(along_x, side * 0.5 * band, 8.0), k);
+                    assert_eq!(asked(&r, near), Some(expected), "{along_x} {k} {side}");
+                    let clear = rotated(isosceles(along_x, side * 2.0 * band, 8.0), k);
+                    assert_eq!(asked(&r, clear), None, "{along_x} {k} {side}");
+                }
+            }
+        }
+    }
+
+    /// The exact vertices (pairs) of `t` with those of its base `p–q` moved by `dy` across it (away from the
+    /// apex for `dy < 0`).
+    fn with_base_moved(t: [V3<f64>; 3], along_x: bool, dy: f64) -> [[Dd<f64>; 3]; 3] {
+        let exact = |v: V3<f64>, d: f64| {
+            let [x, y, z] = [v.x, v.y, v.z].map(Dd::from);
+            if along_x {
+                [x, y.plus_t(d), z]
+            } else {
+                [x.plus_t(d), y, z]
+            }
+        };
+        [exact(t[0], dy), exact(t[1], dy), exact(t[2], 0.0)]
+    }
+
+    #[test]
+    fn gap_on_a_border_edge_is_closed_on_a_triangle_but_not_on_a_sliver() {
+        // A ray straight down half a band outside the base of an isosceles triangle whose exact base lies a
+        // band further out (the ray is inside the exact, closed triangle): on a border base the gap is closed,
+        // a hit at t = 0.25 on the triangle 8 high, and a miss on the sliver 0.004 high (twice its area,
+        // 0.032, is below 1e-3 times its longest edge squared, 0.064: closing would move the hit along it by
+        // its length over its width).
+        let band = 64.0 * f64::EPSILON * (0.25 + 8.0);
+        let o = V3::new(0.0, 0.0, 0.25);
+        let d = V3::new(0.0, 0.0, -1.0);
+        let r = WatertightRay::new(o, d).unwrap();
+        for along_x in [true, false] {
+            for k in 0..3 {
+                let mut border = [false; 3];
+                border[2 - k] = true;
+                for (height, hits) in [(8.0, true), (0.004, false)] {
+                    let t = isosceles(along_x, 0.5 * band, height);
+                    let exact = rotated(with_base_moved(t, along_x, -band), k);
+                    let [v0, v1, v2] = rotated(t, k);
+                    let hit =
+                        r.intersect_with_border(v0, v1, v2, 0.0, 10.0, sides(o, d, exact, border));
+                    assert_eq!(hit.is_some(), hits, "{along_x} {k} {height}");
+                    if let Some((t, _)) = hit {
+                        assert_eq!(t, 0.25);
+                    }
+                    // a shared base: the scalar decision, a miss
+                    let [v0, v1, v2] = rotated(t, k);
+                    assert!(r.intersect(v0, v1, v2, 0.0, 10.0).is_none());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn ray_just_inside_a_border_edge_keeps_its_barycentric_coordinate_on_a_triangle_and_a_sliver() {
+        // A ray straight down half a band inside the border base of an isosceles triangle (exact and scalar
+        // vertices alike): the edge is asked about and found inside, and the right-signed edge function is kept
+        // (nothing is closed): the coordinate of the apex is δ / height, not 0, and the sliver 0.004 high is hit
+        // as well as the triangle 8 high.
+        let band = 64.0 * f64::EPSILON * (0.25 + 8.0);
+        let delta = 0.5 * band;
+        let o = V3::new(0.0, 0.0, 0.25);
+        let d = V3::new(0.0, 0.0, -1.0);
+        let r = WatertightRay::new(o, d).unwrap();
+        for along_x in [true, false] {
+            for k in 0..3 {
+                let mut border = [false; 3];
+                border[2 - k] = true;
+                for height in [8.0, 0.004] {
+                    let t = isosceles(along_x, -delta, height);
+                    let exact = rotated(with_base_moved(t, along_x, 0.0), k);
+                    let [v0, v1, v2] = rotated(t, k);
+                    let hit =
+                        r.intersect_with_border(v0, v1, v2, 0.0, 10.0, sides(o, d, exact, border));
+                    assert!(hit.is_some(), "{along_x} {k} {height}: a miss");
+                    let (t, b) = hit.unwrap();
+                    assert!((t - 0.25).abs() < 1e-15, "{t}");
+                    // the apex, opposite the base, is v_(2 − k) of the rotated triangle
+                    let apex = (2 + 3 - k) % 3;
+                    let expected = delta / height;
+                    assert!(
+                        (b[apex] / expected - 1.0).abs() < 1e-9,
+                        "{along_x} {k} {height}: {b:?} against {expected}"
+                    );
+                }
+            }
+        }
+    }
+
     #[test]
     fn exact_edge_sides_of_a_ray_through_a_vertex_count_it_on_both_edges() {
         let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]].map(|p| p.map(Dd::from));
@@ -623,6 +760,48 @@ mod tests {
             exact_edge_sides(V3::new(-1.0, 0.5, 0.0), V3::new(1.0, 0.0, 0.0), &v),
             None
         );
+    }
+
+    #[test]
+    fn exact_edge_sides_counts_a_ray_on_the_edge_within_its_error_bound_and_outside_beyond_it() {
+        // The triangle (1, 0, 0), (2, 0, 0), (1, 1, 0) with its edge v2–v0 moved out to x = 1 + ξ (pairs), and the
+        // line from (0, −0.75, 4) along (1, 1, −4) through (1, 0.25, 0), a distance ξ outside that edge in the
+        // plane: its side value there is d · ((v2 − o) × (v0 − o)) = 4ξ. The bound is 256 ε² ‖d‖₁ (‖v2 − o‖∞ +
+        // M)(‖v0 − o‖∞ + M) = 256 ε² · 6 · (4 + 2)² (M = 2, the largest vertex coordinate): at 0.9 times it the
+        // line is on the edge, at 1.1 times outside; the other two edges are far.
+        let bound = 256.0 * f64::EPSILON * f64::EPSILON * 6.0 * 36.0;
+        let (o, d) = (V3::new(0.0, -0.75, 4.0), V3::new(1.0, 1.0, -4.0));
+        for (k, on_edge) in [(0.9, true), (1.1, false)] {
+            let xi = k * bound / 4.0;
+            let x = Dd::new(1.0, xi);
+            let v = [
+                [x, Dd::from(0.0), Dd::from(0.0)],
+                [Dd::from(2.0), Dd::from(0.0), Dd::from(0.0)],
+                [x, Dd::from(1.0), Dd::from(0.0)],
+            ];
+            assert_eq!(
+                exact_edge_sides(o, d, &v),
+                Some([true, on_edge, true]),
+                "{k} times the bound"
+            );
+        }
+    }
+
+    #[test]
+    fn line_within_the_error_bound_of_the_triangles_plane_has_no_orientation() {
+        // The unit triangle at z = 0 and the line from (−1, 0.25, 0) along (1, 0, η), rising out of the plane
+        // at slope η: the three side values are η times the signed areas 1.75, −1 and 0.25, their sum (the
+        // orientation) η. Their error bounds, 256 ε² ‖d‖₁ (‖v_a − o‖∞ + M)(‖v_b − o‖∞ + M) with M = 1, are
+        // 256 ε² · (6, 4, 6), 2⁻⁹² together (all exact here): at 0.75 and at exactly 1 times that the line has
+        // no orientation (a tie counts as within the error), at 1.25 times it has one.
+        let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]].map(|p| p.map(Dd::from));
+        let bound = 256.0 * f64::EPSILON * f64::EPSILON * (6.0 + 4.0 + 6.0);
+        assert_eq!(bound, 2f64.powi(-92));
+        let o = V3::new(-1.0, 0.25, 0.0);
+        for (k, oriented) in [(0.75, false), (1.0, false), (1.25, true)] {
+            let d = V3::new(1.0, 0.0, k * bound);
+            assert_eq!(exact_edge_sides(o, d, &v).is_some(), oriented, "{k}");
+        }
     }
 
     #[test]

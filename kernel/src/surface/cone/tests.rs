@@ -388,3 +388,216 @@ fn a_ray_tangent_to_a_generator_reports_only_finite_crossings_at_the_touch() {
     let c = cone.crossings(&r);
     assert!(c.iter().all(|x| (x.t - 1.0).abs() < 1e-9), "{c:?}");
 }
+
+#[test]
+fn crossing_where_the_cones_form_overflows_keeps_its_unrefined_root() {
+    // A line 1e153 from the axis, steeper than the 45° cone by δ = 2⁻¹⁰, meets the upper nappe at
+    // s = 1e153 / √(δ(2 + δ)) ≈ 2.3e154, where x² and z² overflow: Q there is ∞ − ∞, the Newton step NaN, and
+    // the root must be kept as the quadratic gave it (a NaN step taken would lose the crossing). Unrefined, it
+    // carries half of A's relative rounding (A = −c²(2δ + δ²) is a difference: about ε / 2δ = 1e-13).
+    let delta = 2f64.powi(-10);
+    let cone = AxialCone::from_cos_sin(0.0, 1.0, 1.0).unwrap();
+    let r = Ray::new([0.0, 1e153, 0.0], [1.0, 0.0, 1.0 + delta]).unwrap();
+    let (t, s, n) = list(&cone.crossings(&r));
+    assert_eq!(n, 1, "{t:?}");
+    let expected = 1e153 / (delta * (2.0 + delta)).sqrt();
+    assert!((t[0] * t[0]).is_infinite());
+    assert!((t[0] / expected - 1.0).abs() < 1e-12, "{t:?} {expected}");
+    // from θ = 90° (positive side) into the nappe (θ < 45°)
+    assert_eq!(s[0], Side::Negative);
+}
+
+#[test]
+fn line_exactly_parallel_to_a_generator_crosses_each_nappe_once_at_its_linear_root() {
+    // (cos, sin) = (±1, 1) normalised gives cos² = sin² exactly, so A = c²(d_x² + d_y²) − s² d_z² is exactly 0
+    // for the generator directions (1, 0, ±1): the quadratic is linear, its second root NaN, and the one root
+    // is kept on its own nappe. Upper: (t, 1, 3 + t) meets x² + y² = z² at t = −4/3 (z = 5/3), entering the
+    // nappe (Q = c²(−6t − 8) decreases). Lower: the mirror image (t, 1, −3 − t), entering the lower nappe's
+    // inside (larger θ).
+    let line = |z: f64, dz: f64| {
+        Ray::new([0.0, 1.0, z], [1.0, 0.0, dz])
+            .unwrap()
+            .with_interval(-10.0, 10.0)
+            .unwrap()
+    };
+    let up = AxialCone::from_cos_sin(0.0, 1.0, 1.0).unwrap();
+    let down = AxialCone::from_cos_sin(0.0, -1.0, 1.0).unwrap();
+    assert_eq!(up.leading_coefficient(V3::new(1.0, 0.0, 1.0)).0, 0.0);
+    let (t, s, n) = list(&up.crossings(&line(3.0, 1.0)));
+    assert_eq!(n, 1, "{t:?}");
+    assert!((t[0] + 4.0 / 3.0).abs() < 1e-15, "{t:?}");
+    assert_eq!(s[0], Side::Negative);
+    let (t, s, n) = list(&down.crossings(&line(-3.0, -1.0)));
+    assert_eq!(n, 1, "{t:?}");
+    assert!((t[0] + 4.0 / 3.0).abs() < 1e-15, "{t:?}");
+    assert_eq!(s[0], Side::Positive);
+    // and neither line meets the other nappe
+    assert!(down.crossings(&line(3.0, 1.0)).is_empty());
+    assert!(up.crossings(&line(-3.0, -1.0)).is_empty());
+}
+
+#[test]
+fn tangent_line_climbing_along_the_cone_touches_it_behind_its_origin_on_either_nappe() {
+    // In the tangent plane of the 45° cone along the generator through (2, 0, 2), spanned by (1, 0, 1) and
+    // (0, 1, 0): the line (2, 0, 2) + u (0.5, 1, 0.5) touches the cone at u = 0 only. Started at u = 8, at
+    // (6, 8, 6), it touches at t = −8, behind the origin, where z = 6 − 8 · 0.5 = 2: on the upper nappe.
+    // Every product of q × d is exact and cos² = sin², so the discriminant is exactly 0.
+    let up = AxialCone::from_cos_sin(0.0, 1.0, 1.0).unwrap();
+    let r = Ray::new([6.0, 8.0, 6.0], [0.5, 1.0, 0.5])
+        .unwrap()
+        .with_interval(-20.0, 20.0)
+        .unwrap();
+    let (t, s, n) = list(&up.crossings(&r));
+    assert_eq!(n, 2, "{t:?}");
+    assert!(
+        (t[0] + 8.0).abs() < 1e-14 && (t[1] + 8.0).abs() < 1e-14,
+        "{t:?}"
+    );
+    // outside the nappe (θ > 45°), touching it and back
+    assert_eq!(s, [Side::Negative, Side::Positive]);
+    assert!(
+        AxialCone::from_cos_sin(0.0, -1.0, 1.0)
+            .unwrap()
+            .crossings(&r)
+            .is_empty()
+    );
+    // The mirror image touches the lower nappe at (2, 0, −2), from above it (θ < 135°, the negative side).
+    let down = AxialCone::from_cos_sin(0.0, -1.0, 1.0).unwrap();
+    let r = Ray::new([6.0, 8.0, -6.0], [0.5, 1.0, -0.5])
+        .unwrap()
+        .with_interval(-20.0, 20.0)
+        .unwrap();
+    let (t, s, n) = list(&down.crossings(&r));
+    assert_eq!(n, 2, "{t:?}");
+    assert!(
+        (t[0] + 8.0).abs() < 1e-14 && (t[1] + 8.0).abs() < 1e-14,
+        "{t:?}"
+    );
+    assert_eq!(s, [Side::Positive, Side::Negative]);
+    assert!(up.crossings(&r).is_empty());
+}
+
+#[test]
+fn line_flatter_than_a_generator_only_by_rounding_meets_its_nappe_near_and_very_far_in_order() {
+    // d = (1, 0, 1 − 2⁻⁵²) against the 45° cone: A = c²(1 − (1 − 2⁻⁵²)²) ≈ 2⁻⁵², within the rounding of its
+    // terms, so the roots' nappes come from z at each root. The line (−3 + t, 1, t(1 − 2⁻⁵²)) enters the upper
+    // nappe at t ≈ 5/3 (the root of the linear part, (−4/3, 1, 5/3)) and leaves it at t = −2B/A − 5/3 ≈ 6·2⁵¹,
+    // where the cone's form is evaluated with an error of ε|x|² ≈ 1e17 (so that root is known only roughly).
+    let cone = AxialCone::from_cos_sin(0.0, 1.0, 1.0).unwrap();
+    let dz = 1.0 - f64::EPSILON;
+    assert!(!cone.leading_coefficient(V3::new(1.0, 0.0, dz)).1);
+    let r = Ray::new([-3.0, 1.0, 0.0], [1.0, 0.0, dz]).unwrap();
+    let (t, s, n) = list(&cone.crossings(&r));
+    assert_eq!(n, 2, "{t:?}");
+    // the near root of Q = c²((t − 3)² + 1 − t²(1 − 2⁻⁵²)²) = 0, from the exact A = c²·2⁻⁵¹(1 − 2⁻⁵³)
+    let a = f64::EPSILON * 2.0 * (1.0 - f64::EPSILON / 2.0);
+    let near = 10.0 / (3.0 + (9.0 - 10.0 * a).sqrt());
+    assert!((t[0] - near).abs() < 1e-14, "{t:?} {near}");
+    let far = 6.0 / a;
+    assert!(t[1] > 0.5 * far && t[1] < 2.0 * far, "{t:?} {far}");
+    assert_eq!(s, [Side::Negative, Side::Positive]);
+}
+
+/// The roots of `Q(t) = x² + y² − z²` on the line `o + t d` (the 45° cone of equal cos and sin), in pairs from
+/// `B² − AC` (not the kernel's way), in increasing order.
+fn roots_on_45_degree_cone_in_pairs(o: V3<f64>, d: V3<f64>) -> (f64, f64) {
+    use crate::dd::Dd;
+    let f = Dd::from;
+    let dot = |u: V3<f64>, v: V3<f64>| {
+        f(u.x)
+            .times(f(v.x))
+            .plus(f(u.y).times(f(v.y)))
+            .minus(f(u.z).times(f(v.z)))
+    };
+    let (a, b, c) = (dot(d, d), dot(o, d), dot(o, o));
+    let root = b.times(b).minus(a.times(c)).sqrt();
+    let t0 = b.negated().minus(root).over(a).value();
+    let t1 = b.negated().plus(root).over(a).value();
+    (t0.min(t1), t0.max(t1))
+}
+
+#[test]
+fn nearly_tangent_line_keeps_its_crossings_where_a_newton_step_would_overshoot() {
+    // A line nearly tangent to the 45° cone (found by a search over such lines): its crossings are 2.25e-8
+    // apart at t ≈ 11.1, where Q's rounding (a few ε|x|², about 3e-16) exceeds Q anywhere between them (at most
+    // A (2.25e-8 / 2)² ≈ 6e-17). The computed roots lie near the vertex of Q, where its slope is small, so a
+    // Newton step from them would be a few separations long; it is refused (longer than a quarter of the roots'
+    // separation) and the crossings stay within half their separation of the exact ones (taken, the steps put
+    // them about 9e-8 away).
+    let cone = AxialCone::from_cos_sin(0.0, 1.0, 1.0).unwrap();
+    let o = V3::new(12.304705035591121, -7.086985287629517, -8.85260302793772);
+    let d = V3::new(-1.123556069581938, 0.7389101816360119, 0.8990920409055886);
+    let (t0, t1) = roots_on_45_degree_cone_in_pairs(o, d);
+    let separation = t1 - t0;
+    assert!(separation > 2e-8 && separation < 2.5e-8, "{t0} {t1}");
+    let (t, s, n) = list(&cone.crossings(&Ray::new(o, d).unwrap()));
+    assert_eq!(n, 2, "{t:?}");
+    assert!(
+        (t[0] - t0).abs() < 0.5 * separation && (t[1] - t1).abs() < 0.5 * separation,
+        "{t:?} against {t0} {t1}"
+    );
+    assert_eq!(s, [Side::Negative, Side::Positive]);
+}
+
+#[test]
+fn flat_line_whose_two_roots_round_in_reverse_order_touches_the_cone_at_their_midpoint() {
+    // The line (−18, −9, 4.5 + 2⁻⁵⁰) + t (1, 0.5, −0.25) is flatter than the 45° cone and passes 2⁻⁵⁰
+    // (8.9e-16) above its apex at t = 18: it enters and leaves the upper nappe at t = 18 − 1.0e-15 and
+    // 18 + 6.5e-16, both within half an ulp of 18 (3.6e-15). The computed roots come out as 18 + 1 ulp and 18,
+    // in reverse order, and the pair is reported as a touch at their midpoint, 18 (rounded to even), the entry
+    // first. z is exactly 0 at 18 + 1 ulp and 8.9e-16 at 18, so telling the nappe from z at the roots (rather
+    // than from the sign of (d × w)_z) would keep only the root at 18, one crossing.
+    let up = AxialCone::from_zenith_rad(0.0, FRAC_PI_4).unwrap();
+    let z0 = f64::from_bits(4.5f64.to_bits() + 1); // 4.5 + 2⁻⁵⁰
+    let r = Ray::new([-18.0, -9.0, z0], [1.0, 0.5, -0.25]).unwrap();
+    let raw = up.scaled_crossings(r.line());
+    assert_eq!(raw.n, 2);
+    assert_eq!(raw.s, [18.0, 18.0]);
+    assert_eq!(raw.into, [Side::Negative, Side::Positive]);
+    let (t, _, n) = list(&up.crossings(&r));
+    assert_eq!((n, t), (2, [18.0, 18.0]));
+    // the lower nappe is not met
+    let down = AxialCone::from_zenith_rad(0.0, 3.0 * FRAC_PI_4).unwrap();
+    assert!(down.crossings(&r).is_empty());
+}
+
+#[test]
+fn tangent_line_touching_one_nappe_within_rounding_of_the_apex_is_not_reported_on_the_other() {
+    // In the tangent plane x = z of the 45° cone: the line (1, 1 − 2⁻⁵³, 1) + t (1, 1, 1) touches the upper
+    // nappe at t = −(1 − 2⁻⁵³), at (2⁻⁵³, 0, 2⁻⁵³), within 2⁻⁵² of the apex. Every product of q × d is exact, so the
+    // discriminant is exactly 0, and the touch's computed z is exactly 0 (B rounds to c², the touch to t = −1):
+    // it is not on the lower nappe, which must not report it. The mirror image touches the lower nappe at
+    // (2⁻⁵³, 0, −2⁻⁵³), which the upper nappe must not report. (On its own nappe the touch is lost within
+    // rounding of the apex; a touch changes no side.)
+    let y0 = 1.0 - f64::EPSILON / 2.0;
+    let up = AxialCone::from_cos_sin(0.0, 1.0, 1.0).unwrap();
+    let down = AxialCone::from_cos_sin(0.0, -1.0, 1.0).unwrap();
+    let touching_upper = Ray::new([1.0, y0, 1.0], [1.0, 1.0, 1.0])
+        .unwrap()
+        .with_interval(-10.0, 10.0)
+        .unwrap();
+    assert!(down.crossings(&touching_upper).is_empty());
+    let touching_lower = Ray::new([1.0, y0, -1.0], [1.0, 1.0, -1.0])
+        .unwrap()
+        .with_interval(-10.0, 10.0)
+        .unwrap();
+    assert!(up.crossings(&touching_lower).is_empty());
+    // Both lines lie in their tangent planes exactly (q × d ≠ 0 and the discriminant 0), so each meets the
+    // cone at most in its touch.
+    for (cone, r) in [(up, touching_upper), (down, touching_lower)] {
+        assert!(cone.crossings(&r).iter().all(|c| (c.t + 1.0).abs() < 1e-15));
+    }
+}
+
+#[test]
+fn line_parallel_to_a_generator_whose_quadratic_overflows_reports_no_crossing_at_infinity() {
+    // The line (t, 0, 1e200 + t) is parallel to the generator (1, 0, 1) of the 45° cone (A is rounding noise:
+    // cos π/4 and sin π/4 differ by an ulp) and meets the other generator at t = −5e199. Its C and
+    // discriminant overflow (C = −∞, the discriminant +∞), the roots come out as NaN and +∞, and neither may
+    // be reported, though +∞ lies on the upper nappe's side (z = +∞) and in the ray's interval.
+    let cone = AxialCone::from_zenith_rad(0.0, FRAC_PI_4).unwrap();
+    let r = Ray::new([0.0, 0.0, 1e200], [1.0, 0.0, 1.0]).unwrap();
+    let raw = cone.scaled_crossings(r.line());
+    assert!(raw.s[..raw.n].iter().all(|s| s.is_finite()), "{raw:?}");
+    assert!(cone.crossings(&r).iter().all(|c| c.t.is_finite()));
+}
