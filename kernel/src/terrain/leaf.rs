@@ -92,7 +92,7 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
                 (o, d),
                 up_tol,
                 self.ellipsoid.b(),
-                self.unit_cos_tilt(u),
+                cull::unit_cos_tilt(u.rows, u.cols, self.grid.dlat_deg, self.grid.dlon_deg),
             ),
             az_rate: o.x * d.y - o.y * d.x,
         }
@@ -269,19 +269,6 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
                     + t * (cos_lat * cos_half * d.z - sin_lat * radial_d)
             },
             row_hint,
-        )
-    }
-
-    /// [`cull::cos_tilt`] for the unit: its latitude and longitude spans from the middle vertex (the frame's,
-    /// [`ranges_frame`]) to the farthest row and column.
-    fn unit_cos_tilt(&self, u: &Unit) -> T {
-        let half = |[a, b]: [u32; 2]| {
-            let n = b.saturating_sub(a);
-            T::from_f64(f64::from(n.saturating_sub(n / 2)))
-        };
-        cull::cos_tilt(
-            half(u.rows) * self.grid.dlat_deg,
-            half(u.cols) * self.grid.dlon_deg,
         )
     }
 

@@ -97,6 +97,22 @@ impl<T: Real> HeightCull<T> {
     }
 }
 
+/// [`cos_tilt`] for a unit of vertex rows `rows` and columns `cols` (inclusive ranges) on a grid of steps
+/// `dlat_deg` and `dlon_deg`: its latitude and longitude spans from the middle vertex (its frame's,
+/// [`crate::terrain::storage::ranges_frame`]) to the farthest row and column.
+pub(super) fn unit_cos_tilt<T: Real>(
+    rows: [u32; 2],
+    cols: [u32; 2],
+    dlat_deg: T,
+    dlon_deg: T,
+) -> T {
+    let half = |[a, b]: [u32; 2]| {
+        let n = b.saturating_sub(a);
+        T::from_f64(f64::from(n.saturating_sub(n / 2)))
+    };
+    cos_tilt(half(rows) * dlat_deg, half(cols) * dlon_deg)
+}
+
 /// A lower bound of the cosine of the angle between the normals at two points whose latitudes differ by
 /// `dlat_deg` and longitudes by `dlon_deg` (degrees): `1 − θ²/2` with `θ = |Δφ| + |Δλ|` in radians (which bounds
 /// that angle), widened by a millionth for rounding. Valid for any `θ`.

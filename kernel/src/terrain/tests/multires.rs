@@ -239,3 +239,25 @@ fn ray_beside_the_fine_chord_on_the_parallel_shared_with_a_coarse_block_hits_its
         }
     }
 }
+
+#[test]
+fn low_ray_over_flat_coarse_corners_hits_the_stitched_fan_rising_to_a_fine_peak() {
+    // The child of rows 0–4, columns 0–3 missing: the coarse cell of rows 0–2, columns 2–4 (corners all at 0 m)
+    // is stitched to the fine vertex V(1, 4) at 300 m on its eastern side, so its fan rises to 300 m there. A ray
+    // from 350 m up, west of it, descending eastwards at about 1 in 30 towards a point of that fan 1 m below its
+    // top (it meets the fan 1.2 m below, just beyond that point) passes far above the coarse cell's four corners: the cell must still be traced through its fan, not
+    // skipped by the height cull of plain cells (the fan's vertices are not the cell's corners).
+    let d = dem();
+    d.evict(d.west_child());
+    let s = d.paged();
+    let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
+    let e = Ellipsoid::wgs84();
+    let from = e.geodetic_deg_to_ecef(10.01, 20.025, 350.0);
+    let to = e.geodetic_deg_to_ecef(10.01, 20.0399, 299.0);
+    let ray = Ray::new(from, to.minus(from)).unwrap();
+    let hit = p.pick(&ray).unwrap();
+    assert!(hit.is_some(), "no hit");
+    let hit = hit.unwrap();
+    assert_eq!((hit.level, hit.stride, hit.cell), (0, 2, [0, 2]), "{hit:?}");
+    assert!(hit.h > 290.0 && hit.t < 1.01, "{hit:?}");
+}
