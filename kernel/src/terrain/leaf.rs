@@ -87,13 +87,7 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
             north_up: self.grid.dlat_deg > T::ZERO,
             stitchable: u.stride > 1,
             rows: RowCache::new(u),
-            cull: HeightCull::new(
-                frame,
-                (o, d),
-                up_tol,
-                self.ellipsoid.b(),
-                cull::unit_cos_tilt(u.rows, u.cols, self.grid.dlat_deg, self.grid.dlon_deg),
-            ),
+            cull: HeightCull::new(frame, (o, d), up_tol, self.ellipsoid.b()),
             az_rate: o.x * d.y - o.y * d.x,
         }
     }

@@ -43,7 +43,6 @@ fn bound_holds<T: Real>(cases: usize) -> f64 {
             ),
             T::ZERO,
             e.b(),
-            cos_tilt(T::from_f64(half), T::from_f64(half)),
         );
         for _ in 0..8 {
             let lat = lat_mid + rng.range(-half, half);
