@@ -164,38 +164,19 @@ fn ray_in_the_sag_beside_a_fine_vertex_on_the_parallel_shared_with_a_coarse_bloc
     // southern wall in the north, the northern wall in the south) lets the traversal test that fan. North:
     // the child of rows 4–8 missing, rays north of V(4, 1) at 10.04°; south: the child of rows 0–4 missing,
     // rays south of V(4, 1) at −10.16°. The terrain is flat at 0 m there.
-    for (lat0, missing, coarse_cell, away) in
-        [(10.0, [4, 8], [4, 0], 1.0), (-10.2, [0, 4], [2, 0], -1.0)]
-    {
-        let d = dem_at(lat0);
-        d.evict(d.child(missing, [0, 4]));
-        let s = d.paged();
-        let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
-        let e = Ellipsoid::wgs84();
-        let lat4 = lat0 + 0.04;
-        // Metres from V(4, 1) into the coarse cell, as degrees of latitude (1° is about 110.6 km there).
-        // (one distance under Miri)
-        let distances: &[f64] = if cfg!(miri) {
-            &[0.001]
-        } else {
-            &[0.0002, 0.001, 0.005]
-        };
-        for &m in distances {
-            let ray = down_at(&e, lat4 + away * m / 110_600.0, 20.01);
-            let what = std::format!("{m} m from V(4, 1) at {lat4}°");
-            let hit = p.pick(&ray).unwrap();
-            assert!(hit.is_some(), "{what}: no hit");
-            let hit = hit.unwrap();
-            assert_eq!(
-                (hit.level, hit.stride, hit.cell),
-                (0, 2, coarse_cell),
-                "{what}: {hit:?}"
-            );
-            // (a planar triangle lies below the spheroid between its vertices: 1.3 µm at 5 mm from one here)
-            assert!(hit.h.abs() < 1e-4, "{what}: {hit:?}");
-            assert!((hit.t - 2000.0).abs() < 1e-3, "{what}: {hit:?}");
-        }
-    }
+    // (one distance under Miri)
+    let distances: &[f64] = if cfg!(miri) {
+        &[0.001]
+    } else {
+        &[0.0002, 0.001, 0.005]
+    };
+    // (a planar triangle lies below the spheroid between its vertices: 1.3 µm at 5 mm from one here)
+    stitched_fan_hits(
+        [(10.0, [4, 8], [4, 0], 1.0), (-10.2, [0, 4], [2, 0], -1.0)],
+        20.01,
+        distances,
+        [1e-4, 1e-3],
+    );
 }
 
 #[test]
@@ -209,23 +190,40 @@ fn ray_beside_the_fine_chord_on_the_parallel_shared_with_a_coarse_block_hits_its
     // the points lie on the coarse side of the fine cells' walls too (the parallel bulges 4 mm equatorward of
     // the fine chord's plane midway). Rays 0.2 to 2 mm from the parallel; the fan's triangle sags up to 2 cm
     // below the flat 0 m spheroid there.
-    for (lat0, missing, coarse_cell, away) in
-        [(10.0, [0, 4], [2, 0], -1.0), (-10.2, [4, 8], [4, 0], 1.0)]
-    {
+    let distances: &[f64] = if cfg!(miri) {
+        &[0.001]
+    } else {
+        &[0.0002, 0.001, 0.002]
+    };
+    stitched_fan_hits(
+        [(10.0, [0, 4], [2, 0], -1.0), (-10.2, [4, 8], [4, 0], 1.0)],
+        20.015,
+        distances,
+        [0.05, 0.05],
+    );
+}
+
+/// The two tests above: for each `(lat0, missing, coarse_cell, away)` of [`dem_at`]`(lat0)`, the child of rows
+/// `missing` (columns 0–4) evicted, rays straight down from 2 km onto longitude `lon`, `m` metres of each of
+/// `distances` from row 4 (towards `away`: +1 north, −1 south), each hit the zone's stride-2 block in
+/// `coarse_cell` with `|h|` and `|t − 2000|` within `[h_tol, t_tol]`.
+fn stitched_fan_hits(
+    cases: [(f64, [u32; 2], [u32; 2], f64); 2],
+    lon: f64,
+    distances: &[f64],
+    [h_tol, t_tol]: [f64; 2],
+) {
+    for (lat0, missing, coarse_cell, away) in cases {
         let d = dem_at(lat0);
         d.evict(d.child(missing, [0, 4]));
         let s = d.paged();
         let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
         let e = Ellipsoid::wgs84();
         let lat4 = lat0 + 0.04;
-        let distances: &[f64] = if cfg!(miri) {
-            &[0.001]
-        } else {
-            &[0.0002, 0.001, 0.002]
-        };
         for &m in distances {
-            let ray = down_at(&e, lat4 + away * m / 110_600.0, 20.015);
-            let what = std::format!("{m} m from row 4 at {lat4}°, 20.015°");
+            // metres as degrees of latitude (1° is about 110.6 km there)
+            let ray = down_at(&e, lat4 + away * m / 110_600.0, lon);
+            let what = std::format!("{m} m from row 4 at {lat4}°, {lon}°");
             let hit = p.pick(&ray).unwrap();
             assert!(hit.is_some(), "{what}: no hit");
             let hit = hit.unwrap();
@@ -234,8 +232,8 @@ fn ray_beside_the_fine_chord_on_the_parallel_shared_with_a_coarse_block_hits_its
                 (0, 2, coarse_cell),
                 "{what}: {hit:?}"
             );
-            assert!(hit.h.abs() < 0.05, "{what}: {hit:?}");
-            assert!((hit.t - 2000.0).abs() < 0.05, "{what}: {hit:?}");
+            assert!(hit.h.abs() < h_tol, "{what}: {hit:?}");
+            assert!((hit.t - 2000.0).abs() < t_tol, "{what}: {hit:?}");
         }
     }
 }
