@@ -119,18 +119,36 @@ fn bisect(mut lo: usize, mut hi: usize, mut holds: impl FnMut(usize) -> bool) ->
     lo
 }
 
-/// `q` times the power of two that brings its largest component into `[1, 2)` (exact): directions are located
-/// by signs of products, which must not underflow for tiny or overflow for huge coordinates.
+/// `q` times the power of two that brings its largest component into `[1, 2)`: directions are located by signs
+/// of products, which must not underflow for tiny or overflow for huge coordinates. Exact, except that scaling
+/// down rounds a component far below the largest (a subnormal beside one of 2, say) to fewer bits; one that would
+/// round to zero is kept as the smallest subnormal of its sign instead, so that no component changes its sign or
+/// becomes zero. (The side tests are then those of the exact point: a component rounded away would have put a
+/// point on a boundary plane that the crossing solvers, which take the coordinates unscaled, see it off.)
 #[inline]
 pub(crate) fn unit_scaled<T: Real>(q: V3<T>) -> V3<T> {
     let m = q.max_abs();
-    if let Some((_, inv)) = m.binade() {
-        return q.scaled(inv); // each product is what `scalbn` gives
-    }
-    if m == T::ZERO || !m.is_finite() {
+    let scaled = if let Some((_, inv)) = m.binade() {
+        q.scaled(inv) // each product is what `scalbn` gives
+    } else if m == T::ZERO || !m.is_finite() {
         return q;
-    }
-    q.scalbn(m.ilogb().saturating_neg())
+    } else {
+        q.scalbn(m.ilogb().saturating_neg())
+    };
+    // 2^-1074 in f64, 2^-149 in f32: the products are exact
+    let tiny = T::MIN_POSITIVE * T::EPSILON;
+    let keep = |s: T, x: T| {
+        if s == T::ZERO && x != T::ZERO {
+            tiny.with_sign_of(x)
+        } else {
+            s
+        }
+    };
+    V3::new(
+        keep(scaled.x, q.x),
+        keep(scaled.y, q.y),
+        keep(scaled.z, q.z),
+    )
 }
 
 /// Radius breakpoints (`r` of a sphere grid, `ρ` of a cylinder grid, `r` of a polar grid) with their squares.

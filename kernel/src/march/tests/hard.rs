@@ -327,3 +327,51 @@ fn f32_ray_through_the_origin_has_the_same_cells() {
         [[1, 1, 1], [0, 1, 1], [0, 0, 1], [0, 0, 0], [1, 0, 0]]
     );
 }
+
+/// A fuzzer's case: a ray starting a subnormal distance (5e-324) above the plane of a zenith breakpoint within
+/// 8 ε of π/2 (taken as the plane z = 0), going up. Locating the start by signs once scaled the point to unit
+/// size, which rounded that height to 0 and put the start on the plane, in the band below it, while the cone
+/// solver saw the plane crossed before the start: the march stayed in the band below until a topology repair
+/// at the closest approach to the center. The crossings must be those from 1e-300 above.
+#[test]
+fn ray_starting_a_subnormal_above_the_equatorial_plane_going_up_stays_above_it() {
+    let r = [0.0, 2.0];
+    let ph = [-1.0, 0.2566366120274832, 5.283185307179586];
+    // the breakpoint 3 ulps above π/2, and π/2 itself
+    for th_eq in [1.5707963267948972, PI / 2.0] {
+        let th = [0.0, 0.9436320296295498, th_eq, PI];
+        let from = |z: f64| {
+            let ray = Ray::new([-2.0, 0.0, z], [0.1, 0.0, 0.2]).unwrap();
+            march_s(&r, &th, &ph, &ray)
+        };
+        let (tiny, clear) = (from(5e-324), from(1e-300));
+        assert_eq!(tiny, clear, "θ = {th_eq}");
+        let cells: Vec<_> = tiny.iter().map(|c| c.cell).collect();
+        assert_eq!(cells, [[0, 1, 1], [0, 0, 1]], "θ = {th_eq}");
+    }
+}
+
+/// The same for the azimuth: a ray starting a subnormal distance (−5e-324) below the half-plane φ = 0 (so at
+/// φ = 2π less a subnormal angle) is in the last sector; going away from the half-plane it stays there, going
+/// towards it it crosses into sector 0 at once (t = 2.5e-323). Scaled to unit size, the start had y = 0 and
+/// was located in sector 0, where the half-plane solver saw it in the last one.
+#[test]
+fn ray_starting_a_subnormal_below_the_azimuth_zero_half_plane_is_in_the_last_sector() {
+    let (r, th, ph) = ([0.0, 3.0], [0.0, PI / 2.0, PI], [0.0, PI, 2.0 * PI]);
+    let away = Ray::new([2.0, -5e-324, 0.3], [-0.1, -0.2, 0.0]).unwrap();
+    let out = 14.686440005914033;
+    expect(
+        &march_s(&r, &th, &ph, &away),
+        &[([0, 0, 1], 0.0, out)],
+        1e-15,
+    );
+    let towards = Ray::new([2.0, -5e-324, 0.3], [-0.1, 0.2, 0.0]).unwrap();
+    let c = march_s(&r, &th, &ph, &towards);
+    let cells: Vec<_> = c.iter().map(|c| c.cell).collect();
+    assert_eq!(cells, [[0, 0, 1], [0, 0, 0]]);
+    assert_eq!(
+        (c[0].t_enter, c[0].t_exit, c[1].t_enter),
+        (0.0, 2.5e-323, 2.5e-323)
+    );
+    assert!((c[1].t_exit - out).abs() < 1e-14);
+}
