@@ -270,6 +270,29 @@ fn grid(
 }
 
 /// A small deterministic generator (no external crates in the kernel's tests).
+/// Where `ray` meets the plane through the vertices `(a, b, c)` (in pairs), computed in pairs: `t = n·(a − o) /
+/// n·d` with `n = (b − a) × (c − a)`. The refinement's answer, found independently (`refine.rs` takes one step
+/// from the traversal's `t` with a scalar normal).
+fn dd_plane_t(ray: &Ray<f64>, [a, b, c]: [[crate::dd::Dd<f64>; 3]; 3]) -> f64 {
+    use crate::dd::Dd;
+    let dd = |x: f64| Dd::from(x);
+    let sub = |x: [Dd<f64>; 3], y: [Dd<f64>; 3]| [0, 1, 2].map(|k| x[k].minus(y[k]));
+    let (u, v) = (sub(b, a), sub(c, a));
+    let n = [
+        u[1].times(v[2]).minus(u[2].times(v[1])),
+        u[2].times(v[0]).minus(u[0].times(v[2])),
+        u[0].times(v[1]).minus(u[1].times(v[0])),
+    ];
+    let (o, d) = (ray.origin(), ray.dir());
+    let ao = sub(a, [dd(o.x), dd(o.y), dd(o.z)]);
+    let dot = |x: [Dd<f64>; 3], y: [Dd<f64>; 3]| {
+        x[0].times(y[0])
+            .plus(x[1].times(y[1]))
+            .plus(x[2].times(y[2]))
+    };
+    dot(n, ao).over(dot(n, [dd(d.x), dd(d.y), dd(d.z)])).value()
+}
+
 struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> f64 {

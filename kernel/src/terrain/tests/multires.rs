@@ -259,3 +259,56 @@ fn low_ray_over_flat_coarse_corners_hits_the_stitched_fan_rising_to_a_fine_peak(
     assert_eq!((hit.level, hit.stride, hit.cell), (0, 2, [0, 2]), "{hit:?}");
     assert!(hit.h > 290.0 && hit.t < 1.01, "{hit:?}");
 }
+
+/// The refinement of hits on a coarse block's cells (`refine.rs`, `refine_vertices`: coarse cells and stitched
+/// fans have no containment walk): the west child missing, rays slanting down from 2 km and 300 km onto the
+/// zone's stride-2 cell of rows 0–2, columns 0–2 (on the grid's edges: no finer neighbour to stitch to). Each
+/// hit's `t` is where the ray meets its coarse triangle's plane through the contract's vertices in pairs, within
+/// 1e-10 m, where the traversal's `t` (`pick_t`, from the vertices rounded to `f64`) is off by far more.
+#[test]
+fn refined_hits_on_a_coarse_blocks_cell_lie_on_its_triangles_exact_plane() {
+    let d = dem();
+    d.evict(d.west_child());
+    let s = d.paged();
+    let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
+    let e = Ellipsoid::wgs84();
+    let v = |i: u32, j: u32| {
+        let h = d.heights[(i * COLS + j) as usize];
+        let (so, co) = parallel::col_sin_cos_dd(&d.grid, j);
+        parallel::row_parallel(&e, &d.grid, i).ecef(so, co, h)
+    };
+    let tris = [[v(0, 0), v(0, 2), v(2, 2)], [v(0, 0), v(2, 2), v(2, 0)]];
+    let mut r = Lcg(17);
+    let (mut worst_refined, mut worst_traversal) = (0.0_f64, 0.0_f64);
+    // (under Miri, whose interpreter is slow, the first four rays)
+    let n = if cfg!(miri) { 4 } else { 40 };
+    for k in 0..n {
+        let lat = d.grid.lat_deg(0) + 0.002 + 0.016 * r.next();
+        let lon = d.grid.lon_deg(0) + 0.002 + 0.016 * r.next();
+        let target = e.geodetic_deg_to_ecef(lat, lon, 0.0);
+        let up = e.normal_rad(lat.to_radians(), lon.to_radians());
+        let dir = V3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5).minus(up);
+        let dist = if k % 2 == 0 { 2000.0 } else { 3.0e5 };
+        let ray = Ray::new(target.add_scaled(-dist / dir.length(), dir), dir).unwrap();
+        let hit = p.pick(&ray).unwrap().unwrap();
+        let (t_trav, _) = p.pick_t(&ray).unwrap().unwrap();
+        assert_eq!(
+            (hit.level, hit.stride, hit.cell),
+            (0, 2, [0, 0]),
+            "ray {k}: {hit:?}"
+        );
+        let t_exact = tris
+            .map(|tri| dd_plane_t(&ray, tri))
+            .into_iter()
+            .min_by(|a, b| (a - hit.t).abs().total_cmp(&(b - hit.t).abs()))
+            .unwrap();
+        let len = ray.dir().length();
+        worst_refined = worst_refined.max((hit.t - t_exact).abs() * len);
+        worst_traversal = worst_traversal.max((t_trav - t_exact).abs() * len);
+    }
+    assert!(worst_refined < 1e-10, "refined: {worst_refined} m");
+    assert!(
+        worst_traversal > 100.0 * worst_refined,
+        "traversal {worst_traversal} m, refined {worst_refined} m"
+    );
+}

@@ -390,7 +390,6 @@ fn ray_missing_everything_and_ray_starting_below_ground() {
 /// vertices rounded to `f64`) is off by up to 2.2e-9 m here (as is any hit left unrefined).
 #[test]
 fn refined_hits_lie_on_their_triangles_exact_plane_far_below_the_f64_vertices_rounding() {
-    use crate::dd::Dd;
     let (rows, cols) = (17, 17);
     let g = grid(46.0, 8.0, -1.0 / 1200.0, 1.0 / 1200.0, rows, cols);
     let mut r = Lcg(5);
@@ -399,25 +398,6 @@ fn refined_hits_lie_on_their_triangles_exact_plane_far_below_the_f64_vertices_ro
     let s = dem.storage();
     let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     let e = dem.surface.e;
-    let dd = |x: f64| Dd::from(x);
-    // The plane through (a, b, c) met by the ray, in pairs: t = n·(a − o) / n·d with n = (b − a) × (c − a).
-    let plane_t = |ray: &Ray<f64>, [a, b, c]: [[Dd<f64>; 3]; 3]| -> f64 {
-        let sub = |x: [Dd<f64>; 3], y: [Dd<f64>; 3]| [0, 1, 2].map(|k| x[k].minus(y[k]));
-        let (u, v) = (sub(b, a), sub(c, a));
-        let n = [
-            u[1].times(v[2]).minus(u[2].times(v[1])),
-            u[2].times(v[0]).minus(u[0].times(v[2])),
-            u[0].times(v[1]).minus(u[1].times(v[0])),
-        ];
-        let (o, d) = (ray.origin(), ray.dir());
-        let ao = sub(a, [dd(o.x), dd(o.y), dd(o.z)]);
-        let dot = |x: [Dd<f64>; 3], y: [Dd<f64>; 3]| {
-            x[0].times(y[0])
-                .plus(x[1].times(y[1]))
-                .plus(x[2].times(y[2]))
-        };
-        dot(n, ao).over(dot(n, [dd(d.x), dd(d.y), dd(d.z)])).value()
-    };
     let (mut worst_refined, mut worst_traversal, mut hits) = (0.0_f64, 0.0_f64, 0);
     // (under Miri, whose interpreter is slow, the first six rays)
     let n = if cfg!(miri) { 6 } else { 60 };
@@ -442,7 +422,7 @@ fn refined_hits_lie_on_their_triangles_exact_plane_far_below_the_f64_vertices_ro
             [v(i, j), v(i, j + 1), v(i + 1, j + 1)],
             [v(i, j), v(i + 1, j + 1), v(i + 1, j)],
         ]
-        .map(|tri| plane_t(&ray, tri))
+        .map(|tri| dd_plane_t(&ray, tri))
         .into_iter()
         .min_by(|a, b| (a - hit.t).abs().total_cmp(&(b - hit.t).abs()))
         .unwrap();
