@@ -340,3 +340,69 @@ fn ray_from_far_away_aimed_just_outside_the_polar_caps_edge_misses() {
         assert!(p.pick(&ray).unwrap().is_some(), "inside, from {dist} m");
     }
 }
+
+/// For every edge on the outer border of a grid, straight-down rays onto points swept across the edge's middle
+/// in steps of 0.5 nm from 4 nm outside to 4 nm inside: within the scalar vertices' rounding (about 1 nm at
+/// Earth scale), where the watertight test on `f64` vertices cannot tell the side and the exact decision of
+/// `refine::exact_sides` must. Each ray must hit exactly when, by the contract's vertices in pairs, it passes
+/// through the closed triangle at that edge: seen along the ray, on the third vertex's side of the edge or on
+/// the edge (a sign of `((b − a) × (o − a)) · d`, formed here in pairs).
+#[test]
+#[cfg_attr(miri, ignore)] // hundreds of picks
+fn rays_swept_across_outer_edges_within_the_vertices_rounding_hit_exactly_the_closed_triangles() {
+    let dd3 = |v: V3<f64>| [v.x, v.y, v.z].map(Dd::from);
+    let sub = |x: [Dd<f64>; 3], y: [Dd<f64>; 3]| [0, 1, 2].map(|k| x[k].minus(y[k]));
+    let cross = |u: [Dd<f64>; 3], v: [Dd<f64>; 3]| {
+        [
+            u[1].times(v[2]).minus(u[2].times(v[1])),
+            u[2].times(v[0]).minus(u[0].times(v[2])),
+            u[0].times(v[1]).minus(u[1].times(v[0])),
+        ]
+    };
+    let dot = |u: [Dd<f64>; 3], v: [Dd<f64>; 3]| {
+        u[0].times(v[0])
+            .plus(u[1].times(v[1]))
+            .plus(u[2].times(v[2]))
+            .value()
+    };
+    let (mut hits, mut misses) = (0, 0);
+    for (lat0, lon0, dlat, dlon) in EDGE_GRIDS {
+        let dem = TestDem::new(grid(lat0, lon0, dlat, dlon, 9, 9), relief(|_, _| false), 2);
+        let s = dem.storage();
+        let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+        let tris = triangles(&dem.surface);
+        for t in &tris {
+            for k in 0..3 {
+                let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+                let [va, vb, vc] = [a, b, c].map(|q| exact(&dem.surface, q));
+                if shared(&tris, a, b) > 1 || va == vb {
+                    continue;
+                }
+                let [da, db, dc] = [a, b, c].map(|q| dem.surface.vertex_dd(q.0, q.1).unwrap());
+                let e = vb.minus(va);
+                let foot = va.add_scaled(vc.minus(va).dot(e) / e.dot(e), e);
+                let inward = vc.minus(foot).scaled(1.0 / vc.minus(foot).length());
+                let mid = va.add_scaled(0.5, e);
+                for step in -8..=8 {
+                    let ray = ray_down_onto(
+                        &dem.surface.e,
+                        mid.add_scaled(0.5e-9 * f64::from(step), inward),
+                    );
+                    let (o, d) = (dd3(ray.origin()), dd3(ray.dir()));
+                    let side = dot(cross(sub(db, da), sub(o, da)), d);
+                    let third = dot(cross(sub(db, da), sub(dc, da)), d);
+                    let inside = side == 0.0 || (side > 0.0) == (third > 0.0);
+                    let hit = p.pick(&ray).unwrap();
+                    assert_eq!(
+                        hit.is_some(),
+                        inside,
+                        "grid at {lat0}°, {lon0}°: {step} × 0.5 nm across V{a:?}–V{b:?}: {hit:?}"
+                    );
+                    if inside { hits += 1 } else { misses += 1 }
+                }
+            }
+        }
+    }
+    // the sweep straddles the edges: both answers occur
+    assert!(hits > 100 && misses > 100, "{hits} hits, {misses} misses");
+}
