@@ -341,6 +341,27 @@ fn ray_from_far_away_aimed_just_outside_the_polar_caps_edge_misses() {
     }
 }
 
+/// A point in pairs.
+fn dd3(v: V3<f64>) -> [Dd<f64>; 3] {
+    [v.x, v.y, v.z].map(Dd::from)
+}
+
+/// The side of the line `a–b` on which `x` lies, seen along `ray` (pairs throughout): the sign of
+/// `((b − a) × (x − a)) · d`, rounded to a scalar once.
+fn side_along(ray: &Ray<f64>, a: [Dd<f64>; 3], b: [Dd<f64>; 3], x: [Dd<f64>; 3]) -> f64 {
+    let sub = |x: [Dd<f64>; 3], y: [Dd<f64>; 3]| [0, 1, 2].map(|k| x[k].minus(y[k]));
+    let (u, v, d) = (sub(b, a), sub(x, a), dd3(ray.dir()));
+    let n = [
+        u[1].times(v[2]).minus(u[2].times(v[1])),
+        u[2].times(v[0]).minus(u[0].times(v[2])),
+        u[0].times(v[1]).minus(u[1].times(v[0])),
+    ];
+    n[0].times(d[0])
+        .plus(n[1].times(d[1]))
+        .plus(n[2].times(d[2]))
+        .value()
+}
+
 /// For every edge on the outer border of a grid, straight-down rays onto points swept across the edge's middle
 /// in steps of 0.5 nm from 4 nm outside to 4 nm inside: within the scalar vertices' rounding (about 1 nm at
 /// Earth scale), where the watertight test on `f64` vertices cannot tell the side and the exact decision of
@@ -350,21 +371,6 @@ fn ray_from_far_away_aimed_just_outside_the_polar_caps_edge_misses() {
 #[test]
 #[cfg_attr(miri, ignore)] // hundreds of picks
 fn rays_swept_across_outer_edges_within_the_vertices_rounding_hit_exactly_the_closed_triangles() {
-    let dd3 = |v: V3<f64>| [v.x, v.y, v.z].map(Dd::from);
-    let sub = |x: [Dd<f64>; 3], y: [Dd<f64>; 3]| [0, 1, 2].map(|k| x[k].minus(y[k]));
-    let cross = |u: [Dd<f64>; 3], v: [Dd<f64>; 3]| {
-        [
-            u[1].times(v[2]).minus(u[2].times(v[1])),
-            u[2].times(v[0]).minus(u[0].times(v[2])),
-            u[0].times(v[1]).minus(u[1].times(v[0])),
-        ]
-    };
-    let dot = |u: [Dd<f64>; 3], v: [Dd<f64>; 3]| {
-        u[0].times(v[0])
-            .plus(u[1].times(v[1]))
-            .plus(u[2].times(v[2]))
-            .value()
-    };
     let (mut hits, mut misses) = (0, 0);
     for (lat0, lon0, dlat, dlon) in EDGE_GRIDS {
         let dem = TestDem::new(grid(lat0, lon0, dlat, dlon, 9, 9), relief(|_, _| false), 2);
@@ -388,9 +394,8 @@ fn rays_swept_across_outer_edges_within_the_vertices_rounding_hit_exactly_the_cl
                         &dem.surface.e,
                         mid.add_scaled(0.5e-9 * f64::from(step), inward),
                     );
-                    let (o, d) = (dd3(ray.origin()), dd3(ray.dir()));
-                    let side = dot(cross(sub(db, da), sub(o, da)), d);
-                    let third = dot(cross(sub(db, da), sub(dc, da)), d);
+                    let side = side_along(&ray, da, db, dd3(ray.origin()));
+                    let third = side_along(&ray, da, db, dc);
                     let inside = side == 0.0 || (side > 0.0) == (third > 0.0);
                     let hit = p.pick(&ray).unwrap();
                     assert_eq!(
