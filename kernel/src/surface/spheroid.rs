@@ -138,10 +138,13 @@ pub(crate) fn sphere_roots_signed<T: Real>(
     // ‖d‖² grows toward outside ⇒ the root where the quadratic decreases is the entry into the ball.
     let (s_in, s_out) = stable_quadratic_signed(dd, pd, c, disc.sqrt(), sign);
     // Near tangency the two roots are equal within rounding, and the two roundings (q/a, c/q) can put them in
-    // reverse order: that is a touch, reported at their midpoint (the tangency convention of `surface`).
-    if s_in > s_out {
-        let mid = s_in * T::HALF + s_out * T::HALF;
-        return Some((mid, mid));
+    // reverse order, or make them equal: that is a touch (the tangency convention of `surface`), reported at the
+    // parabola's vertex −⟨p|d⟩/‖d‖², the closest approach, which lies between the exact roots. Not at the
+    // computed roots' midpoint: `c/q` divides the rounding of `‖p‖² − R²` (up to ε‖p‖²) by a `q` that is tiny
+    // there, and can land far from the touch (a fuzzer's f32 case: 307 m off a flat spheroid 44 km across).
+    if s_in >= s_out {
+        let vertex = -pd / dd;
+        return Some((vertex, vertex));
     }
     Some((s_in, s_out))
 }
@@ -344,7 +347,7 @@ mod tests {
     }
 
     #[test]
-    fn near_tangent_roots_in_reverse_order_are_reported_as_a_touch_at_their_midpoint() {
+    fn near_tangent_roots_in_reverse_order_are_reported_as_a_touch_at_the_closest_approach() {
         // The fuzz-found grazing ray above: the stable formula's two roundings put the roots in reverse order.
         let r = Ray::new(
             [1.0_f32, 0.0, -0.5],
@@ -363,14 +366,50 @@ mod tests {
             crate::surface::crossing::sign_of(pd),
         );
         assert!(s_in > s_out, "not a reversed pair: {s_in} {s_out}");
-        let mid = s_in * 0.5 + s_out * 0.5;
-        assert_eq!(sphere_roots_of(1.0, pp, dd, pd, ww), Some((mid, mid)));
-        assert!(s_out <= mid && mid <= s_in);
+        let vertex = -pd / dd;
+        assert_eq!(sphere_roots_of(1.0, pp, dd, pd, ww), Some((vertex, vertex)));
+        // the touch lies on the unit sphere to the solver's error bound (S = 1 here)
+        let (o, d) = (line.origin(), line.scaled_dir());
+        let at = [o.x, o.y, o.z]
+            .iter()
+            .zip([d.x, d.y, d.z])
+            .map(|(&o, d)| f64::from(o) + f64::from(vertex) * f64::from(d))
+            .map(|x| x * x)
+            .sum::<f64>()
+            .sqrt();
+        assert!((at - 1.0).abs() < 8.0 * f64::from(f32::EPSILON), "{at}");
     }
 
     #[test]
     fn a_sphere_knows_it_is_one_and_a_spheroid_does_not() {
         assert!(Spheroid::sphere(2.0_f64).unwrap().is_sphere());
         assert!(!Spheroid::new(2.0_f64, 1.5).unwrap().is_sphere());
+    }
+
+    /// A fuzzer's case: a line passing 0.8 mm outside a flat f32 spheroid (a = 43 690, b = 2 730.625) at its
+    /// equator, 44 km from the centre, where `f32` cannot tell a touch from a miss. The computed roots came out
+    /// reversed, and their midpoint (one of them was `‖p‖² − R²`'s rounding, 128, over a tiny `q`) put the touch
+    /// 307 m off the surface. A crossing reported there must lie on the spheroid within its error bound.
+    #[test]
+    fn near_tangent_line_at_a_flat_f32_spheroids_equator_touches_it_on_the_surface() {
+        let (a, b) = (43_690.0_f32, 2_730.625_f32);
+        let s = Spheroid::new(a, b).unwrap();
+        let ray = Ray::new(
+            [43_690.0_f32, -0.012_319_971, -0.523_598_8],
+            [0.0, 10.0, 0.0],
+        )
+        .unwrap();
+        for c in s.crossings(&ray).iter() {
+            let p = ray.at(c.t).map(f64::from);
+            let k = f64::from(a) / f64::from(b);
+            let r = (p[0] * p[0] + p[1] * p[1] + (p[2] * k) * (p[2] * k)).sqrt();
+            // 8 ε S with S the scale (44 km): 2 cm
+            assert!(
+                (r - f64::from(a)).abs() < 0.03,
+                "t {}: {} m off",
+                c.t,
+                r - f64::from(a)
+            );
+        }
     }
 }
