@@ -124,8 +124,11 @@ fn bisect(mut lo: usize, mut hi: usize, mut holds: impl FnMut(usize) -> bool) ->
 /// down rounds a component far below the largest (a subnormal beside one of 2, say) to fewer bits; one that would
 /// round to zero is kept as the smallest subnormal of its sign instead, so that no component changes its sign or
 /// becomes zero. (The side tests are then those of the exact point: a component rounded away would have put a
-/// point on a boundary plane that the crossing solvers, which take the coordinates unscaled, see it off.)
-#[inline]
+/// point on a boundary plane that the crossing solvers, which take the coordinates unscaled, see it off.) Out of
+/// line in a build for size: it runs when a ray is located, not per crossing, and inlined into each of its
+/// callers it took 2 KB of a Cortex-M4F march firmware's code at opt "s".
+#[cfg_attr(curvicast_small_code, inline(never))]
+#[cfg_attr(not(curvicast_small_code), inline)]
 pub(crate) fn unit_scaled<T: Real>(q: V3<T>) -> V3<T> {
     let m = q.max_abs();
     let scaled = if let Some((_, inv)) = m.binade() {
@@ -236,7 +239,11 @@ impl<'a, T: Real> ZenithAxis<'a, T> {
     /// `leave_axis`: the ray leaves the −z axis (its direction has a horizontal part), so a point on that axis
     /// (`ρ²` zero or underflowed) gets the band just below θ = π (the right limit along the ray), not that of
     /// θ = π itself.
-    #[inline]
+    // Out of line in a build for size: it runs when a ray is located or repaired, and the zenith stream's set-up
+    // asks it up to three times (on a Cortex-M4F, inlined there it took 1.3 KB more code at opt "s"; at opt 3
+    // out of line cost 2 instructions per crossing).
+    #[cfg_attr(curvicast_small_code, inline(never))]
+    #[cfg_attr(not(curvicast_small_code), inline)]
     pub(crate) fn band_of(&self, q: V3<T>, leave_axis: bool) -> u32 {
         let q = unit_scaled(q);
         let rho2 = q.x * q.x + q.y * q.y;

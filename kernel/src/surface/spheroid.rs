@@ -138,11 +138,11 @@ pub(crate) fn sphere_roots_signed<T: Real>(
     // ‖d‖² grows toward outside ⇒ the root where the quadratic decreases is the entry into the ball.
     let (s_in, s_out) = stable_quadratic_signed(dd, pd, c, disc.sqrt(), sign);
     // Near tangency the two roots are equal within rounding, and the two roundings (q/a, c/q) can put them in
-    // reverse order, or make them equal: that is a touch (the tangency convention of `surface`), reported at the
-    // parabola's vertex −⟨p|d⟩/‖d‖², the closest approach, which lies between the exact roots. Not at the
-    // computed roots' midpoint: `c/q` divides the rounding of `‖p‖² − R²` (up to ε‖p‖²) by a `q` that is tiny
-    // there, and can land far from the touch (a fuzzer's f32 case: 307 m off a flat spheroid 44 km across).
-    if s_in >= s_out {
+    // reverse order: that is a touch (the tangency convention of `surface`), reported at the parabola's vertex
+    // −⟨p|d⟩/‖d‖², the closest approach, which lies between the exact roots. Not at the computed roots'
+    // midpoint: `c/q` divides the rounding of `‖p‖² − R²` (up to ε‖p‖²) by a `q` that is tiny there, and can
+    // land far from the touch (a fuzzer's f32 case: 307 m off a flat spheroid 44 km across).
+    if s_in > s_out {
         let vertex = -pd / dd;
         return Some((vertex, vertex));
     }
