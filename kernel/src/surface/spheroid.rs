@@ -395,7 +395,7 @@ mod tests {
         let (a, b) = (43_690.0_f32, 2_730.625_f32);
         let s = Spheroid::new(a, b).unwrap();
         let ray = Ray::new(
-            [43_690.0_f32, -0.012_319_971, -0.523_598_8],
+            [43_690.0_f32, -0.012_319_971, -core::f32::consts::FRAC_PI_6],
             [0.0, 10.0, 0.0],
         )
         .unwrap();
