@@ -293,6 +293,15 @@ fn dd_plane_t(ray: &Ray<f64>, [a, b, c]: [[crate::dd::Dd<f64>; 3]; 3]) -> f64 {
     dot(n, ao).over(dot(n, [dd(d.x), dd(d.y), dd(d.z)])).value()
 }
 
+/// Of a cell's two triangles (vertices in pairs), where `ray` meets the plane of the one whose [`dd_plane_t`] is
+/// nearest to `t`: the plane a refined hit at `t` lies on.
+fn nearest_plane_t(ray: &Ray<f64>, t: f64, tris: [[[crate::dd::Dd<f64>; 3]; 3]; 2]) -> f64 {
+    tris.map(|tri| dd_plane_t(ray, tri))
+        .into_iter()
+        .min_by(|a, b| (a - t).abs().total_cmp(&(b - t).abs()))
+        .unwrap_or(f64::NAN)
+}
+
 struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> f64 {

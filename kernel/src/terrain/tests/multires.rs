@@ -297,11 +297,7 @@ fn refined_hits_on_a_coarse_blocks_cell_lie_on_its_triangles_exact_plane() {
             (0, 2, [0, 0]),
             "ray {k}: {hit:?}"
         );
-        let t_exact = tris
-            .map(|tri| dd_plane_t(&ray, tri))
-            .into_iter()
-            .min_by(|a, b| (a - hit.t).abs().total_cmp(&(b - hit.t).abs()))
-            .unwrap();
+        let t_exact = nearest_plane_t(&ray, hit.t, tris);
         let len = ray.dir().length();
         worst_refined = worst_refined.max((hit.t - t_exact).abs() * len);
         worst_traversal = worst_traversal.max((t_trav - t_exact).abs() * len);

@@ -418,14 +418,11 @@ fn refined_hits_lie_on_their_triangles_exact_plane_far_below_the_f64_vertices_ro
         let [i, j] = hit.cell;
         let v = |i: u32, j: u32| dem.surface.vertex_dd(i, j).unwrap();
         // The cell's two triangles: the one hit is the one whose plane the refined t lies on.
-        let t_exact = [
+        let tris = [
             [v(i, j), v(i, j + 1), v(i + 1, j + 1)],
             [v(i, j), v(i + 1, j + 1), v(i + 1, j)],
-        ]
-        .map(|tri| dd_plane_t(&ray, tri))
-        .into_iter()
-        .min_by(|a, b| (a - hit.t).abs().total_cmp(&(b - hit.t).abs()))
-        .unwrap();
+        ];
+        let t_exact = nearest_plane_t(&ray, hit.t, tris);
         let len = ray.dir().length();
         worst_refined = worst_refined.max((hit.t - t_exact).abs() * len);
         worst_traversal = worst_traversal.max((t_trav - t_exact).abs() * len);
