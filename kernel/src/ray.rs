@@ -104,7 +104,8 @@ impl<T: Real> Scale<T> {
     };
 
     /// `s · 2^-e` (exact unless it under- or overflows).
-    #[inline]
+    #[cfg_attr(curvicast_small_code, inline(never))]
+    #[cfg_attr(not(curvicast_small_code), inline)]
     pub(crate) fn t_from_scaled(&self, s: T) -> T {
         if self.to_t == T::ZERO {
             s.scalbn(self.e.saturating_neg())
@@ -118,7 +119,8 @@ impl<T: Real> Scale<T> {
         self.e < 0
     }
     /// `t · 2^e` (exact unless it under- or overflows).
-    #[inline]
+    #[cfg_attr(curvicast_small_code, inline(never))]
+    #[cfg_attr(not(curvicast_small_code), inline)]
     pub(crate) fn t_to_scaled(&self, t: T) -> T {
         if self.to_s == T::ZERO {
             t.scalbn(self.e)

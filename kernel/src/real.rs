@@ -182,7 +182,8 @@ pub trait Real:
         }
     }
     /// The larger of two values; if one is NaN, the other.
-    #[inline]
+    #[cfg_attr(curvicast_small_code, inline(never))]
+    #[cfg_attr(not(curvicast_small_code), inline)]
     fn max(self, other: Self) -> Self {
         if other > self || self.is_nan() {
             other

@@ -57,7 +57,8 @@ impl<T: Real> V3<T> {
         self.length_squared().sqrt()
     }
     /// The largest absolute component.
-    #[inline]
+    #[cfg_attr(curvicast_small_code, inline(never))]
+    #[cfg_attr(not(curvicast_small_code), inline)]
     pub fn max_abs(self) -> T {
         self.x.abs().max(self.y.abs()).max(self.z.abs())
     }

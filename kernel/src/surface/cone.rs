@@ -238,7 +238,8 @@ impl<T: Real> AxialCone<T> {
     /// One Newton step on the cone's quadratic form at the point `q + s d` (see `crossings_past_apex`), taken only
     /// when it is finite and at most a quarter of `gap`, the separation of the roots (a NaN `gap`, the linear
     /// case: any finite step).
-    #[inline(always)]
+    #[cfg_attr(curvicast_small_code, inline(never))]
+    #[cfg_attr(not(curvicast_small_code), inline(always))]
     fn newton_step(&self, q: V3<T>, d: V3<T>, s: T, gap: T) -> T {
         let (c2, s2) = (self.cos2, self.sin2);
         let x = V3::new(q.x + s * d.x, q.y + s * d.y, q.z + s * d.z);

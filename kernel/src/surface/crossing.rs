@@ -171,7 +171,8 @@ pub(crate) fn sign_of<T: Real>(b: T) -> T {
 
 /// [`stable_quadratic`] with `b`'s sign `sign = sign_of(b)` given (the same operations: `sign · root_d` is
 /// exact).
-#[inline]
+#[cfg_attr(curvicast_small_code, inline(never))]
+#[cfg_attr(not(curvicast_small_code), inline)]
 pub(crate) fn stable_quadratic_signed<T: Real>(a: T, b: T, c: T, root_d: T, sign: T) -> (T, T) {
     let q = -(b + sign * root_d);
     let nan = T::NAN;
