@@ -99,6 +99,39 @@ fn ray_tangent_to_a_shell_stays_in_the_outer_cell() {
 }
 
 #[test]
+fn ray_touching_the_cone_of_a_zenith_domain_from_inside_is_one_crossing() {
+    // The domain is θ >= θ0 (outside the cone θ0, about 0.6) within r < 4. The horizontal line x = 1, z = z0,
+    // along +y, has its smallest θ where y = 0 (t = 2), and there it touches that cone from the domain's side
+    // when sin²θ0 · z0² = cos²θ0: z0 is the float next to cot θ0 for which the cone solver's discriminant
+    // s²(w_x² + w_y²) − c² w_z², with w = p × d = (−z0, 0, 1), is exactly 0 (for about half of all θ0 one is;
+    // the first of θ0 = 0.6, 0.61, … that has one). The ray leaves the domain for no length at t = 2 and comes
+    // back into the same cell at the same t: one crossing from its start inside the ball, not two.
+    let tangent = |theta0: f64| {
+        let cone = crate::surface::AxialCone::from_zenith_rad(0.0, theta0).ok()?;
+        let (c2, s2) = (cone.cos() * cone.cos(), cone.sin() * cone.sin());
+        let z = cone.cos() / cone.sin();
+        [
+            z.next_down().next_down(),
+            z.next_down(),
+            z,
+            z.next_up(),
+            z.next_up().next_up(),
+        ]
+        .into_iter()
+        .find(|&z0| s2 * (z0 * z0) == c2)
+        .map(|z0| (theta0, z0))
+    };
+    let (theta0, z0) = (0..32)
+        .find_map(|k| tangent(0.6 + 0.01 * f64::from(k)))
+        .unwrap();
+    let (r, th, ph) = ([0.0, 4.0], [theta0, PI], [-1.0, 2.0 * PI - 1.0]);
+    let ray = Ray::new([1.0, -2.0, z0], [0.0, 1.0, 0.0]).unwrap();
+    let h = (15.0 - z0 * z0).sqrt();
+    let got = march_s(&r, &th, &ph, &ray);
+    expect(&got, &[([0, 0, 0], 0.0, 2.0 + h)], 1e-15);
+}
+
+#[test]
 fn ray_through_an_edge_sphere_and_cone() {
     // through (0, 0.5, 0): on the sphere r = 0.5 and the plane θ = π/2 at t = 1 exactly
     let ray = Ray::new([-0.25, 1.5, -1.0], [0.25, -1.0, 1.0]).unwrap();
