@@ -135,9 +135,7 @@ impl<T: Real> Emitter<T> {
         // back into the domain: the held crossing continues if this is the same cell at the same t (a touch of
         // the boundary from inside), else it is final
         match self.pending {
-            Some((cell, t_exit))
-                if cell.iter().zip(self.cell).all(|(a, b)| *a == b) && t_exit == t =>
-            {
+            Some((cell, t_exit)) if cell == self.cell && t_exit == t => {
                 self.pending = None;
                 None
             }
