@@ -288,3 +288,39 @@ impl<T: Real> Stream<T> {
         false
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn second_roots_keep_the_latest_eight_and_give_them_back_last_in_first_out() {
+        let side = |k: u32| {
+            if k % 3 == 0 {
+                Side::Positive
+            } else {
+                Side::Negative
+            }
+        };
+        let mut r = SecondRoots::<f64>::EMPTY;
+        assert_eq!(r.last(), None);
+        // eleven pushed: the ring keeps the latest eight (cones 3 to 10), each with its t and side
+        for k in 0..11u32 {
+            r.push(k, f64::from(k) + 0.5, side(k));
+            assert_eq!(r.last(), Some((k, f64::from(k) + 0.5, side(k))));
+        }
+        assert_eq!(r.kept(), 8);
+        for k in (3..11u32).rev() {
+            assert_eq!(r.last(), Some((k, f64::from(k) + 0.5, side(k))));
+            r.pop();
+        }
+        assert_eq!((r.kept(), r.last()), (0, None));
+        // a cone whose index does not fit 16 bits is not kept; `clear` empties the ring
+        r.push(1 << 16, 1.0, Side::Positive);
+        assert_eq!(r.last(), None);
+        r.push(7, 1.0, Side::Positive);
+        r.push(8, 2.0, Side::Negative);
+        r.clear();
+        assert_eq!((r.kept(), r.last()), (0, None));
+    }
+}

@@ -271,3 +271,160 @@ fn subnormal_direction_with_representable_t_marches_exactly_like_a_unit_one() {
         .collect();
     assert_eq!(c, scaled);
 }
+
+#[test]
+fn each_grid_kind_states_its_shape_workspace_and_coordinates() {
+    let (r, th, ph, z) = (
+        [0.0, 0.5, 1.0, 2.0],
+        [0.0, 1.0, PI],
+        [0.0, 2.0, 4.0, 2.0 * PI],
+        [-1.0, 1.0],
+    );
+    // exactly the workspace each kind asks for is enough, one scalar less is not
+    assert_eq!(SphericalGrid::<f64>::workspace_len(4, 3, 4), 4 + 6 + 8);
+    assert_eq!(CylindricalGrid::<f64>::workspace_len(4, 4), 4 + 8);
+    assert_eq!(PolarGrid::<f64>::workspace_len(4, 4), 4 + 8);
+    let mut ws = [0.0; 18];
+    let s = SphericalGrid::new(&r, &th, &ph, &mut ws).unwrap();
+    assert_eq!(s.shape(), [3, 2, 3]);
+    assert!(s.azimuth_is_full_turn());
+    assert_eq!(s.coordinates(), Coordinates::SPHERICAL);
+    let mut ws = [0.0; 12];
+    let c = CylindricalGrid::new(&r, &ph, &z, &mut ws).unwrap();
+    assert_eq!(c.shape(), [3, 3, 1]);
+    let mut ws = [0.0; 12];
+    let p = PolarGrid::new(&r, &ph[..3], &mut ws).unwrap();
+    assert_eq!(p.shape(), [3, 2]);
+    let mut ws = [0.0; 17];
+    assert_eq!(
+        SphericalGrid::new(&r, &th, &ph, &mut ws).err(),
+        Some(GridError::WorkspaceTooSmall)
+    );
+    let mut ws = [0.0; 11];
+    assert_eq!(
+        CylindricalGrid::new(&r, &ph, &z, &mut ws).err(),
+        Some(GridError::WorkspaceTooSmall)
+    );
+    assert_eq!(
+        PolarGrid::new(&r, &ph, &mut ws).err(),
+        Some(GridError::WorkspaceTooSmall)
+    );
+    // too small a workspace is reported before the breakpoints are read
+    assert_eq!(
+        SphericalGrid::new(&[1.0, 0.0], &th, &ph, &mut [0.0; 4]).err(),
+        Some(GridError::WorkspaceTooSmall)
+    );
+    // a wedge is not a full turn
+    let mut ws = [0.0; 18];
+    let wedge = SphericalGrid::new(&r, &th, &ph[..3], &mut ws).unwrap();
+    assert!(!wedge.azimuth_is_full_turn());
+    assert_eq!(wedge.shape(), [3, 2, 2]);
+    // which streams each kind has, and so which steps its march compiles
+    let (sph, cyl, pol) = (
+        Coordinates::SPHERICAL,
+        Coordinates::CYLINDRICAL,
+        Coordinates::POLAR,
+    );
+    assert_eq!(
+        (sph.zenith(), sph.height(), sph.flat_radius()),
+        (true, false, false)
+    );
+    assert_eq!(
+        (cyl.zenith(), cyl.height(), cyl.flat_radius()),
+        (false, true, true)
+    );
+    assert_eq!(
+        (pol.zenith(), pol.height(), pol.flat_radius()),
+        (false, false, true)
+    );
+    use crate::march::kind::{may_have_height, may_have_zenith};
+    assert!(may_have_zenith::<Spherical>() && !may_have_height::<Spherical>());
+    assert!(!may_have_zenith::<Cylindrical>() && may_have_height::<Cylindrical>());
+    assert!(!may_have_zenith::<Polar>() && !may_have_height::<Polar>());
+    assert!(may_have_zenith::<Dynamic>() && may_have_height::<Dynamic>());
+}
+
+#[test]
+fn whole_lines_through_a_sphere_and_a_cylinder_grid() {
+    // t from −∞: each stream starts where the line comes from (below every z plane going up, above them going
+    // down; before the radius's hinge), and the crossings are those of the line.
+    let all = |r: Ray<f64>| r.with_interval(f64::NEG_INFINITY, f64::INFINITY).unwrap();
+    let line = all(Ray::new([0.0, 0.3, 0.2], [1.0, 0.0, 0.0]).unwrap());
+    let (a, b) = ((1.0f64 - 0.13).sqrt(), (0.25f64 - 0.13).sqrt());
+    let c = march_s(&R, &TH, &PH, &line);
+    expect(
+        &c,
+        &[([1, 0, 0], -a, -b), ([0, 0, 0], -b, b), ([1, 0, 0], b, a)],
+        1e-15,
+    );
+    let (rho, z) = ([0.0, 1.0, 2.0], [-1.0, 0.0, 1.0]);
+    let mut ws = [0.0; 16];
+    let g = CylindricalGrid::new(&rho, &PH, &z, &mut ws).unwrap();
+    for (dz, want) in [
+        (1.0, [([0, 0, 0], -1.0, 0.0), ([0, 0, 1], 0.0, 1.0)]),
+        (-1.0, [([0, 0, 1], -1.0, 0.0), ([0, 0, 0], 0.0, 1.0)]),
+    ] {
+        let line = all(Ray::new([0.5, 0.5, 0.0], [0.0, 0.0, dz]).unwrap());
+        let a: Vec<_> = g.march(&line).collect();
+        let b: Vec<_> = g.march_separable::<8>(&line).unwrap().collect();
+        assert_eq!(a, b);
+        expect(&a, &want, 1e-15);
+    }
+}
+
+#[test]
+fn cylinder_segment_ending_before_a_z_plane() {
+    // Up the vertical line (0.5, 0.5) from z = −2 to z = 0.5 (t_max = 2.5): z = −1 at t = 1, z = 0 at t = 2; the
+    // plane z = 1 (t = 3) lies beyond the segment.
+    let (rho, z) = ([0.0, 1.0, 2.0], [-1.0, 0.0, 1.0]);
+    let mut ws = [0.0; 16];
+    let g = CylindricalGrid::new(&rho, &PH, &z, &mut ws).unwrap();
+    let ray = Ray::new([0.5, 0.5, -2.0], [0.0, 0.0, 1.0])
+        .unwrap()
+        .with_interval(0.0, 2.5)
+        .unwrap();
+    let a: Vec<_> = g.march(&ray).collect();
+    let b: Vec<_> = g.march_separable::<8>(&ray).unwrap().collect();
+    assert_eq!(a, b);
+    expect(&a, &[([0, 0, 0], 1.0, 2.0), ([0, 0, 1], 2.0, 2.5)], 1e-15);
+}
+
+#[test]
+fn subnormal_vertical_direction_crosses_a_z_plane_at_the_correctly_rounded_t() {
+    // Up the line (0.5, 0.5) from z = −1e-300 with a direction 1e-310 long (subnormal: scaled by about 2^1030, so
+    // the plane's denominator cannot take the scale and the quotient is rescaled instead): z = 0 at t = 1e10
+    // (to the rounding of the two literals), z = 1 at t ≈ 1e310, which is not representable.
+    let (rho, z) = ([0.0, 1.0, 2.0], [-1.0, 0.0, 1.0]);
+    let mut ws = [0.0; 16];
+    let g = CylindricalGrid::new(&rho, &PH, &z, &mut ws).unwrap();
+    let ray = Ray::new([0.5, 0.5, -1e-300], [0.0, 0.0, 1e-310]).unwrap();
+    let mut m = g.march(&ray);
+    let got: Vec<_> = m.by_ref().collect();
+    assert_eq!(m.error(), Some(MarchError::Unrepresentable));
+    assert_eq!(got.len(), 1, "{got:?}");
+    assert_eq!((got[0].cell, got[0].t_enter), ([0, 0, 0], 0.0));
+    assert!((got[0].t_exit / 1e10 - 1.0).abs() < 1e-12, "{got:?}");
+}
+
+#[test]
+fn segments_ending_at_and_before_the_center_of_a_line_through_it() {
+    // Along +x at y = z = 0 from x = −2 (the center at t = 2): ending at t = 2 the walk through the center is
+    // taken there (zero-length crossings into the far cells); ending at t = 1.5 it is not.
+    let seg = |t_max: f64| {
+        Ray::new([-2.0, 0.0, 0.0], [1.0, 0.0, 0.0])
+            .unwrap()
+            .with_interval(0.0, t_max)
+            .unwrap()
+    };
+    let c = march_s(&R, &TH, &PH, &seg(1.5));
+    let cells: Vec<_> = c.iter().map(|x| x.cell).collect();
+    assert_eq!(cells, [[1, 1, 1], [0, 1, 1]], "{c:?}");
+    assert_eq!(c[1].t_exit, 1.5);
+    let c = march_s(&R, &TH, &PH, &seg(2.0));
+    let at_end = c
+        .iter()
+        .filter(|x| x.t_enter == 2.0 && x.t_exit == 2.0)
+        .count();
+    assert!(at_end >= 1, "{c:?}");
+    assert_eq!(c.last().map(|x| x.cell), Some([0, 1, 0]), "{c:?}");
+}

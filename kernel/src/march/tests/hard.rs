@@ -408,3 +408,55 @@ fn ray_starting_a_subnormal_below_the_azimuth_zero_half_plane_is_in_the_last_sec
     );
     assert!((c[1].t_exit - out).abs() < 1e-14);
 }
+
+#[test]
+fn ray_starting_exactly_at_the_center_starts_in_the_cells_of_its_direction() {
+    // From the origin along (1, 0.5, −0.25): θ and φ are those of the direction from t = 0 on, no walk of zero
+    // length from the cells of −d.
+    let ray = Ray::new([0.0, 0.0, 0.0], [1.0, 0.5, -0.25]).unwrap();
+    let n = (1.0f64 + 0.25 + 0.0625).sqrt();
+    let c = march_s(&R, &TH, &PH, &ray);
+    expect(
+        &c,
+        &[([0, 1, 0], 0.0, 0.5 / n), ([1, 1, 0], 0.5 / n, 1.0 / n)],
+        1e-15,
+    );
+}
+
+#[test]
+fn ray_through_the_center_within_rounding_walks_there_like_an_exact_one() {
+    // p = −3 d with d = (0.3, 0.1, 0.7), each rounded: p × d (of the direction scaled to (0.6, 0.2, 1.4)) is a
+    // rounding residue (about 6e-17), not 0. The line is taken as passing through the center (θ from that of −d
+    // to that of d, φ by π) at t = 3.
+    let theta = [0.0, 0.5, 1.0, PI / 2.0, 2.0, PI];
+    let ray = Ray::new([-0.9, -0.3, -2.1], [0.3, 0.1, 0.7]).unwrap();
+    let w = ray.line().p_cross_d();
+    assert!(w != crate::vec3::V3::new(0.0, 0.0, 0.0), "{w:?}");
+    let n = (0.09f64 + 0.01 + 0.49).sqrt();
+    let c = march_s(&R, &theta, &PH, &ray);
+    let got: Vec<_> = c.iter().map(|x| x.cell).collect();
+    // −d is at θ ≈ 2.72 (band 4), d at θ ≈ 0.42 (band 0): the zenith walk passes bands 3, 2 and 1 at t = 3
+    assert_eq!(
+        got,
+        [
+            [1, 4, 1],
+            [0, 4, 1],
+            [0, 3, 1],
+            [0, 2, 1],
+            [0, 1, 1],
+            [0, 0, 1],
+            [0, 0, 0],
+            [1, 0, 0]
+        ],
+        "{c:?}"
+    );
+    let at = |r: f64| r / n;
+    expect(
+        &c[..2],
+        &[
+            ([1, 4, 1], 3.0 - at(1.0), 3.0 - at(0.5)),
+            ([0, 4, 1], 3.0 - at(0.5), 3.0),
+        ],
+        1e-15,
+    );
+}

@@ -6,6 +6,9 @@ use crate::ray::Ray;
 use core::f64::consts::PI;
 use std::vec::Vec;
 
+mod any;
+mod axes;
+mod azimuth;
 mod engines;
 mod hard;
 mod streams;
