@@ -73,8 +73,14 @@ fn separable_filled_in_place_is_reused_across_hits_misses_and_a_full_buffer() {
     assert_eq!(m.listed(), [0, 0, 0]);
     assert_eq!(m.by_ref().count(), 0);
     g.march_separable_into(&off, &mut m).unwrap();
+    // every crossing after the first begins at a listed event (more are listed: those outside the domain)
+    let listed = m.listed();
     let again: Vec<_> = m.by_ref().collect();
     assert!(!again.is_empty());
+    assert!(
+        listed.iter().sum::<usize>() >= again.len() - 1 && listed.iter().all(|&n| n <= 16),
+        "{listed:?} for {again:?}"
+    );
     assert_eq!(again, g.march(&off).collect::<Vec<_>>());
 }
 
@@ -427,4 +433,19 @@ fn segments_ending_at_and_before_the_center_of_a_line_through_it() {
         .count();
     assert!(at_end >= 1, "{c:?}");
     assert_eq!(c.last().map(|x| x.cell), Some([0, 1, 0]), "{c:?}");
+}
+
+#[test]
+fn polar_ray_whose_flat_direction_alone_is_tiny_is_an_error_not_a_crossing_at_infinity() {
+    // Along (1e-309, 0, 1) from (0.5, 0): the line's own direction is unit-sized, but its projection on the plane,
+    // which a polar grid's radius follows, is subnormal: r = 0.75 is crossed at t = 2.5e308 and r = 1 at 5e308,
+    // beyond the largest f64. The march reports the error, not a crossing at t = ∞.
+    let (r, ph) = ([0.0, 0.75, 1.0], [0.0, 2.0 * PI]);
+    let mut ws = [0.0; 16];
+    let g = PolarGrid::new(&r, &ph, &mut ws).unwrap();
+    let ray = Ray::new([0.5, 0.0, 0.0], [1e-309, 0.0, 1.0]).unwrap();
+    let mut m = g.march(&ray);
+    let got: Vec<_> = m.by_ref().collect();
+    assert_eq!(m.error(), Some(MarchError::Unrepresentable), "{got:?}");
+    assert!(got.iter().all(|c| c.t_exit.is_finite()), "{got:?}");
 }
