@@ -138,3 +138,48 @@ fn direction_along_a_cone_generator_on_its_own_nappe_only() {
     // no cone 5
     assert!(!axis.along_cone(5, V3::new(1.0, 0.0, 0.0)));
 }
+
+#[test]
+fn point_exactly_on_the_line_of_boundary_zero_is_in_its_sector_and_the_opposite_one_half_a_turn_on()
+{
+    // Boundary 0 at φ0 (not a multiple of π/2: both of its stored components are inexact), the point k·(cos φ0,
+    // sin φ0) lies exactly on its line (a power-of-two multiple: the cross product is exactly 0), on boundary 0
+    // itself for k > 0 (sector 0), opposite for k < 0, at φ0 + π (sector 2 of [φ0, φ0 + 1, φ0 + 3, φ0 + 5]).
+    use crate::march::axes::AzimuthAxis;
+    for phi0 in [2.0, 2.5, -1.0, 0.7, 4.0] {
+        let phi = [phi0, phi0 + 1.0, phi0 + 3.0, phi0 + 5.0];
+        let mut buf = [0.0; 16];
+        let mut ws = &mut buf[..];
+        let axis = AzimuthAxis::build(&phi, &mut ws).unwrap();
+        let plane = axis.plane(0);
+        let (c0, s0) = (plane.cos(), plane.sin());
+        for k in [0.5, 2.0, 1024.0] {
+            assert_eq!(axis.sector_of(k * c0, k * s0), 0, "φ0 {phi0}, k {k}");
+            assert_eq!(axis.sector_of(-k * c0, -k * s0), 2, "φ0 {phi0}, k {k}");
+        }
+    }
+}
+
+#[test]
+fn azimuth_span_over_a_full_turn_by_rounding_is_a_full_turn_and_beyond_it_an_error() {
+    // The span may exceed 2π by 8 ε · 2π (the rounding of the breakpoints); exactly that much is still a full turn.
+    use crate::march::axes::AzimuthAxis;
+    let two_pi = PI + PI;
+    let tol = two_pi * f64::EPSILON * 8.0;
+    for (last, full) in [
+        (two_pi, true),
+        (two_pi + 5.0 * f64::EPSILON * two_pi, true),
+        (two_pi + tol, true),
+        (two_pi - 0.5, false),
+    ] {
+        let phi = [0.0, 1.0, last];
+        let mut buf = [0.0; 8];
+        let mut ws = &mut buf[..];
+        let axis = AzimuthAxis::build(&phi, &mut ws).unwrap();
+        assert_eq!(axis.full, full, "{last}");
+    }
+    let phi = [0.0, 1.0, two_pi + 4.0 * tol];
+    let mut buf = [0.0; 8];
+    let mut ws = &mut buf[..];
+    assert!(AzimuthAxis::build(&phi, &mut ws).is_err());
+}
