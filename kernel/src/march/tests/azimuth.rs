@@ -18,23 +18,30 @@ fn diagonal() -> (Ray<f64>, f64, f64) {
     (ray, at(0.5), at(1.0))
 }
 
-#[test]
-fn line_through_the_z_axis_walks_half_a_turn_through_the_counterclockwise_sector_between() {
-    // From φ = 5π/4 to φ = π/4 across four quarter sectors: two steps either way round; the tie goes
-    // counter-clockwise, through sector 3, in zero length.
+/// Marches [`diagonal`] through `phi` and checks its crossings: sector 2 up to the axis, the walk through sector
+/// `between` in zero length there, sector 0 after. Returns them.
+fn diagonal_walks_through(phi: &[f64], between: u32) -> std::vec::Vec<CellCrossing<f64>> {
     let (ray, h, g) = diagonal();
-    let c = march_s(&R, &TH, &QUARTERS, &ray);
+    let c = march_s(&R, &TH, phi, &ray);
     expect(
         &c,
         &[
             ([1, 0, 2], 2.0 - g, 2.0 - h),
             ([0, 0, 2], 2.0 - h, 2.0),
-            ([0, 0, 3], 2.0, 2.0),
+            ([0, 0, between], 2.0, 2.0),
             ([0, 0, 0], 2.0, 2.0 + h),
             ([1, 0, 0], 2.0 + h, 2.0 + g),
         ],
         1e-15,
     );
+    c
+}
+
+#[test]
+fn line_through_the_z_axis_walks_half_a_turn_through_the_counterclockwise_sector_between() {
+    // From φ = 5π/4 to φ = π/4 across four quarter sectors: two steps either way round; the tie goes
+    // counter-clockwise, through sector 3, in zero length.
+    let c = diagonal_walks_through(&QUARTERS, 3);
     assert_eq!((c[1].t_exit, c[2].t_enter, c[2].t_exit), (2.0, 2.0, 2.0));
 }
 
@@ -42,19 +49,7 @@ fn line_through_the_z_axis_walks_half_a_turn_through_the_counterclockwise_sector
 fn line_through_the_z_axis_of_a_wedge_walks_round_the_inside_not_through_the_outside_sector() {
     // The wedge φ ∈ [0, 3π/2] (sector 3 is outside): the same jump from sector 2 to sector 0 goes clockwise, through
     // sector 1, although the tie alone would choose the way through the outside.
-    let (ray, h, g) = diagonal();
-    let c = march_s(&R, &TH, &QUARTERS[..4], &ray);
-    expect(
-        &c,
-        &[
-            ([1, 0, 2], 2.0 - g, 2.0 - h),
-            ([0, 0, 2], 2.0 - h, 2.0),
-            ([0, 0, 1], 2.0, 2.0),
-            ([0, 0, 0], 2.0, 2.0 + h),
-            ([1, 0, 0], 2.0 + h, 2.0 + g),
-        ],
-        1e-15,
-    );
+    diagonal_walks_through(&QUARTERS[..4], 1);
 }
 
 #[test]
