@@ -89,6 +89,9 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
             rows: RowCache::new(u),
             cull: HeightCull::new(frame, (o, d), up_tol, self.ellipsoid.b()),
             az_rate: o.x * d.y - o.y * d.x,
+            apex_tol: T::from_f64(64.0)
+                * T::EPSILON
+                * (o.z.abs() + self.ellipsoid.latitude_cone_apex(T::ONE).abs()),
         }
     }
 
@@ -262,6 +265,8 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
                 cos_lat * cos_half * (o.z - apex_z) - sin_lat * radial_o
                     + t * (cos_lat * cos_half * d.z - sin_lat * radial_d)
             },
+            // twice the row walls' tolerance, `τ (row_mag + |o_z − k|)` with `|k|` at most the polar apex's
+            T::TWO * (tr.tau * col.row_mag + tr.apex_tol),
             row_hint,
         )
     }
@@ -502,6 +507,9 @@ struct UnitTrace<T> {
     cull: HeightCull<T>,
     /// The sign of the azimuth's rate along the ray, `(o × d)_z`.
     az_rate: T,
+    /// `τ (|o_z| + |k_pole|)`: the part of a row wall's tolerance that does not depend on the column, bounded
+    /// over the rows by the apex of the pole's latitude cone, the farthest from the centre.
+    apex_tol: T,
 }
 
 /// One column of a unit's cells (a strip between two meridian planes) and the part `[lo, hi]` of the ray

@@ -21,9 +21,12 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
     /// planes are ordered, so along a segment that stays there (`r` is linear in `t`: both ends are checked)
     /// the ray crosses each plane at most once and in order: the crossed cells are those between the cells of
     /// its two ends. Each end's cell comes from a binary search over the planes' sides; a side decided wrongly by
-    /// rounding puts the end within a rounding distance of that plane, so one row of margin on each side
-    /// covers it. Elsewhere (near the axis) every row is returned.
+    /// rounding puts the end within a rounding distance of that plane, so a row of margin is added beyond a
+    /// plane that an end of the outermost cells lies within `near` of (at least twice any row wall's tolerance
+    /// over the segment): an end clear of it keeps the segment, linear in `t`, more than the wall's tolerance
+    /// away, where the cell clip rejects the row beyond. Elsewhere (near the axis) every row is returned.
     #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn crossed_rows(
         &self,
         u: &Unit,
@@ -31,6 +34,7 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
         (radial_o, radial_d): (T, T),
         az_rate: T,
         plane: &impl Fn(u32, T) -> T,
+        near: T,
         hint: &mut Option<i64>,
     ) -> (u32, u32) {
         let [r0, r1] = u.rows;
@@ -44,11 +48,21 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
         // end is the hint (longitude grows along the ray when (o × d)_z > 0).
         let east_at_hi = az_rate > T::ZERO;
         let (t_west, t_east) = if east_at_hi { (lo, hi) } else { (hi, lo) };
-        let ca = row_cell(plane, t_west, *hint, u.rows, north_up);
-        let cb = row_cell(plane, t_east, Some(ca), u.rows, north_up);
-        *hint = Some(cb);
-        let first = ca.min(cb).saturating_sub(1).max(i64::from(r0));
-        let end = ca.max(cb).saturating_add(2).min(i64::from(r1));
+        let a = row_cell(plane, t_west, *hint, u.rows, north_up);
+        let b = row_cell(plane, t_east, Some(a.cell), u.rows, north_up);
+        *hint = Some(b.cell);
+        let (low, high) = (a.cell.min(b.cell), a.cell.max(b.cell));
+        let margin_below = (a.cell == low && !(a.below.abs() > near))
+            || (b.cell == low && !(b.below.abs() > near));
+        let margin_above = (a.cell == high && !(a.above.abs() > near))
+            || (b.cell == high && !(b.above.abs() > near));
+        let first = low
+            .saturating_sub(i64::from(margin_below))
+            .max(i64::from(r0));
+        let end = high
+            .saturating_add(1)
+            .saturating_add(i64::from(margin_above))
+            .min(i64::from(r1));
         match (u32::try_from(first), u32::try_from(end)) {
             (Ok(f), Ok(e)) if f <= e => (f, e),
             _ => (r0, r0),
@@ -139,6 +153,17 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
     }
 }
 
+/// The cell row of a unit's column containing a point, and that point's signed distances to the cell's two
+/// planes ([`row_cell`]).
+#[derive(Clone, Copy)]
+struct RowCell<T> {
+    /// The last row plane the point lies past, or `r0 − 1` (before the unit).
+    cell: i64,
+    /// `plane(cell, t)` and `plane(cell + 1, t)`; infinite beyond the unit's first or last plane.
+    below: T,
+    above: T,
+}
+
 /// The cell row of a unit's column containing the point at `t` ([`Picker::crossed_rows`]): the last row plane
 /// `i` in `[r0, r1]` that the point lies on the increasing-row side of (rows increase northwards when
 /// `north_up`), or `r0 − 1` (before the unit); `plane` the planes' signed distances. From `hint` (the cell found
@@ -151,36 +176,52 @@ fn row_cell<T: Real>(
     hint: Option<i64>,
     [r0, r1]: [u32; 2],
     north_up: bool,
-) -> i64 {
+) -> RowCell<T> {
     let (first_plane, last_plane) = (i64::from(r0), i64::from(r1));
-    let after = |i: i64| past_plane(plane, i, t, [r0, r1], north_up);
-    // The answer a: after(a), !after(a + 1), a in [r0 − 1, r1].
+    let side = |i: i64| past_plane(plane, i, t, [r0, r1], north_up);
+    // The answer a: past plane a, not past plane a + 1, a in [r0 − 1, r1].
     if let Some(h) = hint {
-        let mut a = h.max(first_plane.saturating_sub(1)).min(last_plane);
+        let a = h.max(first_plane.saturating_sub(1)).min(last_plane);
+        let (mut lower, mut upper) = (side(a), side(a.saturating_add(1)));
+        let mut a = a;
         for _ in 0..4 {
-            if !after(a) {
+            if !lower.0 {
                 a = a.saturating_sub(1);
-            } else if after(a.saturating_add(1)) {
+                (lower, upper) = (side(a), lower);
+            } else if upper.0 {
                 a = a.saturating_add(1);
+                (lower, upper) = (upper, side(a.saturating_add(1)));
             } else {
-                return a;
+                return RowCell {
+                    cell: a,
+                    below: lower.1,
+                    above: upper.1,
+                };
             }
         }
     }
     let (mut a, mut b) = (first_plane.saturating_sub(1), last_plane);
+    // The values at planes `a` and `b + 1`, as the search decides them.
+    let (mut below, mut above) = (T::INFINITY, T::INFINITY);
     while a < b {
         let m = a.saturating_add(b.saturating_sub(a).saturating_add(1).wrapping_shr(1));
-        if after(m) {
-            a = m;
+        let (past, value) = side(m);
+        if past {
+            (a, below) = (m, value);
         } else {
-            b = m.saturating_sub(1);
+            (b, above) = (m.saturating_sub(1), value);
         }
     }
-    a
+    RowCell {
+        cell: a,
+        below,
+        above,
+    }
 }
 
 /// Whether the point at `t` lies past row plane `i` of a unit with rows `[r0, r1]` (on its increasing-row side;
-/// true before the unit's first plane, false after its last), `plane` the plane's signed distance.
+/// true before the unit's first plane, false after its last), `plane` the plane's signed distance, and that
+/// distance (infinite beyond the unit's planes).
 #[inline(always)]
 fn past_plane<T: Real>(
     plane: &impl Fn(u32, T) -> T,
@@ -188,13 +229,46 @@ fn past_plane<T: Real>(
     t: T,
     [r0, r1]: [u32; 2],
     north_up: bool,
-) -> bool {
+) -> (bool, T) {
     if i < i64::from(r0) {
-        return true;
+        return (true, T::INFINITY);
     }
     let Some(i) = u32::try_from(i).ok().filter(|&i| i <= r1) else {
-        return false;
+        return (false, T::INFINITY);
     };
-    let north = plane(i, t) >= T::ZERO;
-    north == north_up
+    let value = plane(i, t);
+    ((value >= T::ZERO) == north_up, value)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{RowCell, row_cell};
+
+    /// Row planes at `t = i` (north of plane `i` for `t ≥ i` when `north_up`, south of it otherwise), rows
+    /// `[2, 10]`: the cell found, from no hint and from hints on either side, and the distances to its planes.
+    #[test]
+    fn row_cell_of_points_inside_on_planes_and_beyond_the_unit_with_their_plane_distances() {
+        for north_up in [true, false] {
+            let sign = if north_up { 1.0 } else { -1.0 };
+            let plane = |i: u32, t: f64| sign * (t - f64::from(i));
+            let cell = |t: f64, hint: Option<i64>| -> RowCell<f64> {
+                row_cell(&plane, t, hint, [2, 10], north_up)
+            };
+            for hint in [None, Some(0), Some(5), Some(9), Some(30)] {
+                let c = cell(6.25, hint);
+                assert_eq!(c.cell, 6, "{north_up} {hint:?}");
+                assert_eq!((c.below, c.above), (sign * 0.25, sign * -0.75));
+                // On plane 7 itself: its north side when rows run north (0 ≥ 0), its south side otherwise
+                let c = cell(7.0, hint);
+                assert_eq!(c.cell, if north_up { 7 } else { 6 }, "{north_up} {hint:?}");
+                // Before the first plane and past the last: no plane beyond, so an infinite distance.
+                let c = cell(1.5, hint);
+                assert_eq!((c.cell, c.below), (1, f64::INFINITY));
+                assert_eq!(c.above, sign * -0.5);
+                let c = cell(10.5, hint);
+                assert_eq!((c.cell, c.above), (10, f64::INFINITY));
+                assert_eq!(c.below, sign * 0.5);
+            }
+        }
+    }
 }
