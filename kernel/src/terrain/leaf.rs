@@ -89,9 +89,6 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
             rows: RowCache::new(u),
             cull: HeightCull::new(frame, (o, d), up_tol, self.ellipsoid.b()),
             az_rate: o.x * d.y - o.y * d.x,
-            apex_tol: T::from_f64(64.0)
-                * T::EPSILON
-                * (o.z.abs() + self.ellipsoid.latitude_cone_apex(T::ONE).abs()),
         }
     }
 
@@ -265,8 +262,7 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
                 cos_lat * cos_half * (o.z - apex_z) - sin_lat * radial_o
                     + t * (cos_lat * cos_half * d.z - sin_lat * radial_d)
             },
-            // twice the row walls' tolerance, `τ (row_mag + |o_z − k|)` with `|k|` at most the polar apex's
-            T::TWO * (tr.tau * col.row_mag + tr.apex_tol),
+            margin_near(tr.tau, col.row_mag, o.z, self.pole_apex),
             row_hint,
         )
     }
@@ -443,6 +439,14 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
     }
 }
 
+/// Twice a bound on the tolerance of every row wall of a column ([`row_wall`]'s `τ (row_mag + |o_z − k|)`, with
+/// `|k|` at most `pole_apex`, the apex of the pole's latitude cone): how near a row plane an end of a column's
+/// segment must lie for [`Picker::crossed_rows`] to add the row beyond it.
+#[inline(always)]
+pub(in crate::terrain) fn margin_near<T: Real>(tau: T, row_mag: T, o_z: T, pole_apex: T) -> T {
+    T::TWO * tau * (row_mag + (o_z.abs() + pole_apex))
+}
+
 /// Row plane of a column (§4: the plane through the spheroid normals at the row's vertices on the column's two
 /// meridians, which both pass through the latitude cone's apex `(0, 0, k_i)`), for the row with values `row`:
 /// `m = (−sin ψ cos λm, −sin ψ sin λm, cos ψ cos(w/2))` with `λm` the column's middle meridian and `w` its width,
@@ -507,9 +511,6 @@ struct UnitTrace<T> {
     cull: HeightCull<T>,
     /// The sign of the azimuth's rate along the ray, `(o × d)_z`.
     az_rate: T,
-    /// `τ (|o_z| + |k_pole|)`: the part of a row wall's tolerance that does not depend on the column, bounded
-    /// over the rows by the apex of the pole's latitude cone, the farthest from the centre.
-    apex_tol: T,
 }
 
 /// One column of a unit's cells (a strip between two meridian planes) and the part `[lo, hi]` of the ray

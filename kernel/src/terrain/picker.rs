@@ -68,6 +68,9 @@ pub struct Picker<'s, T, S, const STACK: usize = 64, const ZONES: usize = 64> {
     /// `2 e² (a²/b)(1 + e² a²/b²)`: beyond this distance from the axis a column's row planes are ordered
     /// ([`Picker::crossed_rows`]).
     pub(super) rows_ordered_beyond: T,
+    /// `e² a²/b`: how far the apex of the pole's latitude cone lies from the centre, the farthest of any row's
+    /// (the row planes' tolerance, [`Picker::crossed_rows`]).
+    pub(super) pole_apex: T,
 }
 
 impl<'s, T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
@@ -107,6 +110,7 @@ impl<'s, T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
                 let (e2, q) = (ellipsoid.e2(), ellipsoid.a() / ellipsoid.b());
                 T::TWO * e2 * ellipsoid.a() * q * (T::ONE + e2 * q * q)
             },
+            pole_apex: ellipsoid.e2() * ellipsoid.a() * (ellipsoid.a() / ellipsoid.b()),
             regional: {
                 let span = |n: u32, step: T| T::from_f64(f64::from(n)) * step.abs();
                 let lim = T::from_f64(30.0);

@@ -27,7 +27,7 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
     /// away, where the cell clip rejects the row beyond. Elsewhere (near the axis) every row is returned.
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn crossed_rows(
+    pub(in crate::terrain) fn crossed_rows(
         &self,
         u: &Unit,
         [lo, hi]: [T; 2],

@@ -325,3 +325,4 @@ mod global;
 mod multires;
 mod picks;
 mod rough;
+mod rows;

@@ -1,0 +1,135 @@
+//! The rows a column's segment can cross ([`Picker::crossed_rows`]): the cells of its two ends, and a row of
+//! margin only beyond a plane that an end lies within rounding of.
+
+use super::*;
+use crate::terrain::walk::Unit;
+
+/// Rows `[2, 10]` of a full-resolution unit, row plane `i` at `t = i` along the ray (north of it for `t ≥ i`
+/// when rows run north, south of it otherwise), far from the axis; `near` is 1/8. `crossed_rows` for the column
+/// segment `[lo, hi]` with its western end at `lo` (`east`) or at `hi`, from `hint`: the rows and the new hint.
+fn rows_of(north_up: bool, [lo, hi]: [f64; 2], east: bool, hint: Option<i64>) -> ((u32, u32), i64) {
+    let dlat = if north_up { 0.01 } else { -0.01 };
+    let dem = TestDem::new(grid(45.0, 7.0, dlat, 0.01, 13, 13), std::vec![0.0; 169], 4);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let unit = Unit {
+        rows: [2, 10],
+        cols: [0, 4],
+        stride: 1,
+        level: 0,
+    };
+    let sign = if north_up { 1.0 } else { -1.0 };
+    let plane = |i: u32, t: f64| sign * (t - f64::from(i));
+    let mut hint = hint;
+    let az_rate = if east { 1.0 } else { -1.0 };
+    let rows = p.crossed_rows(
+        &unit,
+        [lo, hi],
+        (1e7, 0.0),
+        az_rate,
+        &plane,
+        0.125,
+        &mut hint,
+    );
+    (rows, hint.unwrap())
+}
+
+#[test]
+fn column_segment_ends_clear_of_row_planes_cross_only_the_rows_between_their_cells() {
+    for north_up in [true, false] {
+        for east in [true, false] {
+            for hint in [None, Some(1), Some(5), Some(10)] {
+                let (rows, next) = rows_of(north_up, [4.5, 6.5], east, hint);
+                assert_eq!(rows, (4, 7), "{north_up} {east} {hint:?}");
+                // the hint becomes the eastern end's cell
+                assert_eq!(next, if east { 6 } else { 4 });
+                assert_eq!(rows_of(north_up, [5.2, 5.8], east, hint).0, (5, 6));
+            }
+        }
+    }
+}
+
+#[test]
+fn column_segment_ends_within_rounding_of_a_row_plane_add_the_row_beyond_it() {
+    for north_up in [true, false] {
+        for east in [true, false] {
+            // Either end of either cell, on either side of the plane: the row on the plane's far side is added.
+            assert_eq!(rows_of(north_up, [4.05, 6.5], east, None).0, (3, 7));
+            assert_eq!(rows_of(north_up, [3.95, 6.5], east, None).0, (3, 7));
+            assert_eq!(rows_of(north_up, [4.5, 6.95], east, None).0, (4, 8));
+            assert_eq!(rows_of(north_up, [4.5, 7.05], east, None).0, (4, 8));
+            assert_eq!(rows_of(north_up, [5.05, 5.8], east, None).0, (4, 6));
+            assert_eq!(rows_of(north_up, [5.2, 5.95], east, None).0, (5, 7));
+            assert_eq!(rows_of(north_up, [5.05, 5.95], east, None).0, (4, 7));
+            // Exactly `near` from the plane, either side: still near.
+            assert_eq!(rows_of(north_up, [4.125, 6.5], east, None).0, (3, 7));
+            assert_eq!(rows_of(north_up, [3.875, 6.5], east, None).0, (3, 7));
+            assert_eq!(rows_of(north_up, [4.5, 6.875], east, None).0, (4, 8));
+            assert_eq!(rows_of(north_up, [5.125, 5.875], east, None).0, (4, 7));
+            // An end near a plane inside the span adds nothing.
+            assert_eq!(rows_of(north_up, [4.5, 6.05], east, None).0, (4, 7));
+            // On the unit's first and last planes: no row beyond the unit.
+            assert_eq!(rows_of(north_up, [2.0, 2.5], east, None).0, (2, 3));
+            assert_eq!(rows_of(north_up, [9.5, 10.0], east, None).0, (9, 10));
+        }
+    }
+}
+
+#[test]
+fn column_segment_outside_the_unit_or_near_the_axis() {
+    for north_up in [true, false] {
+        // Wholly before the unit's first plane, or past its last: no row.
+        assert_eq!(rows_of(north_up, [0.5, 1.5], true, None).0, (2, 2));
+        assert_eq!(rows_of(north_up, [10.5, 11.5], true, None).0, (10, 10));
+        // From before the unit into it: from its first row.
+        assert_eq!(rows_of(north_up, [1.5, 3.5], true, None).0, (2, 4));
+    }
+    // Near the axis (the planes may be unordered there) and for an infinite end, every row.
+    let dem = TestDem::new(grid(45.0, 7.0, 0.01, 0.01, 13, 13), std::vec![0.0; 169], 4);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let unit = Unit {
+        rows: [2, 10],
+        cols: [0, 4],
+        stride: 1,
+        level: 0,
+    };
+    let plane = |i: u32, t: f64| t - f64::from(i);
+    let mut hint = None;
+    for (radial, span) in [((1.0, 0.0), [5.2, 5.8]), ((1e7, 0.0), [5.2, f64::INFINITY])] {
+        let rows = p.crossed_rows(&unit, span, radial, 1.0, &plane, 0.125, &mut hint);
+        assert_eq!(rows, (2, 10));
+    }
+    assert_eq!(hint, None);
+}
+
+/// `margin_near` against every row wall's tolerance `τ (row_mag + |o_z − k(ψ)|)` (the latitude cone's apex
+/// `k(ψ)` for ψ from pole to pole), for origins from far below the centre to far above it: at least twice the
+/// largest, and no more (the pole's apex is the farthest).
+#[test]
+fn margin_near_is_twice_the_largest_row_wall_tolerance_from_pole_to_pole() {
+    let dem = TestDem::new(grid(45.0, 7.0, 0.01, 0.01, 13, 13), std::vec![0.0; 169], 4);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = Ellipsoid::<f64>::wgs84();
+    let tau = 64.0 * f64::EPSILON;
+    for o_z in [-4e7, -6.4e6, -1e5, 0.0, 3e4, 6.4e6, 4e7] {
+        for row_mag in [0.0, 1e3, 7e6, 4e7] {
+            let near = crate::terrain::leaf::margin_near(tau, row_mag, o_z, p.pole_apex);
+            let widest = (-180..=180)
+                .map(|k| {
+                    let (sin, _) = sin_cos_deg(f64::from(k) * 0.5);
+                    tau * (row_mag + (o_z - e.latitude_cone_apex(sin)).abs())
+                })
+                .fold(0.0, f64::max);
+            assert!(
+                near >= 2.0 * widest,
+                "{o_z} {row_mag}: {near} < 2 × {widest}"
+            );
+            assert!(
+                near <= 2.000_001 * widest,
+                "{o_z} {row_mag}: {near} > 2 × {widest}"
+            );
+        }
+    }
+}
