@@ -228,8 +228,9 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
          vertices). Brute force: Möller–Trumbore over every triangle with precomputed vertices, timed on the first \
          {n_brute} rays of each row (sampled). Synthetic terrain: {n_syn} × {n_syn}{}. Rays per second are wall-clock \
          figures under one policy for every method: each builds its own rays from the same f64 records inside \
-         the timed region, and all run interleaved, {PASSES} passes each, best pass kept, so the ratios are the \
-         figures to read on a loaded machine. \"status differs\" counts rays that one of ours/parry \
+         the timed region, each timed run follows an untimed run of the same method (so that each starts with its \
+         own data in the caches, not the previous method's), and all run interleaved, {PASSES} passes each, best \
+         pass kept, so the ratios are the figures to read on a loaded machine. \"status differs\" counts rays that one of ours/parry \
          hits and the other misses.\n\n",
         if opts.quick {
             " (quick mode; the full report uses 4096 × 4096)"
@@ -313,11 +314,23 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
     })
 }
 
+/// `f` run once untimed, then timed: its seconds and its second result. The untimed run brings the method's
+/// own data into the caches, whichever method ran before it (one that walks a large structure, such as brute
+/// force's vertex arrays, would otherwise leave the next method to start cold).
+fn warm_then_time<R>(mut f: impl FnMut() -> R) -> (f64, R) {
+    std::hint::black_box(f());
+    let t0 = Instant::now();
+    let r = f();
+    (t0.elapsed().as_secs_f64(), r)
+}
+
 /// Times ours at every block size, parry and the sampled brute force on the same rays, interleaved, under one
 /// policy for every method: each starts from the same `f64` ray records and builds its own ray inside the timed
 /// region (`curvicast::Ray::new`, parry's `Ray::new`), and each pass times every method once (brute force on
 /// the first `n_brute` rays) and the best of `PASSES` passes is kept per method (a background load slows a pass,
-/// never speeds one up).
+/// never speeds one up). Each timed run follows an untimed run of the same method over the same rays
+/// ([`warm_then_time`]), so that every method is timed with its own data in the caches, not the previous
+/// method's.
 #[allow(clippy::too_many_arguments)]
 fn measure(
     scene: &str,
@@ -343,28 +356,32 @@ fn measure(
     let mut extra_answers: Vec<Vec<Option<f64>>> = vec![Vec::new(); extra.len()];
     for pass in 0..PASSES {
         for (k, (_, picker)) in pickers.iter().enumerate() {
-            let mut stats = PickStats::default();
-            let t0 = Instant::now();
-            let got: Vec<TCell> = rays
-                .iter()
-                .map(|r| {
-                    picker
-                        .pick_with_stats(&ray(r)?, &mut stats)
-                        .map(|h| h.map(|h| (h.t, h.cell)))
-                        .map_err(|e| anyhow::anyhow!("{scene}: {e}"))
-                })
-                .collect::<anyhow::Result<_>>()?;
-            best_ours[k] = best_ours[k].min(t0.elapsed().as_secs_f64());
-            let t0 = Instant::now();
-            let got_t: Vec<TCell> = rays
-                .iter()
-                .map(|r| {
-                    picker
-                        .pick_t(&ray(r)?)
-                        .map_err(|e| anyhow::anyhow!("{scene}: {e}"))
-                })
-                .collect::<anyhow::Result<_>>()?;
-            best_t[k] = best_t[k].min(t0.elapsed().as_secs_f64());
+            let (secs, (got, stats)) = warm_then_time(|| {
+                let mut stats = PickStats::default();
+                let got = rays
+                    .iter()
+                    .map(|r| {
+                        picker
+                            .pick_with_stats(&ray(r)?, &mut stats)
+                            .map(|h| h.map(|h| (h.t, h.cell)))
+                            .map_err(|e| anyhow::anyhow!("{scene}: {e}"))
+                    })
+                    .collect::<anyhow::Result<Vec<TCell>>>();
+                (got, stats)
+            });
+            let got = got?;
+            best_ours[k] = best_ours[k].min(secs);
+            let (secs, got_t) = warm_then_time(|| {
+                rays.iter()
+                    .map(|r| {
+                        picker
+                            .pick_t(&ray(r)?)
+                            .map_err(|e| anyhow::anyhow!("{scene}: {e}"))
+                    })
+                    .collect::<anyhow::Result<Vec<TCell>>>()
+            });
+            let got_t = got_t?;
+            best_t[k] = best_t[k].min(secs);
             if pass == 0 {
                 tris[k] = u64::from(stats.triangles_tested);
                 quads[k] = u64::from(stats.quads_visited);
@@ -372,25 +389,32 @@ fn measure(
                 answers_t[k] = got_t;
             }
         }
-        let t0 = Instant::now();
-        let got: Vec<Option<f64>> = rays.iter().map(|r| parry.pick(r)).collect();
-        best_parry = best_parry.min(t0.elapsed().as_secs_f64());
+        let (secs, got) = warm_then_time(|| {
+            rays.iter()
+                .map(|r| parry.pick(r))
+                .collect::<Vec<Option<f64>>>()
+        });
+        best_parry = best_parry.min(secs);
         if pass == 0 {
             theirs = got;
         }
         for (k, b) in extra.iter().enumerate() {
-            let t0 = Instant::now();
-            let got: Vec<Option<f64>> = rays.iter().map(|r| (b.pick)(r)).collect();
-            best_extra[k] = best_extra[k].min(t0.elapsed().as_secs_f64());
+            let (secs, got) = warm_then_time(|| {
+                rays.iter()
+                    .map(|r| (b.pick)(r))
+                    .collect::<Vec<Option<f64>>>()
+            });
+            best_extra[k] = best_extra[k].min(secs);
             if pass == 0 {
                 extra_answers[k] = got;
             }
         }
-        let t0 = Instant::now();
-        for r in rays.iter().take(n_brute) {
-            std::hint::black_box(brute.pick(r));
-        }
-        best_brute = best_brute.min(t0.elapsed().as_secs_f64());
+        let (secs, ()) = warm_then_time(|| {
+            for r in rays.iter().take(n_brute) {
+                std::hint::black_box(brute.pick(r));
+            }
+        });
+        best_brute = best_brute.min(secs);
     }
     let mut out = Vec::new();
     for (k, (block, _)) in pickers.iter().enumerate() {
