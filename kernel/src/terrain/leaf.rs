@@ -166,6 +166,15 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
         let [c0, c1] = u.cols;
         let [j, j1] = col.cols;
         let (first_row, end_row) = self.column_rows(tr, col, row_hint);
+        // A column the ray passes high above is skipped from its heights alone, before its cells are clipped.
+        if !tr.stitchable
+            && end_row.saturating_sub(first_row) >= 2
+            && self
+                .column_height_max([first_row, end_row], col.cols)
+                .is_some_and(|h| tr.cull.surely_above(h, col.lo, col.hi.min(w.best_t())))
+        {
+            return Ok(());
+        }
         // Each row's values are fetched once, for its wall and its vertices.
         let mut row_a = self.row_at(&tr.rows, first_row);
         let mut wall_a = row_wall(tr, col, row_a, false);
@@ -265,6 +274,20 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
             margin_near(tr.tau, col.row_mag, o.z, self.pole_apex),
             row_hint,
         )
+    }
+
+    /// The highest height of a column's vertices on rows `[first, end]` (its cells `[first, end)`) and on
+    /// meridians `j` and `j1`, or `None` unless all have data.
+    #[inline]
+    fn column_height_max(&self, [first, end]: [u32; 2], [j, j1]: [u32; 2]) -> Option<T> {
+        let mut top = T::NEG_INFINITY;
+        for i in first..=end {
+            for jj in [j, j1] {
+                let h = self.storage.height(i, jj).filter(|h: &T| h.is_finite())?;
+                top = top.max(h);
+            }
+        }
+        Some(top)
     }
 
     /// The highest of a cell's four corner heights, or `None` unless all four have data.

@@ -284,6 +284,38 @@ fn shallow_ray_over_flat_cells_tests_the_triangles_of_the_cell_it_reaches_only()
 }
 
 #[test]
+fn ray_descending_north_over_two_columns_skips_the_first_from_its_heights_alone() {
+    // A ray from 100 m above flat 0 m terrain descending north-eastwards onto cell (3, 2) of an 8 × 8-cell leaf
+    // whose box a 300 m peak at V(7, 7) makes tall: it crosses column 1 over rows 0 and 1, at 100 m to 50 m,
+    // then column 2 over rows 2 and 3. Column 1 lies wholly below the ray (its heights alone say so), so its
+    // cells are not even clipped: the cells visited are column 2's two.
+    let g = grid(30.0, 10.0, 0.01, 0.01, 17, 17);
+    let mut heights = std::vec![0.0; 289];
+    heights[7 * 17 + 7] = 300.0;
+    let dem = TestDem::new(g, heights, 8);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = dem.surface.e;
+    let from = e.geodetic_deg_to_ecef(30.005, 10.015, 100.0);
+    let to = e.geodetic_deg_to_ecef(30.035, 10.025, 0.0);
+    let ray = Ray::new(from, to.minus(from)).unwrap();
+    let mut st = PickStats::default();
+    let hit = p.pick_with_stats(&ray, &mut st).unwrap().unwrap();
+    assert_eq!(hit.cell, [3, 2], "{st:?}");
+    assert_eq!(st.triangle_pairs_visited, 2, "{st:?}");
+    assert_eq!(st.triangles_tested, 2, "{st:?}");
+    if cfg!(miri) {
+        return; // the brute force over the 512 triangles takes most of a minute there
+    }
+    same_hit(
+        &ray,
+        Some((hit.t, hit.cell)),
+        dem.surface.brute(&ray),
+        "ray over two columns",
+    );
+}
+
+#[test]
 fn typed_errors() {
     let bad = GridOnly(grid(0.0, 0.0, 0.0, 0.01, 3, 3));
     assert_eq!(
