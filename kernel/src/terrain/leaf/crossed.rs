@@ -79,7 +79,13 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
     /// between the two, plus one column of margin beyond a meridian that an end lies within rounding distance of
     /// (the cells beyond are convex hulls of vertices on or past that meridian, so an end clear of it keeps the
     /// segment out of them). Falls back to all columns otherwise.
-    pub(super) fn unit_columns(&self, u: &Unit, ray: &Ray<T>, t_in: T, t_out: T) -> (u32, u32) {
+    pub(in crate::terrain) fn unit_columns(
+        &self,
+        u: &Unit,
+        ray: &Ray<T>,
+        t_in: T,
+        t_out: T,
+    ) -> (u32, u32) {
         let [c0, c1] = u.cols;
         let n = div_ceil_pow2(c1.saturating_sub(c0), u.stride);
         let all = (0, n);

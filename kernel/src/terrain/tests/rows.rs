@@ -1,5 +1,6 @@
-//! The rows a column's segment can cross ([`Picker::crossed_rows`]): the cells of its two ends, and a row of
-//! margin only beyond a plane that an end lies within rounding of.
+//! The columns of a unit that a segment can cross ([`Picker::unit_columns`]) and the rows a column's segment can
+//! cross ([`Picker::crossed_rows`]): those of its two ends' cells, and a column or row of margin only beyond a
+//! meridian or row plane that an end lies within rounding of.
 
 use super::*;
 use crate::terrain::walk::Unit;
@@ -131,5 +132,100 @@ fn margin_near_is_twice_the_largest_row_wall_tolerance_from_pole_to_pole() {
                 "{o_z} {row_mag}: {near} > 2 × {widest}"
             );
         }
+    }
+}
+
+/// The rows are located only where the column's row planes are ordered, beyond `rows_ordered_beyond` from the
+/// axis along the column's middle meridian at both ends of the segment (`radial_o + t·radial_d`); with one end
+/// on that distance or inside it, every row of the unit.
+#[test]
+fn rows_are_located_only_when_both_ends_lie_beyond_the_ordered_distance() {
+    let dem = TestDem::new(grid(45.0, 7.0, 0.01, 0.01, 13, 13), std::vec![0.0; 169], 4);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let unit = Unit {
+        rows: [2, 10],
+        cols: [0, 4],
+        stride: 1,
+        level: 0,
+    };
+    let plane = |i: u32, t: f64| t - f64::from(i);
+    let r = p.rows_ordered_beyond;
+    let rows = |radial: (f64, f64), span: [f64; 2]| {
+        p.crossed_rows(&unit, span, radial, 1.0, &plane, 0.125, &mut None)
+    };
+    // Both ends beyond (r + 0.4 and r + 1.6, moving outwards): located.
+    assert_eq!(rows((r - 10.0, 2.0), [5.2, 5.8]), (5, 6));
+    // The far end inside (r + 0.3, then r − 0.3): every row.
+    assert_eq!(rows((r + 5.5, -1.0), [5.2, 5.8]), (2, 10));
+    // An end exactly at the distance, the other beyond: every row.
+    assert_eq!(rows((r, 1.0), [0.0, 0.5]), (2, 10));
+    assert_eq!(rows((r, -1.0), [-0.5, 0.0]), (2, 10));
+    // Both beyond, before the unit: no row.
+    assert_eq!(rows((r + 1.0, 1.0), [0.0, 0.5]), (2, 2));
+}
+
+/// `unit_columns` of the segment from `(lat, lon_a, 1000 m)` to `(lat, lon_b, 0 m)` (`t` from 0 to 1) over the
+/// 8 × 8-cell unit at 45.02° – 45.10° N, 7.00° – 7.08° E (columns 0.01° wide).
+fn columns_of(lon_a: f64, lon_b: f64) -> (u32, u32) {
+    let dem = TestDem::new(grid(45.0, 7.0, 0.01, 0.01, 13, 13), std::vec![0.0; 169], 4);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let unit = Unit {
+        rows: [2, 10],
+        cols: [0, 8],
+        stride: 1,
+        level: 0,
+    };
+    let e = dem.surface.e;
+    let a = e.geodetic_deg_to_ecef(45.05, lon_a, 1000.0);
+    let b = e.geodetic_deg_to_ecef(45.05, lon_b, 0.0);
+    let ray = Ray::new(a, b.minus(a)).unwrap();
+    p.unit_columns(&unit, &ray, 0.0, 1.0)
+}
+
+#[test]
+fn segment_ends_clear_of_meridians_cross_only_the_columns_between_their_cells() {
+    assert_eq!(columns_of(7.025, 7.055), (2, 6));
+    assert_eq!(columns_of(7.055, 7.025), (2, 6));
+    // both ends in one column
+    assert_eq!(columns_of(7.031, 7.039), (3, 4));
+    assert_eq!(columns_of(7.005, 7.009), (0, 1));
+    assert_eq!(columns_of(7.075, 7.079), (7, 8));
+    // an end east of the unit: from its last column
+    assert_eq!(columns_of(7.095, 7.075), (7, 8));
+    // an end west of the unit: from its first column
+    assert_eq!(columns_of(6.995, 7.015), (0, 2));
+}
+
+#[test]
+fn segment_ends_on_a_meridian_add_the_column_beyond_it() {
+    // On meridian 3 (7.03°), the other end in column 3: column 2 too, whichever side rounding puts the end on.
+    assert_eq!(columns_of(7.03, 7.035), (2, 4));
+    assert_eq!(columns_of(7.035, 7.03), (2, 4));
+    // On meridian 5, the other end in column 4: column 5 too.
+    assert_eq!(columns_of(7.045, 7.05), (4, 6));
+    // On the unit's first and last meridians: no column beyond the unit.
+    assert_eq!(columns_of(7.0, 7.005), (0, 1));
+    assert_eq!(columns_of(7.075, 7.08), (7, 8));
+}
+
+#[test]
+fn segment_behind_the_units_middle_meridian_gets_every_column() {
+    // Through the Earth's centre: the far end lies in the opposite hemisphere, where the meridian planes' sides
+    // do not order the columns.
+    let dem = TestDem::new(grid(45.0, 7.0, 0.01, 0.01, 13, 13), std::vec![0.0; 169], 4);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let unit = Unit {
+        rows: [2, 10],
+        cols: [0, 8],
+        stride: 1,
+        level: 0,
+    };
+    let a = dem.surface.e.geodetic_deg_to_ecef(45.05, 7.035, 1000.0);
+    for (from, to) in [(a, a.negated()), (a.negated(), a)] {
+        let ray = Ray::new(from, to.minus(from)).unwrap();
+        assert_eq!(p.unit_columns(&unit, &ray, 0.0, 1.0), (0, 8));
     }
 }
