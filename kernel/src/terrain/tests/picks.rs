@@ -251,12 +251,10 @@ fn normal_on_a_parallel_at_a_column_middle_crosses_only_the_cell_south_of_the_ro
     }
 }
 
-#[test]
-fn shallow_ray_over_flat_cells_tests_the_triangles_of_the_cell_it_reaches_only() {
-    // A ray from 100 m above flat 0 m terrain descending eastwards at about 1 in 29 onto the middle of cell
-    // (2, 3) of an 8 × 8-cell leaf whose box a 300 m peak at V(7, 7) makes tall: it crosses cells 0 to 3 of
-    // row 2 inside the leaf's box, the first three wholly above their corners (the height cull skips them),
-    // so only the last cell's two triangles are tested.
+/// The hit and the work of the ray from `from` to `to` (geodetic: latitude, longitude in degrees, height) over
+/// flat 0 m terrain at 30° N, 10° E in 8 × 8-cell leaves of 0.01° cells, whose first leaf's box a 300 m peak at
+/// V(7, 7) makes tall; checked against the brute force (`what` names the ray).
+fn pick_beside_a_peak(from: [f64; 3], to: [f64; 3], what: &str) -> (Hit<f64>, PickStats) {
     let g = grid(30.0, 10.0, 0.01, 0.01, 17, 17);
     let mut heights = std::vec![0.0; 289];
     heights[7 * 17 + 7] = 300.0;
@@ -264,55 +262,45 @@ fn shallow_ray_over_flat_cells_tests_the_triangles_of_the_cell_it_reaches_only()
     let s = dem.storage();
     let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     let e = dem.surface.e;
-    let from = e.geodetic_deg_to_ecef(30.025, 10.005, 100.0);
-    let to = e.geodetic_deg_to_ecef(30.025, 10.035, 0.0);
+    let [from, to] = [from, to].map(|[lat, lon, h]| e.geodetic_deg_to_ecef(lat, lon, h));
     let ray = Ray::new(from, to.minus(from)).unwrap();
     let mut st = PickStats::default();
     let hit = p.pick_with_stats(&ray, &mut st).unwrap().unwrap();
+    // (under Miri the brute force over the 512 triangles takes most of a minute)
+    if !cfg!(miri) {
+        same_hit(&ray, Some((hit.t, hit.cell)), dem.surface.brute(&ray), what);
+    }
+    (hit, st)
+}
+
+#[test]
+fn shallow_ray_over_flat_cells_tests_the_triangles_of_the_cell_it_reaches_only() {
+    // A ray from 100 m above the flat terrain descending eastwards at about 1 in 29 onto the middle of cell
+    // (2, 3): it crosses cells 0 to 3 of row 2 inside the leaf's box, the first three wholly above their corners
+    // (the height cull skips them), so only the last cell's two triangles are tested.
+    let (hit, st) = pick_beside_a_peak(
+        [30.025, 10.005, 100.0],
+        [30.025, 10.035, 0.0],
+        "shallow ray",
+    );
     assert_eq!(hit.cell, [2, 3], "{st:?}");
     assert!(st.triangle_pairs_visited >= 4, "{st:?}");
     assert_eq!(st.triangles_tested, 2, "{st:?}");
-    if cfg!(miri) {
-        return; // the brute force over the 512 triangles takes most of a minute there
-    }
-    same_hit(
-        &ray,
-        Some((hit.t, hit.cell)),
-        dem.surface.brute(&ray),
-        "shallow ray",
-    );
 }
 
 #[test]
 fn ray_descending_north_over_two_columns_skips_the_first_from_its_heights_alone() {
-    // A ray from 100 m above flat 0 m terrain descending north-eastwards onto cell (3, 2) of an 8 × 8-cell leaf
-    // whose box a 300 m peak at V(7, 7) makes tall: it crosses column 1 over rows 0 and 1, at 100 m to 50 m,
-    // then column 2 over rows 2 and 3. Column 1 lies wholly below the ray (its heights alone say so), so its
-    // cells are not even clipped: the cells visited are column 2's two.
-    let g = grid(30.0, 10.0, 0.01, 0.01, 17, 17);
-    let mut heights = std::vec![0.0; 289];
-    heights[7 * 17 + 7] = 300.0;
-    let dem = TestDem::new(g, heights, 8);
-    let s = dem.storage();
-    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
-    let e = dem.surface.e;
-    let from = e.geodetic_deg_to_ecef(30.005, 10.015, 100.0);
-    let to = e.geodetic_deg_to_ecef(30.035, 10.025, 0.0);
-    let ray = Ray::new(from, to.minus(from)).unwrap();
-    let mut st = PickStats::default();
-    let hit = p.pick_with_stats(&ray, &mut st).unwrap().unwrap();
+    // A ray from 100 m above the flat terrain descending north-eastwards onto cell (3, 2): it crosses column 1
+    // over rows 0 and 1, at 100 m to 50 m, then column 2 over rows 2 and 3. Column 1 lies wholly below the ray
+    // (its heights alone say so), so its cells are not even clipped: the cells visited are column 2's two.
+    let (hit, st) = pick_beside_a_peak(
+        [30.005, 10.015, 100.0],
+        [30.035, 10.025, 0.0],
+        "ray over two columns",
+    );
     assert_eq!(hit.cell, [3, 2], "{st:?}");
     assert_eq!(st.triangle_pairs_visited, 2, "{st:?}");
     assert_eq!(st.triangles_tested, 2, "{st:?}");
-    if cfg!(miri) {
-        return; // the brute force over the 512 triangles takes most of a minute there
-    }
-    same_hit(
-        &ray,
-        Some((hit.t, hit.cell)),
-        dem.surface.brute(&ray),
-        "ray over two columns",
-    );
 }
 
 #[test]

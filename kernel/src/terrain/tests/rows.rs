@@ -5,34 +5,53 @@
 use super::*;
 use crate::terrain::walk::Unit;
 
-/// Rows `[2, 10]` of a full-resolution unit, row plane `i` at `t = i` along the ray (north of it for `t ≥ i`
-/// when rows run north, south of it otherwise), far from the axis; `near` is 1/8. `crossed_rows` for the column
-/// segment `[lo, hi]` with its western end at `lo` (`east`) or at `hi`, from `hint`: the rows and the new hint.
-fn rows_of(north_up: bool, [lo, hi]: [f64; 2], east: bool, hint: Option<i64>) -> ((u32, u32), i64) {
+/// The full-resolution unit of these tests: rows `[2, 10]` and columns `[0, 8]` (45.02° – 45.10° N, 7.00° –
+/// 7.08° E, cells 0.01° wide).
+const UNIT: Unit = Unit {
+    rows: [2, 10],
+    cols: [0, 8],
+    stride: 1,
+    level: 0,
+};
+
+/// `f` with a picker over a flat 13 × 13-vertex grid at 45° N, 7° E holding [`UNIT`], its rows running north
+/// when `north_up`, and the DEM.
+fn with_picker<R>(
+    north_up: bool,
+    f: impl FnOnce(&Picker<'_, f64, Storage<'_>>, &TestDem) -> R,
+) -> R {
     let dlat = if north_up { 0.01 } else { -0.01 };
     let dem = TestDem::new(grid(45.0, 7.0, dlat, 0.01, 13, 13), std::vec![0.0; 169], 4);
     let s = dem.storage();
     let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
-    let unit = Unit {
-        rows: [2, 10],
-        cols: [0, 4],
-        stride: 1,
-        level: 0,
-    };
+    f(&p, &dem)
+}
+
+/// Row plane `i` at `t = i` along the ray, north of it for `t ≥ i` when `north_up` (rows run north), south of it
+/// otherwise.
+fn plane_at_t(north_up: bool) -> impl Fn(u32, f64) -> f64 {
     let sign = if north_up { 1.0 } else { -1.0 };
-    let plane = |i: u32, t: f64| sign * (t - f64::from(i));
-    let mut hint = hint;
-    let az_rate = if east { 1.0 } else { -1.0 };
-    let rows = p.crossed_rows(
-        &unit,
-        [lo, hi],
-        (1e7, 0.0),
-        az_rate,
-        &plane,
-        0.125,
-        &mut hint,
-    );
-    (rows, hint.unwrap())
+    move |i, t| sign * (t - f64::from(i))
+}
+
+/// [`UNIT`]'s rows with [`plane_at_t`]'s planes, far from the axis; `near` is 1/8. `crossed_rows` for the column
+/// segment `[lo, hi]` with its western end at `lo` (`east`) or at `hi`, from `hint`: the rows and the new hint.
+fn rows_of(north_up: bool, [lo, hi]: [f64; 2], east: bool, hint: Option<i64>) -> ((u32, u32), i64) {
+    with_picker(north_up, |p, _| {
+        let mut hint = hint;
+        let az_rate = if east { 1.0 } else { -1.0 };
+        let plane = plane_at_t(north_up);
+        let rows = p.crossed_rows(
+            &UNIT,
+            [lo, hi],
+            (1e7, 0.0),
+            az_rate,
+            &plane,
+            0.125,
+            &mut hint,
+        );
+        (rows, hint.unwrap())
+    })
 }
 
 #[test]
@@ -86,22 +105,22 @@ fn column_segment_outside_the_unit_or_near_the_axis() {
         assert_eq!(rows_of(north_up, [1.5, 3.5], true, None).0, (2, 4));
     }
     // Near the axis (the planes may be unordered there) and for an infinite end, every row.
-    let dem = TestDem::new(grid(45.0, 7.0, 0.01, 0.01, 13, 13), std::vec![0.0; 169], 4);
-    let s = dem.storage();
-    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
-    let unit = Unit {
-        rows: [2, 10],
-        cols: [0, 4],
-        stride: 1,
-        level: 0,
-    };
-    let plane = |i: u32, t: f64| t - f64::from(i);
-    let mut hint = None;
-    for (radial, span) in [((1.0, 0.0), [5.2, 5.8]), ((1e7, 0.0), [5.2, f64::INFINITY])] {
-        let rows = p.crossed_rows(&unit, span, radial, 1.0, &plane, 0.125, &mut hint);
-        assert_eq!(rows, (2, 10));
-    }
-    assert_eq!(hint, None);
+    with_picker(true, |p, _| {
+        let mut hint = None;
+        for (radial, span) in [((1.0, 0.0), [5.2, 5.8]), ((1e7, 0.0), [5.2, f64::INFINITY])] {
+            let rows = p.crossed_rows(
+                &UNIT,
+                span,
+                radial,
+                1.0,
+                &plane_at_t(true),
+                0.125,
+                &mut hint,
+            );
+            assert_eq!(rows, (2, 10));
+        }
+        assert_eq!(hint, None);
+    });
 }
 
 /// `margin_near` against every row wall's tolerance `τ (row_mag + |o_z − k(ψ)|)` (the latitude cone's apex
@@ -109,14 +128,12 @@ fn column_segment_outside_the_unit_or_near_the_axis() {
 /// largest, and no more (the pole's apex is the farthest).
 #[test]
 fn margin_near_is_twice_the_largest_row_wall_tolerance_from_pole_to_pole() {
-    let dem = TestDem::new(grid(45.0, 7.0, 0.01, 0.01, 13, 13), std::vec![0.0; 169], 4);
-    let s = dem.storage();
-    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let pole_apex = with_picker(true, |p, _| p.pole_apex);
     let e = Ellipsoid::<f64>::wgs84();
     let tau = 64.0 * f64::EPSILON;
     for o_z in [-4e7, -6.4e6, -1e5, 0.0, 3e4, 6.4e6, 4e7] {
         for row_mag in [0.0, 1e3, 7e6, 4e7] {
-            let near = crate::terrain::leaf::margin_near(tau, row_mag, o_z, p.pole_apex);
+            let near = crate::terrain::leaf::margin_near(tau, row_mag, o_z, pole_apex);
             let widest = (-180..=180)
                 .map(|k| {
                     let (sin, _) = sin_cos_deg(f64::from(k) * 0.5);
@@ -140,48 +157,34 @@ fn margin_near_is_twice_the_largest_row_wall_tolerance_from_pole_to_pole() {
 /// on that distance or inside it, every row of the unit.
 #[test]
 fn rows_are_located_only_when_both_ends_lie_beyond_the_ordered_distance() {
-    let dem = TestDem::new(grid(45.0, 7.0, 0.01, 0.01, 13, 13), std::vec![0.0; 169], 4);
-    let s = dem.storage();
-    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
-    let unit = Unit {
-        rows: [2, 10],
-        cols: [0, 4],
-        stride: 1,
-        level: 0,
-    };
-    let plane = |i: u32, t: f64| t - f64::from(i);
-    let r = p.rows_ordered_beyond;
-    let rows = |radial: (f64, f64), span: [f64; 2]| {
-        p.crossed_rows(&unit, span, radial, 1.0, &plane, 0.125, &mut None)
-    };
-    // Both ends beyond (r + 0.4 and r + 1.6, moving outwards): located.
-    assert_eq!(rows((r - 10.0, 2.0), [5.2, 5.8]), (5, 6));
-    // The far end inside (r + 0.3, then r − 0.3): every row.
-    assert_eq!(rows((r + 5.5, -1.0), [5.2, 5.8]), (2, 10));
-    // An end exactly at the distance, the other beyond: every row.
-    assert_eq!(rows((r, 1.0), [0.0, 0.5]), (2, 10));
-    assert_eq!(rows((r, -1.0), [-0.5, 0.0]), (2, 10));
-    // Both beyond, before the unit: no row.
-    assert_eq!(rows((r + 1.0, 1.0), [0.0, 0.5]), (2, 2));
+    with_picker(true, |p, _| {
+        let r = p.rows_ordered_beyond;
+        let plane = plane_at_t(true);
+        let rows = |radial: (f64, f64), span: [f64; 2]| {
+            p.crossed_rows(&UNIT, span, radial, 1.0, &plane, 0.125, &mut None)
+        };
+        // Both ends beyond (r + 0.4 and r + 1.6, moving outwards): located.
+        assert_eq!(rows((r - 10.0, 2.0), [5.2, 5.8]), (5, 6));
+        // The far end inside (r + 0.3, then r − 0.3): every row.
+        assert_eq!(rows((r + 5.5, -1.0), [5.2, 5.8]), (2, 10));
+        // An end exactly at the distance, the other beyond: every row.
+        assert_eq!(rows((r, 1.0), [0.0, 0.5]), (2, 10));
+        assert_eq!(rows((r, -1.0), [-0.5, 0.0]), (2, 10));
+        // Both beyond, before the unit: no row.
+        assert_eq!(rows((r + 1.0, 1.0), [0.0, 0.5]), (2, 2));
+    });
 }
 
-/// `unit_columns` of the segment from `(lat, lon_a, 1000 m)` to `(lat, lon_b, 0 m)` (`t` from 0 to 1) over the
-/// 8 × 8-cell unit at 45.02° – 45.10° N, 7.00° – 7.08° E (columns 0.01° wide).
+/// `unit_columns` over [`UNIT`] of the segment from `(45.05°, lon_a, 1000 m)` to `(45.05°, lon_b, 0 m)` (`t` from
+/// 0 to 1).
 fn columns_of(lon_a: f64, lon_b: f64) -> (u32, u32) {
-    let dem = TestDem::new(grid(45.0, 7.0, 0.01, 0.01, 13, 13), std::vec![0.0; 169], 4);
-    let s = dem.storage();
-    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
-    let unit = Unit {
-        rows: [2, 10],
-        cols: [0, 8],
-        stride: 1,
-        level: 0,
-    };
-    let e = dem.surface.e;
-    let a = e.geodetic_deg_to_ecef(45.05, lon_a, 1000.0);
-    let b = e.geodetic_deg_to_ecef(45.05, lon_b, 0.0);
-    let ray = Ray::new(a, b.minus(a)).unwrap();
-    p.unit_columns(&unit, &ray, 0.0, 1.0)
+    with_picker(true, |p, dem| {
+        let e = dem.surface.e;
+        let a = e.geodetic_deg_to_ecef(45.05, lon_a, 1000.0);
+        let b = e.geodetic_deg_to_ecef(45.05, lon_b, 0.0);
+        let ray = Ray::new(a, b.minus(a)).unwrap();
+        p.unit_columns(&UNIT, &ray, 0.0, 1.0)
+    })
 }
 
 #[test]
@@ -214,18 +217,11 @@ fn segment_ends_on_a_meridian_add_the_column_beyond_it() {
 fn segment_behind_the_units_middle_meridian_gets_every_column() {
     // Through the Earth's centre: the far end lies in the opposite hemisphere, where the meridian planes' sides
     // do not order the columns.
-    let dem = TestDem::new(grid(45.0, 7.0, 0.01, 0.01, 13, 13), std::vec![0.0; 169], 4);
-    let s = dem.storage();
-    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
-    let unit = Unit {
-        rows: [2, 10],
-        cols: [0, 8],
-        stride: 1,
-        level: 0,
-    };
-    let a = dem.surface.e.geodetic_deg_to_ecef(45.05, 7.035, 1000.0);
-    for (from, to) in [(a, a.negated()), (a.negated(), a)] {
-        let ray = Ray::new(from, to.minus(from)).unwrap();
-        assert_eq!(p.unit_columns(&unit, &ray, 0.0, 1.0), (0, 8));
-    }
+    with_picker(true, |p, dem| {
+        let a = dem.surface.e.geodetic_deg_to_ecef(45.05, 7.035, 1000.0);
+        for (from, to) in [(a, a.negated()), (a.negated(), a)] {
+            let ray = Ray::new(from, to.minus(from)).unwrap();
+            assert_eq!(p.unit_columns(&UNIT, &ray, 0.0, 1.0), (0, 8));
+        }
+    });
 }
