@@ -15,7 +15,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")"
 TARGET=thumbv7em-none-eabihf
 QEMU=(qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic -semihosting-config enable=on,target=native
       -icount shift=0 -kernel)
-FIRMWARES=(empty march-f32 march-f64 pick-f32 bevel-f32 sqrt-check)
+FIRMWARES=(empty march-workload-f32 march-f32 march-workload-f64 march-f64 pick-f32 bevel-f32 sqrt-check)
 
 tool() {
     local t
@@ -87,7 +87,9 @@ echo "march-f32 (opt \"s\") kernel code: ${kernel_ran:-?} B ran on the benchmark
 echo "march-f32 stack frames (opt 3) of 64 B or more:"
 OBJDUMP=$OBJDUMP ./stack-frames.sh "target/$TARGET/release/march-f32" | tee march-f32-all-frames.txt \
     | awk '$1 >= 64' | tee march-f32-frames.txt
-closure_frame=$(grep -F 'march_bench::_$u7b$$u7b$closure$u7d$$u7d$' march-f32-all-frames.txt | awk '{ print $1 }' | head -n 1)
+# the timed run's closure: the innermost of march_bench's three (per grid, per ray, the run)
+C='_$u7b$$u7b$closure$u7d$$u7d$'
+closure_frame=$(awk -v f="curvicast_m4f_bench::march_bench::$C::$C::$C" '$2 == f { print $1 }' march-f32-all-frames.txt | head -n 1)
 
 field() { grep -oE "$2 [-0-9.]+" <<<"${OUT[$1]}" | head -n "${3:-1}" | tail -n 1 | awk '{ print $2 }'; }
 grid() { grep -E "^m4f-bench $1: grid $2 " <<<"${OUT[$1]}" | grep -oE "$3 [-0-9.]+" | awk '{ print $2 }'; }
@@ -95,19 +97,24 @@ grid() { grep -E "^m4f-bench $1: grid $2 " <<<"${OUT[$1]}" | grep -oE "$3 [-0-9.
 empty_s=$(text release-s empty)
 empty_z=$(text release-z empty)
 empty_3=$(text release empty)
-march_s=$(( $(text release-s march-f32) - empty_s ))
-march_z=$(( $(text release-z march-f32) - empty_z ))
+# A march firmware is measured against its workload firmware: the harness plus the benchmark's own breakpoints and
+# rays, made by the same driver with no kernel call (lib.rs, `march_workload`).
+base() { case $2 in march-f32|march-f64) text "$1" "march-workload-${2#march-}" ;; *) text "$1" empty ;; esac; }
+march_s=$(( $(text release-s march-f32) - $(base release-s march-f32) ))
+march_z=$(( $(text release-z march-f32) - $(base release-z march-f32) ))
+march_s_empty=$(( $(text release-s march-f32) - empty_s ))
 per_crossing=$(grid march-f32 both per_crossing)
 march_stack=$(field march-f32 march_stack_bytes)
 verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "met"; else echo "not met"; fi; }
 {
     echo "### Embedded: the kernel on an emulated Cortex-M4F"
     echo
-    echo "| firmware (minus the empty one) | \`.text\` opt \"s\" | \`.text\` opt \"z\" | \`.text\` opt 3 | instructions | stack |"
+    echo "| firmware (minus its baseline) | \`.text\` opt \"s\" | \`.text\` opt \"z\" | \`.text\` opt 3 | instructions | stack |"
     echo "|---|---|---|---|---|---|"
     for f in march-f32 march-f64; do
-        echo "| $f, 16³ / 32³ / both grids | $(( $(text release-s "$f") - empty_s )) B | $(( $(text release-z "$f") - empty_z )) B" \
-             "| $(( $(text release "$f") - empty_3 )) B" \
+        echo "| $f, 16³ / 32³ / both grids | $(( $(text release-s "$f") - $(base release-s "$f") )) B" \
+             "| $(( $(text release-z "$f") - $(base release-z "$f") )) B" \
+             "| $(( $(text release "$f") - $(base release "$f") )) B" \
              "| $(grid "$f" '16\^3' per_crossing) / $(grid "$f" '32\^3' per_crossing) / $(grid "$f" both per_crossing) per crossing" \
              "(set-up $(grid "$f" both setup) per ray; $(grid "$f" both rays) rays, $(grid "$f" both crossings) crossings)" \
              "| $(field "$f" march_stack_bytes) B |"
@@ -139,8 +146,12 @@ verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "me
          "$(field empty loop_per_iteration). Per crossing: least-squares slope over the hitting rays (marginal), with" \
          "its intercept as the set-up per ray. Stack: painted-stack high-water mark of one call, including the" \
          "frame of the closure through which the harness makes it (march-f32: ${closure_frame:-?} B)." \
-         "The empty firmware (the measuring harness alone) is $empty_s B (opt \"s\") / $empty_z B (opt \"z\") /" \
-         "$empty_3 B (opt 3). The opt \"z\" build of march-f32 runs as well (status ok checked)." \
+         "Baselines: the empty firmware (the measuring harness alone) is $empty_s B (opt \"s\") / $empty_z B (opt \"z\") /" \
+         "$empty_3 B (opt 3); a march firmware's is its workload firmware (\`march-workload-f32\`, $(text release-s march-workload-f32) B at" \
+         "opt \"s\"; \`-f64\`, $(text release-s march-workload-f64) B), the harness plus the benchmark's grid breakpoints and rays made by" \
+         "the same driver with no kernel call, so that the difference is the kernel, the libraries it links and the" \
+         "lines a user writes to make a grid and a ray and fold a march. Measured against the empty firmware, as" \
+         "before that baseline existed, march-f32 is $march_s_empty B at opt \"s\". The opt \"z\" build of march-f32 runs as well (status ok checked)." \
          "The f32 march firmware holds $vsqrt \`vsqrt.f32\` and $softf64 soft double-precision routines, the f32" \
          "pick firmware $pick_softf64." \
          "$(grep -oE 'checked [0-9]+ mismatches [0-9]+' <<<"${OUT[sqrt-check]}" | sed 's/^/VSQRT.F32 against libm: /')."
@@ -154,8 +165,8 @@ verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "me
          "one crossing per call (next) against march-f32's fold, and" \
          "$(awk -v c="$(field c-pick-f32 per_pick)" -v r="$(field pick-f32 per_pick)" 'BEGIN { printf "%+.1f %%", 100 * (c / r - 1) }')" \
          "per pick against pick-f32 (whose storage has no paging and whose picker holds 4 zones; the C picker" \
-         "holds 32 and pages); \`.text\` at opt \"s\" $(( $(ctext release-s c-march-f32) - cempty_s - march_s )) B" \
-         "more for the march and $(( $(ctext release-s c-pick-f32) - cempty_s - $(text release-s pick-f32) + empty_s )) B" \
+         "holds 32 and pages); \`.text\` at opt \"s\" $(( $(ctext release-s c-march-f32) - cempty_s - march_s_empty )) B" \
+         "more for the march (both minus their empty firmwares) and $(( $(ctext release-s c-pick-f32) - cempty_s - $(text release-s pick-f32) + empty_s )) B" \
          "more for the pick, of which the libraries the C harness does not share with the kernel (compiler-builtins'" \
          "memcpy and 64-bit division, in the Rust empty firmware already) are part."
     echo
@@ -177,7 +188,7 @@ verdict() { if awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; then echo "me
     awk '$1 >= 256 && $2 !~ /^\[/ && $2 != "kernel" && $2 != "libraries" && $2 != "firmware" { b = $1; $1 = ""; sub(/^ /, ""); printf "| %d | `%s` |\n", b, $0 }' march-f32-text.txt
     kernel=$(awk '$2 == "kernel" { print $1 }' march-f32-text.txt)
     echo "| $kernel | the kernel, all of its functions |"
-    echo "| $(( march_s - kernel )) | the rest beyond the empty firmware: libraries (libm, compiler-builtins) and the firmware's own code (breakpoints, rays, the loop over the crossings) |"
+    echo "| $(( march_s - kernel )) | the rest beyond the baseline: libraries (libm, compiler-builtins) and the firmware's own code (making the grid and the rays, the fold over the crossings) |"
     echo
     echo "The march's stack by frame (opt 3, from each function's prologue by \`stack-frames.sh\`; a frame holds" \
          "what was inlined into it): the firmware's \`march_once\` holds the \`SerialMarch\` itself, and the per-ray" \

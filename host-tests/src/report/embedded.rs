@@ -45,7 +45,7 @@ mod tests {
             out_dir: std::env::temp_dir(),
         };
         let s = section(&opts).unwrap();
-        assert!(s.markdown.contains("| firmware (minus the empty one) |"));
+        assert!(s.markdown.contains("| firmware (minus its baseline) |"));
         assert!(s.markdown.contains("| march-f32, "));
         assert!(s.markdown.contains("kernel/m4f-bench/run.sh"));
         assert!(!s.markdown.contains("### Embedded"));

@@ -16,11 +16,14 @@
 //! * [`measure`]: one point of a series (instructions and stack of one workload), the step that the march and
 //!   the loop check share.
 //!
-//! **A fair subtraction.** Every firmware's code size is quoted minus the `empty` firmware's, so the measuring
-//! code must be the same bytes in both: the closures are passed as `&mut dyn FnMut() -> u32` (one copy of the
-//! timing, stack and fit code, not one per closure type), and the `empty` firmware's loop check goes through
-//! the same [`measure`] and [`print_fit`] as the march. What a firmware adds over `empty` is then the kernel and
-//! what a user of it writes: building the grid's breakpoints, making rays, folding the crossings.
+//! **A fair subtraction.** Every firmware's code size is quoted minus a baseline's: the `empty` firmware's, and
+//! for a march firmware its workload firmware's (`march-workload-f32`, `-f64`: [`march_driver`] making the same
+//! grid breakpoints and rays in the primitive type's own arithmetic, [`Scalar`], with no kernel call). So the
+//! measuring code must be the same bytes in both: the closures are passed as `&mut dyn FnMut` (one copy of the
+//! timing, stack and fit code, not one per closure type), the driver is one function out of line, and the `empty`
+//! firmware's loop check goes through the same [`measure`] and [`print_fit`] as the march. What a march firmware
+//! adds over its baseline is then the kernel, the libraries it links, and what a user of it writes: making a
+//! grid from breakpoints and a ray from two points, folding the crossings.
 //! * [`Out`]: one line of text over semihosting, integers and strings only (`core::fmt`'s float formatting has
 //!   panic paths of its own and would break the panic-free proof).
 //!
@@ -32,13 +35,13 @@
 #![no_std]
 #![deny(unsafe_code)]
 
+use core::ops::{Add, Div, Mul, Sub};
 use cortex_m::peripheral::SYST;
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m_semihosting::{debug, hio};
 use curvicast::Real;
 use curvicast::march::SphericalGrid;
 use curvicast::ray::Ray;
-use curvicast::vec3::V3;
 
 /// SysTick as a free-running 24-bit down-counter on the core clock (interrupts off).
 pub struct Timer {
@@ -179,38 +182,106 @@ pub const RAYS_PER_GRID: u32 = 48;
 /// Runs timed together per ray.
 pub const REPEAT: u32 = 8;
 
-/// `n` non-uniform breakpoints from `lo` to `hi` (both exact): `lo + (hi − lo) u (1 + u) / 2` at `u = i / (n − 1)`.
-fn breakpoints<T: Real>(lo: T, hi: T, out: &mut [T]) {
-    let last = out.len().saturating_sub(1);
-    let d = T::from_i32(i32::try_from(last).unwrap_or(1));
-    for (i, b) in out.iter_mut().enumerate() {
-        let u = T::from_i32(i32::try_from(i).unwrap_or(0)) / d;
-        *b = if i == last {
-            hi
-        } else {
-            lo + (hi - lo) * u * (T::ONE + u) * T::HALF
-        };
+/// The primitive floats' own arithmetic, in which the march benchmark's workload is made (not the kernel's
+/// [`Real`]): the code that makes it is then the harness's, the same bytes in a march firmware and in its
+/// baseline, the workload firmware, which makes the same workload and marches nothing.
+pub trait Scalar:
+    Copy
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+{
+    /// 0, 1, 1/2 and π, rounded to the type.
+    const NIL: Self;
+    const UNIT: Self;
+    const ONE_HALF: Self;
+    const HALF_TURN: Self;
+    /// `n` rounded to the type.
+    fn of(n: i32) -> Self;
+    /// The correctly rounded square root (the kernel's too, so the rays are the same bits as its own
+    /// arithmetic would make them).
+    fn root(self) -> Self;
+}
+
+impl Scalar for f32 {
+    const NIL: f32 = 0.0;
+    const UNIT: f32 = 1.0;
+    const ONE_HALF: f32 = 0.5;
+    const HALF_TURN: f32 = core::f32::consts::PI;
+    #[inline]
+    fn of(n: i32) -> f32 {
+        n as f32
+    }
+    #[inline]
+    fn root(self) -> f32 {
+        curvicast_arm_sqrt::sqrtf(self)
     }
 }
 
-/// A ray from a point on the sphere of radius 2.5 toward a point within radius 0.9 of the center (so that it
-/// crosses the unit-radius grid), both drawn from `rng`.
-fn bench_ray<T: Real>(rng: &mut Rng) -> Option<Ray<T>> {
-    let mut unit = |s: T| {
-        let scale = T::from_i32(1 << 23);
-        let mut c = || T::from_i32(rng.next24()) / scale - T::ONE;
-        let v = V3::new(c(), c(), c());
-        let l = v.length();
-        if l > T::ZERO {
-            v.scaled(s / l)
+impl Scalar for f64 {
+    const NIL: f64 = 0.0;
+    const UNIT: f64 = 1.0;
+    const ONE_HALF: f64 = 0.5;
+    const HALF_TURN: f64 = core::f64::consts::PI;
+    #[inline]
+    fn of(n: i32) -> f64 {
+        f64::from(n)
+    }
+    #[inline]
+    fn root(self) -> f64 {
+        libm::sqrt(self)
+    }
+}
+
+/// The largest number of breakpoints per axis of the benchmark grids.
+const MAX_BREAKPOINTS: usize = 33;
+
+/// One benchmark grid's breakpoints `[r, θ, φ]` (a full sphere of unit radius), `n` per axis (at most
+/// [`MAX_BREAKPOINTS`]), non-uniform: `hi u (1 + u) / 2` at `u = i / (n − 1)` from 0 to `hi` (1, π, 2π), both ends exact.
+#[inline(never)]
+pub fn grid_breakpoints<S: Scalar>(n: usize) -> [[S; MAX_BREAKPOINTS]; 3] {
+    let mut axes = [[S::NIL; MAX_BREAKPOINTS]; 3];
+    let last = n.saturating_sub(1);
+    let d = S::of(i32::try_from(last).unwrap_or(1));
+    let two_pi = S::HALF_TURN + S::HALF_TURN;
+    for (out, hi) in axes.iter_mut().zip([S::UNIT, S::HALF_TURN, two_pi]) {
+        for (i, b) in out.iter_mut().enumerate().take(n) {
+            let u = S::of(i32::try_from(i).unwrap_or(0)) / d;
+            *b = if i == last {
+                hi
+            } else {
+                hi * u * (S::UNIT + u) * S::ONE_HALF
+            };
+        }
+    }
+    axes
+}
+
+/// The next benchmark ray, `[origin, direction]`: from a point on the sphere of radius 2.5 toward a point
+/// within radius 0.9 of the center (so that it crosses the unit-radius grid), both drawn from `rng`.
+#[inline(never)]
+pub fn ray_ends<S: Scalar>(rng: &mut Rng) -> [[S; 3]; 2] {
+    let mut point = |s: S| {
+        let scale = S::of(1 << 23);
+        let mut c = || S::of(rng.next24()) / scale - S::UNIT;
+        let v = [c(), c(), c()];
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).root();
+        if l > S::NIL {
+            let k = s / l;
+            v.map(|x| x * k)
         } else {
-            V3::new(s, T::ZERO, T::ZERO)
+            [s, S::NIL, S::NIL]
         }
     };
-    let from = unit(T::from_i32(5) * T::HALF);
-    let to = unit(T::from_i32(9) / T::from_i32(10));
-    Ray::new(from, to.minus(from)).ok()
+    let from = point(S::of(5) * S::ONE_HALF);
+    let to = point(S::of(9) / S::of(10));
+    [from, [to[0] - from[0], to[1] - from[1], to[2] - from[2]]]
 }
+
+/// The seed of the benchmark rays' sequence.
+const RAY_SEED: u32 = 0x5EED_0017;
 
 /// One march: the sum of the crossings' lengths and the cell indices, folded so that nothing is optimised away,
 /// and the number of crossings (`u32::MAX` if the march failed).
@@ -233,43 +304,51 @@ fn march_once<T: Real>(grid: &SphericalGrid<'_, T>, ray: &Ray<T>) -> (T, u32, u3
     (length, cells, count)
 }
 
-/// The march benchmark in precision `T`: for each grid of [`GRID_BREAKPOINTS`] (a full sphere of unit radius,
-/// non-uniform breakpoints in r, θ and φ), [`RAYS_PER_GRID`] rays; prints per grid and for both the marginal
-/// instructions per crossing and the set-up per ray (least squares over the hitting rays), and the stack
-/// high-water mark of one march. Returns false if a march failed.
-pub fn march_bench<T: Real>(timer: &mut Timer, out: &mut Out) -> bool {
-    const MAX: usize = 33;
+/// A ray's part of the benchmark, as a firmware supplies it: given the ray's `[origin, direction]` and `timed`
+/// (which times the run it is given, adds it to the fits and returns its count, as [`measure`] does), returns
+/// what `timed` returned, or `u32::MAX` if the ray could not be made.
+pub type EachRay<'a, S> =
+    dyn FnMut(&[[S; 3]; 2], &mut dyn FnMut(&mut dyn FnMut() -> u32) -> u32) -> u32 + 'a;
+
+/// A grid's part of the benchmark, as a firmware supplies it: given the grid's breakpoints `[r, θ, φ]` and a
+/// function that runs an [`EachRay`] on the grid's rays, makes the grid and runs its [`EachRay`] (false if it
+/// could not make the grid).
+pub type PerGrid<'a, S> = dyn FnMut(&[&[S]; 3], &mut dyn FnMut(&mut EachRay<'_, S>)) -> bool + 'a;
+
+/// The march benchmark's driver, the same code in a march firmware and in its baseline: for each grid of
+/// [`GRID_BREAKPOINTS`] (a full sphere of unit radius, non-uniform breakpoints in r, θ and φ), `per_grid`
+/// ([`PerGrid`]) makes the grid and has its [`EachRay`] run on [`RAYS_PER_GRID`] rays. Prints per grid and for both the
+/// marginal instructions per crossing and the set-up per ray (least squares over the hitting rays), and the
+/// stack high-water mark of one run. Returns false if a grid or a ray failed.
+#[inline(never)]
+pub fn march_driver<S: Scalar>(
+    timer: &mut Timer,
+    out: &mut Out,
+    per_grid: &mut PerGrid<'_, S>,
+) -> bool {
     let mut ok = true;
     let mut all = Fit::default();
     let mut stack = 0usize;
-    let mut rng = Rng::new(0x5EED_0017);
+    let mut rng = Rng::new(RAY_SEED);
     for n in GRID_BREAKPOINTS {
-        let (mut r, mut th, mut ph) = ([T::ZERO; MAX], [T::ZERO; MAX], [T::ZERO; MAX]);
-        let mut ws = [T::ZERO; SphericalGrid::<f32>::workspace_len(MAX, MAX, MAX)];
-        let (Some(r), Some(th), Some(ph)) = (r.get_mut(..n), th.get_mut(..n), ph.get_mut(..n))
-        else {
-            return false;
-        };
-        breakpoints(T::ZERO, T::ONE, r);
-        breakpoints(T::ZERO, T::PI, th);
-        breakpoints(T::ZERO, T::PI + T::PI, ph);
-        let Ok(grid) = SphericalGrid::new(r, th, ph, &mut ws) else {
+        let [r, th, ph] = grid_breakpoints::<S>(n);
+        let (Some(r), Some(th), Some(ph)) = (r.get(..n), th.get(..n), ph.get(..n)) else {
             return false;
         };
         let mut fit = Fit::default();
-        for _ in 0..RAYS_PER_GRID {
-            let Some(ray) = bench_ray::<T>(&mut rng) else {
-                ok = false;
-                continue;
-            };
-            let mut run = || {
-                let (length, cells, count) = march_once(&grid, &ray);
-                core::hint::black_box((length, cells));
-                count
-            };
-            if measure(timer, &mut [&mut fit, &mut all], &mut stack, &mut run) == u32::MAX {
-                ok = false;
+        let made = per_grid(&[r, th, ph], &mut |each_ray| {
+            for _ in 0..RAYS_PER_GRID {
+                let ends = ray_ends::<S>(&mut rng);
+                let x = each_ray(&ends, &mut |run| {
+                    measure(timer, &mut [&mut fit, &mut all], &mut stack, run)
+                });
+                if x == u32::MAX {
+                    ok = false;
+                }
             }
+        });
+        if !made {
+            return false;
         }
         out.str("grid ").num(n as u64 - 1).str("^3");
         print_fit(out, &fit, MARCH_LABELS);
@@ -279,6 +358,45 @@ pub fn march_bench<T: Real>(timer: &mut Timer, out: &mut Out) -> bool {
     out.str("march_stack_bytes ").num(stack as u64);
     out.flush();
     ok
+}
+
+/// The march benchmark in precision `T` ([`march_driver`]): each grid made by the kernel, each ray made and
+/// marched by it (the ray made outside the timed run).
+pub fn march_bench<T: Real + Scalar>(timer: &mut Timer, out: &mut Out) -> bool {
+    const MAX: usize = MAX_BREAKPOINTS;
+    march_driver::<T>(timer, out, &mut |[r, th, ph], rays| {
+        let mut ws = [<T as Real>::ZERO; SphericalGrid::<f32>::workspace_len(MAX, MAX, MAX)];
+        let Ok(grid) = SphericalGrid::new(r, th, ph, &mut ws) else {
+            return false;
+        };
+        rays(&mut |[origin, dir], timed| {
+            let Ok(ray) = Ray::new(*origin, *dir) else {
+                return u32::MAX;
+            };
+            timed(&mut || {
+                let (length, cells, count) = march_once(&grid, &ray);
+                core::hint::black_box((length, cells));
+                count
+            })
+        });
+        true
+    })
+}
+
+/// The march benchmark's workload alone, its baseline ([`march_driver`] with no kernel call): each grid's
+/// breakpoints and each ray's ends are made and kept (`black_box`), and a run counts nothing, so no fit has a
+/// point. A march firmware's code size is quoted minus this firmware's.
+pub fn march_workload<S: Scalar>(timer: &mut Timer, out: &mut Out) -> bool {
+    march_driver::<S>(timer, out, &mut |axes, rays| {
+        core::hint::black_box(axes);
+        rays(&mut |ends, timed| {
+            timed(&mut || {
+                core::hint::black_box(ends);
+                0
+            })
+        });
+        true
+    })
 }
 
 /// One point of a series: `run` (which returns its `x`, e.g. its crossings; 0 for a run that does not count,

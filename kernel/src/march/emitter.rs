@@ -135,7 +135,15 @@ impl<T: Real> Emitter<T> {
         // back into the domain: the held crossing continues if this is the same cell at the same t (a touch of
         // the boundary from inside), else it is final
         match self.pending {
-            Some((cell, t_exit)) if cell == self.cell && t_exit == t => {
+            // (in a build for size the cells are compared element by element: an array's `==` links `memcmp`,
+            // 116 B on the M4F, while at opt 3 the element-wise forms cost 1.9 to 6.3 instructions per crossing)
+            Some((cell, t_exit))
+                if (if cfg!(curvicast_small_code) {
+                    cell.iter().eq(&self.cell)
+                } else {
+                    cell == self.cell
+                }) && t_exit == t =>
+            {
                 self.pending = None;
                 None
             }

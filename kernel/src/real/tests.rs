@@ -222,3 +222,46 @@ fn f32_fast_sin_cos_of_huge_angles_stay_on_the_unit_circle() {
     assert!(crate::surface::HalfPlane::from_azimuth_rad(F32Fast(7.946_028e28)).is_ok());
     assert!(F32Fast(f32::INFINITY).sin().is_nan());
 }
+
+/// The exact reduction modulo `f32`'s 2π is `fmodf`'s, bit for bit: every binade from 6400 to `f32::MAX`, its
+/// ends and multiples of 2π in it, random mantissas, both signs.
+#[test]
+fn rem_tau_f32_is_fmodf_bit_for_bit_from_6400_to_the_largest_f32() {
+    let tau = core::f32::consts::TAU;
+    let mut seed = 0x2545_f491_u32;
+    let check = |x: f32| {
+        for x in [x, -x] {
+            let (ours, libm) = (super::rem_tau_f32(x), libm::fmodf(x, tau));
+            assert_eq!(
+                ours.to_bits(),
+                libm.to_bits(),
+                "x = {x:e}: {ours:e} against fmodf's {libm:e}"
+            );
+        }
+    };
+    check(6400.0);
+    check(f32::MAX);
+    for e in 12..=127 {
+        let lo = libm::ldexpf(1.0, e);
+        check(lo);
+        check(f32::from_bits(lo.to_bits() - 1).max(6400.0));
+        check(f32::from_bits(lo.to_bits() | 0x007f_ffff));
+        // 2π·2^j and its neighbours: remainders 0 and the smallest and largest ones
+        let multiple = libm::ldexpf(tau, e - 2);
+        for m in [
+            multiple,
+            f32::from_bits(multiple.to_bits() - 1),
+            f32::from_bits(multiple.to_bits() + 1),
+        ] {
+            if m >= 6400.0 && m.is_finite() {
+                check(m);
+            }
+        }
+        for _ in 0..2000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            check(f32::from_bits(lo.to_bits() | (seed & 0x007f_ffff)));
+        }
+    }
+}

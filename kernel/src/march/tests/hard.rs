@@ -98,14 +98,11 @@ fn ray_tangent_to_a_shell_stays_in_the_outer_cell() {
     expect(&c, &[([1, 0, 0], 2.0 - h, 2.0 + h)], 1e-15);
 }
 
-#[test]
-fn ray_touching_the_cone_of_a_zenith_domain_from_inside_is_one_crossing() {
-    // The domain is θ >= θ0 (outside the cone θ0, about 0.6) within r < 4. The horizontal line x = 1, z = z0,
-    // along +y, has its smallest θ where y = 0 (t = 2), and there it touches that cone from the domain's side
-    // when sin²θ0 · z0² = cos²θ0: z0 is the float next to cot θ0 for which the cone solver's discriminant
-    // s²(w_x² + w_y²) − c² w_z², with w = p × d = (−z0, 0, 1), is exactly 0 (for about half of all θ0 one is;
-    // the first of θ0 = 0.6, 0.61, … that has one). The ray leaves the domain for no length at t = 2 and comes
-    // back into the same cell at the same t: one crossing from its start inside the ball, not two.
+/// A cone `θ0` (the first of 0.6, 0.61, … that has one) and a height `z0` for which the horizontal line `x = 1`,
+/// `z = z0` along `+y` touches it exactly at `y = 0`: `sin²θ0 · z0² = cos²θ0`, so that the cone solver's
+/// discriminant `s²(w_x² + w_y²) − c² w_z²`, with `w = p × d = (−z0, 0, 1)`, is exactly 0 (for about half of all
+/// `θ0` one of the floats next to `cot θ0` is such a `z0`).
+fn cone_touched_at_y0() -> (f64, f64) {
     let tangent = |theta0: f64| {
         let cone = crate::surface::AxialCone::from_zenith_rad(0.0, theta0).ok()?;
         let (c2, s2) = (cone.cos() * cone.cos(), cone.sin() * cone.sin());
@@ -121,14 +118,45 @@ fn ray_touching_the_cone_of_a_zenith_domain_from_inside_is_one_crossing() {
         .find(|&z0| s2 * (z0 * z0) == c2)
         .map(|z0| (theta0, z0))
     };
-    let (theta0, z0) = (0..32)
+    (0..32)
         .find_map(|k| tangent(0.6 + 0.01 * f64::from(k)))
-        .unwrap();
+        .unwrap()
+}
+
+#[test]
+fn ray_touching_the_cone_of_a_zenith_domain_from_inside_is_one_crossing() {
+    // The domain is θ >= θ0 (outside the cone θ0, about 0.6) within r < 4. The horizontal line x = 1, z = z0,
+    // along +y, has its smallest θ where y = 0 (t = 2), and there it touches that cone from the domain's side
+    // (`cone_touched_at_y0`). The ray leaves the domain for no length at t = 2 and comes back into the same cell
+    // at the same t: one crossing from its start inside the ball, not two.
+    let (theta0, z0) = cone_touched_at_y0();
     let (r, th, ph) = ([0.0, 4.0], [theta0, PI], [-1.0, 2.0 * PI - 1.0]);
     let ray = Ray::new([1.0, -2.0, z0], [0.0, 1.0, 0.0]).unwrap();
     let h = (15.0 - z0 * z0).sqrt();
     let got = march_s(&r, &th, &ph, &ray);
     expect(&got, &[([0, 0, 0], 0.0, 2.0 + h)], 1e-15);
+}
+
+#[test]
+fn ray_touching_the_cone_of_a_zenith_domain_on_an_azimuth_plane_changes_cell_there() {
+    // As above, with a φ breakpoint at 0: where the ray touches the cone (t = 2, y = 0) it also crosses the plane
+    // φ = 0. It leaves the domain for no length and comes back at the same t into the next φ cell: the crossing
+    // of φ cell 0 ends at t = 2 and the next one starts there (before, the ray crosses φ = −1 where
+    // y = tan(−1), from cell 1, which wraps round from 0 to 2π − 1).
+    let (theta0, z0) = cone_touched_at_y0();
+    let (r, th, ph) = ([0.0, 4.0], [theta0, PI], [-1.0, 0.0, 2.0 * PI - 1.0]);
+    let ray = Ray::new([1.0, -2.0, z0], [0.0, 1.0, 0.0]).unwrap();
+    let h = (15.0 - z0 * z0).sqrt();
+    let got = march_s(&r, &th, &ph, &ray);
+    expect(
+        &got,
+        &[
+            ([0, 0, 1], 0.0, 2.0 + (-1.0f64).tan()),
+            ([0, 0, 0], 2.0 + (-1.0f64).tan(), 2.0),
+            ([0, 0, 1], 2.0, 2.0 + h),
+        ],
+        1e-15,
+    );
 }
 
 #[test]
