@@ -308,3 +308,38 @@ fn refined_hits_on_a_coarse_blocks_cell_lie_on_its_triangles_exact_plane() {
         "traversal {worst_traversal} m, refined {worst_refined} m"
     );
 }
+
+#[test]
+fn missing_inner_node_lets_its_resident_leaves_answer_and_a_missing_leaf_below_it_falls_back_to_the_zone()
+ {
+    // 65 × 65 vertices: zones of 16 × 16 cells (block stride 4) over nodes of 8 × 8 cells (stride 2) over leaves
+    // of 4 × 4 cells (stride 1). Heights vary at every vertex, so each stride is a different surface.
+    let (rows, cols) = (65u32, 65u32);
+    let heights: Vec<f64> = (0..rows * cols)
+        .map(|k| 40.0 * f64::from((k % cols * 3 + k / cols * 5) % 7))
+        .collect();
+    let grid = grid(10.0, 20.0, 0.01, 0.01, rows, cols);
+    let mut nodes = vec![NodeRecord::<f64>::EMPTY; node_slots(rows, cols, 4)];
+    let tree = build_multires_tree(&heights, &grid, 4, MultiRes::default(), &mut nodes).unwrap();
+    assert_eq!(tree.depth(), 2);
+    let id = |level: u8, r: [u32; 2], c: [u32; 2]| {
+        let k = nodes
+            .iter()
+            .position(|n| n.level == level && n.rows == r && n.cols == c);
+        NodeId(k.unwrap() as u32)
+    };
+    let resident: Vec<AtomicBool> = (0..tree.slots()).map(|_| AtomicBool::new(true)).collect();
+    // The zone's first inner node (rows and columns 0–7) missing, and one of its leaves (rows 4–7, columns 0–3).
+    resident[id(1, [0, 8], [0, 8]).0 as usize].store(false, Ordering::Relaxed);
+    resident[id(2, [4, 8], [0, 4]).0 as usize].store(false, Ordering::Relaxed);
+    let parts = Parts::new(&heights[..], &nodes[..]).with_resident(&resident);
+    let s = TreeStorage::with_buffers(Ellipsoid::wgs84(), grid, tree, parts).unwrap();
+    let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
+    let e = Ellipsoid::wgs84();
+    // Under the missing inner node a resident leaf answers with its own block ...
+    let leaf = p.pick(&down_at(&e, 10.015, 20.015)).unwrap().unwrap();
+    assert_eq!((leaf.level, leaf.stride, leaf.cell), (2, 1, [1, 1]));
+    // ... and the missing leaf is traced with the nearest resident ancestor's block, the zone's (stride 4).
+    let coarse = p.pick(&down_at(&e, 10.055, 20.015)).unwrap().unwrap();
+    assert_eq!((coarse.level, coarse.stride, coarse.cell), (0, 4, [4, 0]));
+}

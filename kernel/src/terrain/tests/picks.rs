@@ -403,6 +403,20 @@ fn ray_missing_everything_and_ray_starting_below_ground() {
     assert!((hit.t - 10.0).abs() < 1e-6);
 }
 
+#[test]
+fn ray_segment_ending_above_the_terrains_volume_is_a_miss_not_an_error() {
+    // Flat at 100 m: straight down from 1 km, the segment t in [0, 500] ends 500 m above the ground, before the
+    // ray reaches the terrain's upper bound; its clip to that bound is empty.
+    let dem = TestDem::new(grid(0.0, 0.0, 0.01, 0.01, 5, 5), std::vec![100.0; 25], 2);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let down = radial_ray(&dem.surface.e, 0.02, 0.02, 1000.0);
+    assert_eq!(p.pick(&down.with_interval(0.0, 500.0).unwrap()), Ok(None));
+    // The whole ray hits at t = 900.
+    let hit = p.pick(&down).unwrap().unwrap();
+    assert!((hit.t - 900.0).abs() < 1e-6, "{hit:?}");
+}
+
 /// The refinement (`refine.rs`): a hit's `t` is where the ray meets its triangle's plane through the contract's
 /// vertices in pairs, to about the rounding of `t` itself. Checked against that plane intersection formed here in
 /// pairs from the vertices (`Surface::vertex_dd`), for rays slanting down from 2 km above a rough 3″ terrain and
