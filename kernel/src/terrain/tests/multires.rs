@@ -30,8 +30,13 @@ fn dem() -> Dem {
 
 /// [`dem`] with its first row at latitude `lat0`.
 fn dem_at(lat0: f64) -> Dem {
+    dem_peaked_at(lat0, [1, 4])
+}
+
+/// Flat at 0 m except vertex `[i, j]` at 300 m, the first row at latitude `lat0`.
+fn dem_peaked_at(lat0: f64, [i, j]: [u32; 2]) -> Dem {
     let mut heights = vec![0.0; (ROWS * COLS) as usize];
-    heights[9 + 4] = 300.0;
+    heights[(i * COLS + j) as usize] = 300.0;
     let grid = grid(lat0, 20.0, 0.01, 0.01, ROWS, COLS);
     let mut nodes = vec![NodeRecord::EMPTY; node_slots(ROWS, COLS, 4)];
     let tree = build_multires_tree(&heights, &grid, 4, MultiRes::default(), &mut nodes).unwrap();
@@ -111,6 +116,24 @@ fn missing_leaf_falls_back_to_the_zone_block_stitched_to_its_fine_neighbour() {
             }
         }
     }
+}
+
+#[test]
+fn missing_leaf_falls_back_to_the_zone_block_stitched_to_its_fine_neighbour_to_the_north() {
+    // As above across a parallel: V(4, 1) at 300 m lies on row 4, between the south-west child (rows 0–3,
+    // evicted) and its fine neighbour to the north (rows 4–7), at a column the zone's stride-2 block does not
+    // have. The coarse cell south of it (rows 2–3, columns 0–1) is stitched to it along its north side.
+    let d = dem_peaked_at(10.0, [4, 1]);
+    d.evict(d.west_child());
+    let s = d.paged();
+    let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
+    let e = Ellipsoid::wgs84();
+    let south = p.pick(&down_at(&e, 10.0399, 20.01)).unwrap().unwrap();
+    assert_eq!((south.level, south.stride, south.cell), (0, 2, [2, 0]));
+    assert!(south.h > 290.0, "{south:?}");
+    let north = p.pick(&down_at(&e, 10.0401, 20.01)).unwrap().unwrap();
+    assert_eq!((north.level, north.stride), (1, 1));
+    assert!(north.h > 290.0, "{north:?}");
 }
 
 #[test]
