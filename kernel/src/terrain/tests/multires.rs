@@ -119,6 +119,24 @@ fn missing_leaf_falls_back_to_the_zone_block_stitched_to_its_fine_neighbour() {
 }
 
 #[test]
+fn missing_leaf_falls_back_to_the_zone_block_stitched_to_its_fine_neighbour_to_the_west() {
+    // The mirror of the first test: the south-east child (rows 0–3, columns 4–7) evicted, its fine neighbour to
+    // the west resident. Just east of V(1, 4) the coarse cell (rows 0–1, columns 4–5) is stitched to it along its
+    // west side.
+    let d = dem();
+    d.evict(d.child([0, 4], [4, 8]));
+    let s = d.paged();
+    let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
+    let e = Ellipsoid::wgs84();
+    let east = p.pick(&down_at(&e, 10.01, 20.0401)).unwrap().unwrap();
+    assert_eq!((east.level, east.stride, east.cell), (0, 2, [0, 4]));
+    assert!(east.h > 290.0, "{east:?}");
+    let west = p.pick(&down_at(&e, 10.01, 20.0399)).unwrap().unwrap();
+    assert_eq!((west.level, west.stride), (1, 1));
+    assert!(west.h > 290.0, "{west:?}");
+}
+
+#[test]
 fn missing_leaf_falls_back_to_the_zone_block_stitched_to_its_fine_neighbour_to_the_north() {
     // As above across a parallel: V(4, 1) at 300 m lies on row 4, between the south-west child (rows 0–3,
     // evicted) and its fine neighbour to the north (rows 4–7), at a column the zone's stride-2 block does not
