@@ -284,3 +284,66 @@ fn screen_space_error_is_the_inverse_of_the_allowed_deviation() {
     assert!((screen_space_error(r, d, allowed) - p).abs() < 1e-15);
     assert_eq!(screen_space_error(r, 1.0, 0.1), core::f64::consts::PI);
 }
+
+#[test]
+fn screen_space_bound_picks_the_first_level_whose_deviation_subtends_at_most_a_pixel() {
+    // Spheres of radius 1 and 6.4e6 seen from 1.5 to 1e4 radii away with pixels of 1e-2 to 1e-5 rad: the level
+    // returned is the first whose worst deviation (`worst_case`, times the radius) subtends at most a pixel by
+    // `screen_space_error`, and the level before it subtends more.
+    for r in [1.0_f64, 6.4e6] {
+        for d in [1.5, 3.0, 40.0, 1.0e4] {
+            for p in [1e-2, 1e-3, 3e-4, 1e-5] {
+                let b = Bound::ScreenSpace {
+                    distance: d * r,
+                    pixel_angle: p,
+                };
+                let k = min_level(Shape::Sphere(r), b).unwrap();
+                let seen = |k: u32| {
+                    screen_space_error(r, d * r, r * worst_case::<f64>(k).unwrap().max_deviation)
+                };
+                assert!(
+                    seen(k) <= p,
+                    "r {r} d {d} p {p}: level {k} subtends {}",
+                    seen(k)
+                );
+                if k > 0 {
+                    assert!(
+                        seen(k - 1) > p,
+                        "r {r} d {d} p {p}: level {} already subtends {}",
+                        k - 1,
+                        seen(k - 1)
+                    );
+                }
+            }
+        }
+    }
+    // The same request on a spheroid with equal axes, and the eye or the pixel out of range.
+    let b = Bound::ScreenSpace {
+        distance: 10.0,
+        pixel_angle: 1e-3,
+    };
+    assert_eq!(
+        min_level(Shape::Ellipsoid([2.0_f64, 2.0, 2.0]), b),
+        min_level(Shape::Sphere(2.0_f64), b)
+    );
+    for (distance, pixel_angle) in [
+        (10.0, 0.0),
+        (10.0, -1e-3),
+        (10.0, 3.2),
+        (2.0, 1e-3),
+        (1.5, 1e-3),
+        (f64::INFINITY, 1e-3),
+    ] {
+        assert_eq!(
+            min_level(
+                Shape::Sphere(2.0_f64),
+                Bound::ScreenSpace {
+                    distance,
+                    pixel_angle
+                }
+            ),
+            Err(TessellateError::InvalidBound),
+            "distance {distance}, pixel {pixel_angle}"
+        );
+    }
+}
