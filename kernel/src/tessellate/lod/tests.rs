@@ -317,6 +317,23 @@ fn screen_space_bound_picks_the_first_level_whose_deviation_subtends_at_most_a_p
             }
         }
     }
+    // At the distance from which level 3's worst deviation subtends exactly a pixel of 1e-2 rad (the inverse of
+    // `screen_space_error`: d = r + e (1 + 2 sin(p/2)) / (2 sin(p/2))), a little farther level 3 is enough and a
+    // little nearer it is not.
+    let (p, dev) = (1e-2_f64, worst_case::<f64>(3).unwrap().max_deviation);
+    let s = (p / 2.0).sin();
+    let at = 1.0 + dev * (1.0 + 2.0 * s) / (2.0 * s);
+    let level_from = |d: f64| {
+        min_level(
+            Shape::Sphere(1.0_f64),
+            Bound::ScreenSpace {
+                distance: d,
+                pixel_angle: p,
+            },
+        )
+    };
+    assert_eq!(level_from(at * (1.0 + 1e-9)), Ok(3));
+    assert_eq!(level_from(at * (1.0 - 1e-9)), Ok(4));
     // The same request on a spheroid with equal axes, and the eye or the pixel out of range.
     let b = Bound::ScreenSpace {
         distance: 10.0,
