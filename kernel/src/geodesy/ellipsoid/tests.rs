@@ -242,8 +242,11 @@ fn reverse_seeded_near_agrees_with_the_closed_form_from_pole_to_pole_and_across_
                     let (sl, cl) = sin_cos_deg(lat0);
                     let (so, co) = sin_cos_deg(lon0);
                     let near = e.ecef_to_geodetic_near(p, (lat0, sl, cl), (lon0, so, co));
-                    let (la, lo, hh) = near
-                        .unwrap_or_else(|| panic!("{lat} {lon} {h} seeded at {lat0} {lon0}: None"));
+                    assert!(
+                        near.is_some(),
+                        "{lat} {lon} {h} seeded at {lat0} {lon0}: None"
+                    );
+                    let (la, lo, hh) = near.unwrap();
                     let dlon = match lo - lon_c {
                         x if x > 180.0 => x - 360.0,
                         x if x < -180.0 => x + 360.0,
