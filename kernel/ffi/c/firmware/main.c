@@ -21,7 +21,7 @@
 static const size_t breakpoint_counts[2] = {17, 33};
 #define RAYS_PER_GRID 48u
 
-/* n non-uniform breakpoints from lo to hi (both exact), as m4f-bench's `breakpoints`. */
+/* n non-uniform breakpoints from lo to hi (both exact), as m4f-bench's `grid_breakpoints`. */
 static void breakpoints(float lo, float hi, float *out, size_t n) {
     size_t i, last = n - 1;
     float d = (float)(int32_t)last;
@@ -31,7 +31,7 @@ static void breakpoints(float lo, float hi, float *out, size_t n) {
     }
 }
 
-/* A point at distance s from the center in a direction drawn from r (m4f-bench's `bench_ray`). */
+/* A point at distance s from the center in a direction drawn from r (m4f-bench's `ray_ends`). */
 static void unit(rng *r, float s, float p[3]) {
     const float scale = (float)(1 << 23);
     float l2, l;
