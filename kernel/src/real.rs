@@ -397,18 +397,18 @@ fn two_sum_f32(a: f32, b: f32) -> (f32, f32) {
     (s, (a - (s - bb)) + (b - bb))
 }
 
-/// `x mod 2π` for `f32`'s 2π, exactly and with the sign of `x` (what `fmodf(x, TAU)` gives), for finite
-/// `|x| >= 6400`: binary long division, one subtraction of `2π·2^j` per quotient bit from the largest `j` with
+/// `x mod 2π` for `f32`'s 2π, exactly and with the sign of `x` (what `fmodf(x, TAU)` gives), for finite `x`
+/// (`sin_cos_f32` calls it for `|x| >= 6400`): binary long division, one subtraction of `2π·2^j` per quotient bit from the largest `j` with
 /// `2π·2^j <= |x|` down to 0. Each subtraction is exact (Sterbenz: the remainder `r` stays below `2·2π·2^j`, so
 /// `2π·2^j <= r` implies `r/2 < 2π·2^j <= r`), and so is each halving. In `f32` arithmetic: libm's `fmodf` works
-/// on the integers of both operands and is 230 B more code in the M4F firmware, so a build for size
+/// on the integers of both operands and is 224 B more code in the M4F firmware, so a build for size
 /// (`cfg(curvicast_small_code)`) uses this.
 fn rem_tau_f32(x: f32) -> f32 {
     let tau = core::f32::consts::TAU;
     let mut r = x.abs();
-    // 2π·2^j with the biased exponent of r (r >= 6400 > 2π, so j >= 0 and it is a normal number), then halved to
-    // at most r: the first `d` is in (r/2, r] or (r, 2r), and `r < 2d` holds at every step below
-    let j = (r.to_bits() >> 23).wrapping_sub(tau.to_bits() >> 23);
+    // 2π·2^j with the biased exponent of r (j = 0 below 4, where r < 2π·2 already), then halved to at most r:
+    // the first `d` is in (r/2, r] or (r, 2r), and `r < 2d` holds at every step below; at most 126 steps
+    let j = (r.to_bits() >> 23).saturating_sub(tau.to_bits() >> 23);
     let mut d = f32::from_bits(tau.to_bits().wrapping_add(j << 23));
     for _ in 0..=j {
         if d <= r {

@@ -224,9 +224,9 @@ fn f32_fast_sin_cos_of_huge_angles_stay_on_the_unit_circle() {
 }
 
 /// The exact reduction modulo `f32`'s 2π is `fmodf`'s, bit for bit: every binade from 6400 to `f32::MAX`, its
-/// ends and multiples of 2π in it, random mantissas, both signs.
+/// ends and multiples of 2π in it, random mantissas, and values below 6400 from 0 up, both signs.
 #[test]
-fn rem_tau_f32_is_fmodf_bit_for_bit_from_6400_to_the_largest_f32() {
+fn rem_tau_f32_is_fmodf_bit_for_bit_from_0_to_the_largest_f32() {
     let tau = core::f32::consts::TAU;
     let mut seed = 0x2545_f491_u32;
     let check = |x: f32| {
@@ -241,6 +241,21 @@ fn rem_tau_f32_is_fmodf_bit_for_bit_from_6400_to_the_largest_f32() {
     };
     check(6400.0);
     check(f32::MAX);
+    // below 6400 too (not called there): zero, subnormal, below and at 2π, just above
+    for x in [
+        0.0,
+        f32::from_bits(1),
+        f32::MIN_POSITIVE,
+        1.0,
+        6.0,
+        tau,
+        6.5,
+        12.6,
+        100.0,
+        6399.0,
+    ] {
+        check(x);
+    }
     for e in 12..=127 {
         let lo = libm::ldexpf(1.0, e);
         check(lo);
