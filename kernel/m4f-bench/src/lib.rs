@@ -193,10 +193,13 @@ pub trait Scalar:
     + Mul<Output = Self>
     + Div<Output = Self>
 {
-    /// 0, 1, 1/2 and π, rounded to the type.
+    /// 0.
     const NIL: Self;
+    /// 1.
     const UNIT: Self;
+    /// 1/2.
     const ONE_HALF: Self;
+    /// π, rounded to the type.
     const HALF_TURN: Self;
     /// `n` rounded to the type.
     fn of(n: i32) -> Self;

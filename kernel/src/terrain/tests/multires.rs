@@ -125,15 +125,7 @@ fn missing_leaf_falls_back_to_the_zone_block_stitched_to_its_fine_neighbour_to_t
     // west side.
     let d = dem();
     d.evict(d.child([0, 4], [4, 8]));
-    let s = d.paged();
-    let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
-    let e = Ellipsoid::wgs84();
-    let east = p.pick(&down_at(&e, 10.01, 20.0401)).unwrap().unwrap();
-    assert_eq!((east.level, east.stride, east.cell), (0, 2, [0, 4]));
-    assert!(east.h > 290.0, "{east:?}");
-    let west = p.pick(&down_at(&e, 10.01, 20.0399)).unwrap().unwrap();
-    assert_eq!((west.level, west.stride), (1, 1));
-    assert!(west.h > 290.0, "{west:?}");
+    coarse_and_fine_beside_the_peak(&d, [10.01, 20.0401], [0, 4], [10.01, 20.0399]);
 }
 
 #[test]
@@ -143,15 +135,23 @@ fn missing_leaf_falls_back_to_the_zone_block_stitched_to_its_fine_neighbour_to_t
     // have. The coarse cell south of it (rows 2–3, columns 0–1) is stitched to it along its north side.
     let d = dem_peaked_at(10.0, [4, 1]);
     d.evict(d.west_child());
+    coarse_and_fine_beside_the_peak(&d, [10.0399, 20.01], [2, 0], [10.0401, 20.01]);
+}
+
+/// Rays straight down at `coarse` and at `fine` (`[lat, lon]`, degrees), either side of the 300 m vertex on the
+/// border between an evicted child and its resident fine neighbour: the first hits the zone's stride-2 block in
+/// `cell`, the second the fine child, and both are almost 300 m high (the coarse cell's fan reaches the fine
+/// vertex; its own triangles are flat at 0 m there).
+fn coarse_and_fine_beside_the_peak(d: &Dem, coarse: [f64; 2], cell: [u32; 2], fine: [f64; 2]) {
     let s = d.paged();
     let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
     let e = Ellipsoid::wgs84();
-    let south = p.pick(&down_at(&e, 10.0399, 20.01)).unwrap().unwrap();
-    assert_eq!((south.level, south.stride, south.cell), (0, 2, [2, 0]));
-    assert!(south.h > 290.0, "{south:?}");
-    let north = p.pick(&down_at(&e, 10.0401, 20.01)).unwrap().unwrap();
-    assert_eq!((north.level, north.stride), (1, 1));
-    assert!(north.h > 290.0, "{north:?}");
+    let c = p.pick(&down_at(&e, coarse[0], coarse[1])).unwrap().unwrap();
+    assert_eq!((c.level, c.stride, c.cell), (0, 2, cell));
+    assert!(c.h > 290.0, "{c:?}");
+    let f = p.pick(&down_at(&e, fine[0], fine[1])).unwrap().unwrap();
+    assert_eq!((f.level, f.stride), (1, 1));
+    assert!(f.h > 290.0, "{f:?}");
 }
 
 #[test]
