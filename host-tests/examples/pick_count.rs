@@ -33,7 +33,7 @@ use curvicast::geodesy::{Ellipsoid, HeightQuadBounds};
 use curvicast::ray::Ray;
 use curvicast::terrain::boxes::NodeBox;
 use curvicast::terrain::{
-    Grid, Node, NodeId, Parallel, Picker, TerrainCaches, TerrainStorage, quad_bounds,
+    Grid, Node, NodeId, Parallel, PickStats, Picker, TerrainCaches, TerrainStorage, quad_bounds,
 };
 use curvicast_cli::formats::real_dem;
 use curvicast_cli::storage::{DemStorage, MultiRes};
@@ -123,9 +123,10 @@ fn run<S: TerrainCaches<f64>>(
     let picker: Picker<'_, f64, S> = Picker::new(storage)?;
     let (mut hits, mut errors) = (0usize, 0usize);
     let mut checksum = DefaultHasher::new();
+    let mut stats = PickStats::default();
     for pass in 0..passes {
         for ray in rays {
-            let answer = black_box(picker.pick(black_box(ray)));
+            let answer = black_box(picker.pick_with_stats(black_box(ray), &mut stats));
             hits += usize::from(matches!(answer, Ok(Some(_))));
             errors += usize::from(answer.is_err());
             if pass == 0 {
@@ -144,6 +145,13 @@ fn run<S: TerrainCaches<f64>>(
             }
         }
     }
+    let per_pick = |x: u32| f64::from(x) / (rays.len() * passes).max(1) as f64;
+    println!(
+        "per pick: {:.2} quads visited, {:.2} triangle pairs visited, {:.2} triangles tested",
+        per_pick(stats.quads_visited),
+        per_pick(stats.triangle_pairs_visited),
+        per_pick(stats.triangles_tested)
+    );
     Ok((hits, errors, checksum.finish()))
 }
 

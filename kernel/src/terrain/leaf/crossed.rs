@@ -32,7 +32,6 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
         u: &Unit,
         [lo, hi]: [T; 2],
         (radial_o, radial_d): (T, T),
-        az_rate: T,
         plane: &impl Fn(u32, T) -> T,
         near: T,
         hint: &mut Option<i64>,
@@ -44,12 +43,10 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
             return (r0, r1);
         }
         let north_up = self.grid.dlat_deg > T::ZERO;
-        // The end on the column's western meridian first: it is shared with the previous column, whose eastern
-        // end is the hint (longitude grows along the ray when (o × d)_z > 0).
-        let east_at_hi = az_rate > T::ZERO;
-        let (t_west, t_east) = if east_at_hi { (lo, hi) } else { (hi, lo) };
-        let a = row_cell(plane, t_west, *hint, u.rows, north_up);
-        let b = row_cell(plane, t_east, Some(a.cell), u.rows, north_up);
+        // The columns are walked in ray order: the end at `lo` first, on the meridian shared with the previous
+        // column, whose end at `hi` is the hint.
+        let a = row_cell(plane, lo, *hint, u.rows, north_up);
+        let b = row_cell(plane, hi, Some(a.cell), u.rows, north_up);
         *hint = Some(b.cell);
         let (low, high) = (a.cell.min(b.cell), a.cell.max(b.cell));
         let margin_below = (a.cell == low && !(a.below.abs() > near))

@@ -304,6 +304,24 @@ fn ray_descending_north_over_two_columns_skips_the_first_from_its_heights_alone(
 }
 
 #[test]
+fn ray_descending_westward_through_the_peak_stops_at_its_first_hit_in_ray_order() {
+    // A ray from 200 m above the flat terrain, east of the peak's leaf, descending westwards along row 6 (at
+    // 30.0675° N) to the ground at column 3: it enters the peak's eastern slope in column 7 (cell (6, 7)), leaves
+    // its western slope in column 6 and would meet the ground again in column 3, all in the first leaf. The leaf's
+    // columns are walked in the order the ray crosses them, from the east: after the hit in column 7 every later
+    // column lies beyond it. Walked from the west, columns 3 and 6 would be visited (and column 3's triangles hit)
+    // before column 7.
+    let (hit, st) = pick_beside_a_peak(
+        [30.0675, 10.1, 200.0],
+        [30.0675, 10.03, 0.0],
+        "westward ray through the peak",
+    );
+    assert_eq!(hit.cell, [6, 7], "{st:?}");
+    assert_eq!(st.triangle_pairs_visited, 1, "{st:?}");
+    assert_eq!(st.triangles_tested, 2, "{st:?}");
+}
+
+#[test]
 fn typed_errors() {
     let bad = GridOnly(grid(0.0, 0.0, 0.0, 0.01, 3, 3));
     assert_eq!(

@@ -35,21 +35,12 @@ fn plane_at_t(north_up: bool) -> impl Fn(u32, f64) -> f64 {
 }
 
 /// [`UNIT`]'s rows with [`plane_at_t`]'s planes, far from the axis; `near` is 1/8. `crossed_rows` for the column
-/// segment `[lo, hi]` with its western end at `lo` (`east`) or at `hi`, from `hint`: the rows and the new hint.
-fn rows_of(north_up: bool, [lo, hi]: [f64; 2], east: bool, hint: Option<i64>) -> ((u32, u32), i64) {
+/// segment `[lo, hi]`, from `hint`: the rows and the new hint.
+fn rows_of(north_up: bool, [lo, hi]: [f64; 2], hint: Option<i64>) -> ((u32, u32), i64) {
     with_picker(north_up, |p, _| {
         let mut hint = hint;
-        let az_rate = if east { 1.0 } else { -1.0 };
         let plane = plane_at_t(north_up);
-        let rows = p.crossed_rows(
-            &UNIT,
-            [lo, hi],
-            (1e7, 0.0),
-            az_rate,
-            &plane,
-            0.125,
-            &mut hint,
-        );
+        let rows = p.crossed_rows(&UNIT, [lo, hi], (1e7, 0.0), &plane, 0.125, &mut hint);
         (rows, hint.unwrap())
     })
 }
@@ -57,14 +48,12 @@ fn rows_of(north_up: bool, [lo, hi]: [f64; 2], east: bool, hint: Option<i64>) ->
 #[test]
 fn column_segment_ends_clear_of_row_planes_cross_only_the_rows_between_their_cells() {
     for north_up in [true, false] {
-        for east in [true, false] {
-            for hint in [None, Some(1), Some(5), Some(10)] {
-                let (rows, next) = rows_of(north_up, [4.5, 6.5], east, hint);
-                assert_eq!(rows, (4, 7), "{north_up} {east} {hint:?}");
-                // the hint becomes the eastern end's cell
-                assert_eq!(next, if east { 6 } else { 4 });
-                assert_eq!(rows_of(north_up, [5.2, 5.8], east, hint).0, (5, 6));
-            }
+        for hint in [None, Some(1), Some(5), Some(10)] {
+            let (rows, next) = rows_of(north_up, [4.5, 6.5], hint);
+            assert_eq!(rows, (4, 7), "{north_up} {hint:?}");
+            // the hint becomes the cell of the end at `hi`, where the next column in ray order begins
+            assert_eq!(next, 6);
+            assert_eq!(rows_of(north_up, [5.2, 5.8], hint).0, (5, 6));
         }
     }
 }
@@ -72,26 +61,24 @@ fn column_segment_ends_clear_of_row_planes_cross_only_the_rows_between_their_cel
 #[test]
 fn column_segment_ends_within_rounding_of_a_row_plane_add_the_row_beyond_it() {
     for north_up in [true, false] {
-        for east in [true, false] {
-            // Either end of either cell, on either side of the plane: the row on the plane's far side is added.
-            assert_eq!(rows_of(north_up, [4.05, 6.5], east, None).0, (3, 7));
-            assert_eq!(rows_of(north_up, [3.95, 6.5], east, None).0, (3, 7));
-            assert_eq!(rows_of(north_up, [4.5, 6.95], east, None).0, (4, 8));
-            assert_eq!(rows_of(north_up, [4.5, 7.05], east, None).0, (4, 8));
-            assert_eq!(rows_of(north_up, [5.05, 5.8], east, None).0, (4, 6));
-            assert_eq!(rows_of(north_up, [5.2, 5.95], east, None).0, (5, 7));
-            assert_eq!(rows_of(north_up, [5.05, 5.95], east, None).0, (4, 7));
-            // Exactly `near` from the plane, either side: still near.
-            assert_eq!(rows_of(north_up, [4.125, 6.5], east, None).0, (3, 7));
-            assert_eq!(rows_of(north_up, [3.875, 6.5], east, None).0, (3, 7));
-            assert_eq!(rows_of(north_up, [4.5, 6.875], east, None).0, (4, 8));
-            assert_eq!(rows_of(north_up, [5.125, 5.875], east, None).0, (4, 7));
-            // An end near a plane inside the span adds nothing.
-            assert_eq!(rows_of(north_up, [4.5, 6.05], east, None).0, (4, 7));
-            // On the unit's first and last planes: no row beyond the unit.
-            assert_eq!(rows_of(north_up, [2.0, 2.5], east, None).0, (2, 3));
-            assert_eq!(rows_of(north_up, [9.5, 10.0], east, None).0, (9, 10));
-        }
+        // Either end of either cell, on either side of the plane: the row on the plane's far side is added.
+        assert_eq!(rows_of(north_up, [4.05, 6.5], None).0, (3, 7));
+        assert_eq!(rows_of(north_up, [3.95, 6.5], None).0, (3, 7));
+        assert_eq!(rows_of(north_up, [4.5, 6.95], None).0, (4, 8));
+        assert_eq!(rows_of(north_up, [4.5, 7.05], None).0, (4, 8));
+        assert_eq!(rows_of(north_up, [5.05, 5.8], None).0, (4, 6));
+        assert_eq!(rows_of(north_up, [5.2, 5.95], None).0, (5, 7));
+        assert_eq!(rows_of(north_up, [5.05, 5.95], None).0, (4, 7));
+        // Exactly `near` from the plane, either side: still near.
+        assert_eq!(rows_of(north_up, [4.125, 6.5], None).0, (3, 7));
+        assert_eq!(rows_of(north_up, [3.875, 6.5], None).0, (3, 7));
+        assert_eq!(rows_of(north_up, [4.5, 6.875], None).0, (4, 8));
+        assert_eq!(rows_of(north_up, [5.125, 5.875], None).0, (4, 7));
+        // An end near a plane inside the span adds nothing.
+        assert_eq!(rows_of(north_up, [4.5, 6.05], None).0, (4, 7));
+        // On the unit's first and last planes: no row beyond the unit.
+        assert_eq!(rows_of(north_up, [2.0, 2.5], None).0, (2, 3));
+        assert_eq!(rows_of(north_up, [9.5, 10.0], None).0, (9, 10));
     }
 }
 
@@ -99,24 +86,16 @@ fn column_segment_ends_within_rounding_of_a_row_plane_add_the_row_beyond_it() {
 fn column_segment_outside_the_unit_or_near_the_axis() {
     for north_up in [true, false] {
         // Wholly before the unit's first plane, or past its last: no row.
-        assert_eq!(rows_of(north_up, [0.5, 1.5], true, None).0, (2, 2));
-        assert_eq!(rows_of(north_up, [10.5, 11.5], true, None).0, (10, 10));
+        assert_eq!(rows_of(north_up, [0.5, 1.5], None).0, (2, 2));
+        assert_eq!(rows_of(north_up, [10.5, 11.5], None).0, (10, 10));
         // From before the unit into it: from its first row.
-        assert_eq!(rows_of(north_up, [1.5, 3.5], true, None).0, (2, 4));
+        assert_eq!(rows_of(north_up, [1.5, 3.5], None).0, (2, 4));
     }
     // Near the axis (the planes may be unordered there) and for an infinite end, every row.
     with_picker(true, |p, _| {
         let mut hint = None;
         for (radial, span) in [((1.0, 0.0), [5.2, 5.8]), ((1e7, 0.0), [5.2, f64::INFINITY])] {
-            let rows = p.crossed_rows(
-                &UNIT,
-                span,
-                radial,
-                1.0,
-                &plane_at_t(true),
-                0.125,
-                &mut hint,
-            );
+            let rows = p.crossed_rows(&UNIT, span, radial, &plane_at_t(true), 0.125, &mut hint);
             assert_eq!(rows, (2, 10));
         }
         assert_eq!(hint, None);
@@ -161,7 +140,7 @@ fn rows_are_located_only_when_both_ends_lie_beyond_the_ordered_distance() {
         let r = p.rows_ordered_beyond;
         let plane = plane_at_t(true);
         let rows = |radial: (f64, f64), span: [f64; 2]| {
-            p.crossed_rows(&UNIT, span, radial, 1.0, &plane, 0.125, &mut None)
+            p.crossed_rows(&UNIT, span, radial, &plane, 0.125, &mut None)
         };
         // Both ends beyond (r + 0.4 and r + 1.6, moving outwards): located.
         assert_eq!(rows((r - 10.0, 2.0), [5.2, 5.8]), (5, 6));
