@@ -458,7 +458,11 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
             .intersect_with_border(a, b, c, lo, hi, edges)
             .map(|(s, _)| w.ray.t_from_scaled(s))
         {
-            if w.best.as_ref().is_none_or(|h| t < h.t) {
+            // On a tie (the same `t` exactly, as on an edge two columns share), the lower column of the unit wins,
+            // whichever order the columns were walked in (`trace_unit`): the answer of a walk from west to east.
+            if w.best.as_ref().is_none_or(|h| {
+                t < h.t || (t == h.t && h.unit == *u && cell.get(1) < h.cell.get(1))
+            }) {
                 *w.best = Some(Candidate {
                     t,
                     cell,

@@ -508,3 +508,29 @@ fn geodetic_output_of_a_hit_1_5_degrees_from_its_cells_corner_is_its_ecef_point(
         );
     }
 }
+
+#[test]
+fn straight_down_rays_on_the_antimeridian_keep_the_western_column_on_an_exact_tie() {
+    // A sloping 5 × 5-vertex DEM whose column meridian 2 is the antimeridian, where the rays' and the vertices'
+    // y coordinates are exactly 0: a ray straight down that meridian in row 0 (every 0.001°) meets the edge that
+    // columns 1 and 2 share, and for three of these nine rays both triangles give exactly the same `t`. Such a
+    // ray has no azimuth rate ((o × d)_z = 0), so its columns are walked from the east; the tie still goes to the
+    // western column, as in a walk from west to east, for `pick` and `pick_t` alike. (Column 1's `t` is never
+    // the larger one for these rays.)
+    let g = grid(-17.0, 179.98, 0.01, 0.01, 5, 5);
+    let heights: Vec<f64> = (0..25u32)
+        .map(|k| 100.0 + 7.0 * f64::from(k % 5) + 3.0 * f64::from(k / 5))
+        .collect();
+    let dem = TestDem::new(g, heights, 4);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = dem.surface.e;
+    for k in 1..10 {
+        let lat = -17.0 + 0.001 * f64::from(k);
+        let from = e.geodetic_deg_to_ecef(lat, 180.0, 1100.0);
+        let ray = Ray::new(from, e.normal_deg(lat, 180.0).negated()).unwrap();
+        let hit = p.pick(&ray).unwrap().unwrap();
+        let (_, cell) = p.pick_t(&ray).unwrap().unwrap();
+        assert_eq!((hit.cell, cell), ([0, 1], [0, 1]), "latitude {lat}");
+    }
+}
