@@ -326,3 +326,4 @@ mod multires;
 mod picks;
 mod rough;
 mod rows;
+mod work;
