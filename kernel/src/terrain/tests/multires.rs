@@ -193,6 +193,29 @@ fn needs_block_below_min_level_and_full_resolution_when_all_resident() {
 }
 
 #[test]
+fn ray_over_a_missing_block_before_its_hit_in_a_resident_one_needs_the_block() {
+    // The west child missing below `min_level` (no block to fall back to). A ray from 250 m above it, inside its
+    // volume (the child's border vertex V(1, 4) is 300 m high), descending eastwards along row 2 onto the flat
+    // ground of the resident child east of it: the resident child holds a hit, but the missing block comes first
+    // along the ray and could hold a nearer one, so the answer is the block it needs. Once it is resident, the hit.
+    let d = dem();
+    let w = d.west_child();
+    d.evict(w);
+    let s = d.paged();
+    let e = Ellipsoid::wgs84();
+    let from = e.geodetic_deg_to_ecef(10.02, 20.005, 250.0);
+    let to = e.geodetic_deg_to_ecef(10.02, 20.07, 0.0);
+    let ray = Ray::new(from, to.minus(from)).unwrap();
+    let p = Picker::<'_, f64, _>::new(&s).unwrap().with_min_level(1);
+    assert_eq!(p.pick(&ray), Err(TerrainError::NeedsBlock(w)));
+    assert_eq!(p.pick_t(&ray), Err(TerrainError::NeedsBlock(w)));
+    d.resident[w.0 as usize].store(true, Ordering::Relaxed);
+    let hit = p.pick(&ray).unwrap().unwrap();
+    assert_eq!((hit.level, hit.stride), (1, 1));
+    assert!(hit.cell[1] >= 4 && hit.h.abs() < 1e-6, "{hit:?}");
+}
+
+#[test]
 fn ray_in_the_sag_beside_a_fine_vertex_on_the_parallel_shared_with_a_coarse_block_hits_its_stitched_fan()
  {
     // A child missing, so that its cells are traced from the zone's stride-2 block and stitched to the
@@ -383,4 +406,71 @@ fn missing_inner_node_lets_its_resident_leaves_answer_and_a_missing_leaf_below_i
     // ... and the missing leaf is traced with the nearest resident ancestor's block, the zone's (stride 4).
     let coarse = p.pick(&down_at(&e, 10.055, 20.015)).unwrap().unwrap();
     assert_eq!((coarse.level, coarse.stride, coarse.cell), (0, 4, [4, 0]));
+}
+
+/// One zone that is a resident leaf over cell rows `rows` and columns `cols` of a `grid`, its block of stride
+/// `stride`, flat at 100 m: a tree made by hand (the builder's are always on their lattice).
+struct OneLeaf {
+    grid: Grid<f64>,
+    rows: [u32; 2],
+    cols: [u32; 2],
+    stride: u32,
+}
+
+impl TerrainStorage<f64> for OneLeaf {
+    fn ellipsoid(&self) -> Ellipsoid<f64> {
+        Ellipsoid::wgs84()
+    }
+    fn grid(&self) -> Grid<f64> {
+        self.grid
+    }
+    fn zone_count(&self) -> usize {
+        1
+    }
+    fn zone(&self, k: usize) -> Option<NodeId> {
+        (k == 0).then_some(NodeId(0))
+    }
+    fn node(&self, id: NodeId) -> Option<Node<f64>> {
+        (id == NodeId(0)).then_some(Node {
+            rows: self.rows,
+            cols: self.cols,
+            heights: Some([100.0, 100.0]),
+            children: [None; 4],
+            level: 0,
+        })
+    }
+    fn height(&self, i: u32, j: u32) -> Option<f64> {
+        (i < self.grid.rows && j < self.grid.cols).then_some(100.0)
+    }
+    fn block_stride(&self, _: NodeId) -> u32 {
+        self.stride
+    }
+}
+
+impl TerrainCaches<f64> for OneLeaf {}
+
+#[test]
+fn coarse_block_off_its_lattice_is_a_malformed_tree_and_one_ending_on_the_grids_last_odd_row_is_not()
+ {
+    // A stride-2 block must start on even rows and columns and end on even ones or on the grid's last: a ray
+    // straight down onto its middle gets `MalformedTree` unless it does, and the flat surface otherwise.
+    let e = Ellipsoid::wgs84();
+    let ray = radial_ray(&e, 10.035, 20.035, 1000.0);
+    let answer = |vertex_rows: u32, rows: [u32; 2], cols: [u32; 2]| {
+        let s = OneLeaf {
+            grid: grid(10.0, 20.0, 0.01, 0.01, vertex_rows, 9),
+            rows,
+            cols,
+            stride: 2,
+        };
+        let p: Picker<'_, f64, OneLeaf> = Picker::new(&s).unwrap();
+        p.pick(&ray).map(|h| h.map(|h| (h.cell, h.stride)))
+    };
+    // On the lattice: 8 × 8 cells; 7 rows of cells, the last (odd) one the grid's.
+    assert_eq!(answer(9, [0, 8], [0, 8]), Ok(Some(([2, 2], 2))));
+    assert_eq!(answer(8, [0, 7], [0, 8]), Ok(Some(([2, 2], 2))));
+    // Off it: starting on an odd row or column; ending on an odd row that is not the grid's last.
+    assert_eq!(answer(9, [1, 8], [0, 8]), Err(TerrainError::MalformedTree));
+    assert_eq!(answer(9, [0, 8], [1, 8]), Err(TerrainError::MalformedTree));
+    assert_eq!(answer(9, [0, 7], [0, 8]), Err(TerrainError::MalformedTree));
 }

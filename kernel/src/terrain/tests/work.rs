@@ -6,7 +6,8 @@ use super::*;
 
 /// A rough regional DEM of 33 × 33 vertices (0.01° cells at 45° N, 7° E, heights 0–400 m from a fixed
 /// sequence) in leaves of `block × block` cells, without node boxes (0), with each child's box in its parent's
-/// own frame (1), or with every box below the zones in its zone's frame (2).
+/// own frame (1), with every box below the zones in its zone's frame (2), or with the boxes of the nodes of odd
+/// ids in the frame their parent's box is in and the others in their parent's own (3).
 fn rough(block: u32, boxes: u8) -> TestDem {
     let g = grid(45.0, 7.0, 0.01, 0.01, 33, 33);
     let mut r = Lcg(7);
@@ -14,9 +15,14 @@ fn rough(block: u32, boxes: u8) -> TestDem {
     match boxes {
         0 => TestDem::new(g, hs, block),
         1 => TestDem::with_boxes(g, hs, block, |_| false),
-        _ => TestDem::with_boxes(g, hs, block, |_| true),
+        2 => TestDem::with_boxes(g, hs, block, |_| true),
+        _ => TestDem::with_boxes(g, hs, block, |id| id % 2 == 1),
     }
 }
+
+/// A pinned row: the volumes' kind, the block, the ray, the hit's cell, and quads visited, triangle pairs visited,
+/// triangles tested.
+type Pinned = (u8, u32, usize, Option<[u32; 2]>, [u32; 3]);
 
 /// The rays of these tests, from geodetic `from` to `to` (latitude, longitude in degrees, height in metres).
 const RAYS: [([f64; 3], [f64; 3]); 4] = [
@@ -31,12 +37,12 @@ const RAYS: [([f64; 3], [f64; 3]); 4] = [
 ];
 
 /// The hit and the work of each ray on [`rough`] with leaves of 2 × 2, 4 × 4 and 8 × 8 cells, with the three
-/// kinds of volumes (spheroidal, boxes in their parents' frames, boxes in their zones' frames), against the brute
+/// kinds of volumes (spheroidal, boxes in their parents' frames, in their zones' frames, and mixed), against the brute
 /// force. The rows: volumes, block, ray (index into [`RAYS`]), the hit's cell, and quads visited, triangle pairs
 /// visited, triangles tested.
 #[test]
 fn rays_straight_down_shallow_both_ways_and_just_above_the_terrain_do_the_pinned_work() {
-    let want: [(u8, u32, usize, Option<[u32; 2]>, [u32; 3]); 36] = [
+    let want: [Pinned; 48] = [
         (0, 2, 0, Some([15, 15]), [3, 1, 2]),
         (0, 2, 1, Some([13, 13]), [7, 5, 10]),
         (0, 2, 2, Some([15, 15]), [11, 7, 4]),
@@ -73,8 +79,20 @@ fn rays_straight_down_shallow_both_ways_and_just_above_the_terrain_do_the_pinned
         (2, 8, 1, Some([13, 13]), [1, 5, 10]),
         (2, 8, 2, Some([15, 15]), [3, 5, 4]),
         (2, 8, 3, None, [3, 19, 8]),
+        (3, 2, 0, Some([15, 15]), [3, 1, 2]),
+        (3, 2, 1, Some([13, 13]), [7, 5, 10]),
+        (3, 2, 2, Some([15, 15]), [11, 7, 4]),
+        (3, 2, 3, None, [10, 8, 8]),
+        (3, 4, 0, Some([15, 15]), [2, 1, 2]),
+        (3, 4, 1, Some([13, 13]), [4, 5, 10]),
+        (3, 4, 2, Some([15, 15]), [6, 5, 4]),
+        (3, 4, 3, None, [6, 12, 8]),
+        (3, 8, 0, Some([15, 15]), [1, 1, 2]),
+        (3, 8, 1, Some([13, 13]), [1, 5, 10]),
+        (3, 8, 2, Some([15, 15]), [3, 5, 4]),
+        (3, 8, 3, None, [3, 19, 8]),
     ];
-    for boxes in [0, 1, 2] {
+    for boxes in [0, 1, 2, 3] {
         for block in [2, 4, 8] {
             let dem = rough(block, boxes);
             let s = dem.storage();
@@ -107,6 +125,66 @@ fn rays_straight_down_shallow_both_ways_and_just_above_the_terrain_do_the_pinned
                     );
                 }
             }
+        }
+    }
+}
+
+/// A global 5.625° grid from pole to pole (heights −3 km to 6 km from a fixed sequence, one per pole, the last
+/// column repeating the first) in leaves of 2 × 2 cells under the builder's 8 × 4 zones, with node boxes: a
+/// zone is clipped by its box in the grid's frame and then by its own volume (a global grid's boxes tilt by up
+/// to 180°). Rays from orbit straight down, across the antimeridian, and toward the north pole, landing just
+/// short of it; the rows: ray, hit cell, quads visited, triangle pairs visited, triangles tested.
+#[test]
+fn rays_from_orbit_over_a_global_grid_do_the_pinned_work() {
+    let want: [(usize, Option<[u32; 2]>, [u32; 3]); 3] = [
+        (0, Some([21, 39]), [3, 1, 2]),
+        (1, Some([16, 1]), [3, 1, 2]),
+        (2, Some([29, 32]), [3, 1, 2]),
+    ];
+    let (rows, cols) = (33usize, 65usize);
+    let g = grid(-90.0, -180.0, 5.625, 5.625, rows as u32, cols as u32);
+    let mut r = Lcg(2024);
+    let mut hs: Vec<f64> = (0..rows * cols)
+        .map(|_| -3000.0 + 9000.0 * r.next())
+        .collect();
+    for i in 0..rows {
+        hs[i * cols + cols - 1] = hs[i * cols];
+    }
+    for j in 0..cols {
+        hs[j] = hs[0];
+        hs[(rows - 1) * cols + j] = hs[(rows - 1) * cols];
+    }
+    let dem = TestDem::with_boxes(g, hs, 2, |_| false);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = dem.surface.e;
+    let rays = [
+        ([30.0, 40.0, 3.0e7], [30.0, 40.0, 0.0]),
+        ([-10.0, 170.0, 2.0e6], [5.0, -170.0, 0.0]),
+        ([60.0, 1.0, 1.0e6], [70.0, 179.0, 0.0]),
+    ];
+    for (k, (from, to)) in rays.iter().enumerate() {
+        let [a, b] = [from, to].map(|&[lat, lon, h]| e.geodetic_deg_to_ecef(lat, lon, h));
+        let ray = Ray::new(a, b.minus(a)).unwrap();
+        let mut st = PickStats::default();
+        let hit = p.pick_with_stats(&ray, &mut st).unwrap();
+        let got = (
+            k,
+            hit.map(|h| h.cell),
+            [
+                st.quads_visited,
+                st.triangle_pairs_visited,
+                st.triangles_tested,
+            ],
+        );
+        assert!(want.contains(&got), "{got:?}");
+        if !cfg!(miri) {
+            same_hit(
+                &ray,
+                hit.map(|h| (h.t, h.cell)),
+                dem.surface.brute(&ray),
+                "global pinned work",
+            );
         }
     }
 }
