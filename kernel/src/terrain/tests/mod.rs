@@ -141,8 +141,13 @@ impl TestDem {
     }
 
     /// A DEM whose every node has its box ([`build::build_boxes_sharing`]): a child's box in the frame of its
-    /// parent's box when `share(its id)`, else in its parent's own frame (a zone's in the grid's).
-    fn with_boxes(grid: Grid<f64>, heights: Vec<f64>, block: u32, share: fn(u32) -> bool) -> Self {
+    /// parent's box when `share(its id, its level)`, else in its parent's own frame (a zone's in the grid's).
+    fn with_boxes(
+        grid: Grid<f64>,
+        heights: Vec<f64>,
+        block: u32,
+        share: fn(u32, u8) -> bool,
+    ) -> Self {
         Self::build(grid, heights, block, Some(share))
     }
 
@@ -151,7 +156,7 @@ impl TestDem {
         grid: Grid<f64>,
         heights: Vec<f64>,
         block: u32,
-        share: Option<fn(u32) -> bool>,
+        share: Option<fn(u32, u8) -> bool>,
     ) -> Self {
         let surface = Surface {
             e: Ellipsoid::wgs84(),
@@ -163,8 +168,12 @@ impl TestDem {
         let tree = build::build_tree(&surface.heights, &grid, block, &mut nodes).unwrap();
         if let Some(share) = share {
             let (e, hs) = (&surface.e, &surface.heights);
-            build::build_boxes_sharing(e, &grid, hs, tree, None, &mut nodes, |id, _| share(id.0))
-                .unwrap();
+            let levels: Vec<u8> = nodes.iter().map(|n| n.level).collect();
+            let level = |id: NodeId| levels.get(id.0 as usize).copied().unwrap_or(0);
+            build::build_boxes_sharing(e, &grid, hs, tree, None, &mut nodes, |id, _| {
+                share(id.0, level(id))
+            })
+            .unwrap();
         }
         TestDem {
             surface,

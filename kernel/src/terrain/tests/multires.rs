@@ -474,3 +474,47 @@ fn coarse_block_off_its_lattice_is_a_malformed_tree_and_one_ending_on_the_grids_
     assert_eq!(answer(9, [0, 8], [1, 8]), Err(TerrainError::MalformedTree));
     assert_eq!(answer(9, [0, 7], [0, 8]), Err(TerrainError::MalformedTree));
 }
+
+/// The work of rays over the zone's coarse cells stitched to the fine child east of them (the west child
+/// missing), pinned as in `work.rs`: straight down just west of the 300 m vertex and in a coarse cell north of it,
+/// a ray along row 1 from the west onto the fan's slope, and a shallow one from the north-west across the
+/// coarse cells onto the fine child's slope. The rows: ray, hit cell and stride, quads visited,
+/// triangle pairs visited, triangles tested (a stitched cell's fan triangles included).
+#[test]
+fn rays_over_stitched_coarse_cells_do_the_pinned_work() {
+    // ray, the hit's cell and stride, and the work
+    type Pinned = (usize, Option<([u32; 2], u32)>, [u32; 3]);
+    let want: [Pinned; 4] = [
+        (0, Some(([0, 2], 2)), [2, 1, 5]),
+        (1, Some(([2, 2], 2)), [2, 1, 6]),
+        (2, Some(([0, 2], 2)), [2, 2, 5]),
+        (3, Some(([1, 4], 1)), [3, 4, 18]),
+    ];
+    let d = dem();
+    d.evict(d.west_child());
+    let s = d.paged();
+    let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
+    let e = Ellipsoid::wgs84();
+    let rays = [
+        ([10.01, 20.0399, 2000.0], [10.01, 20.0399, -100.0]),
+        ([10.025, 20.025, 2000.0], [10.025, 20.025, -100.0]),
+        ([10.011, 20.001, 400.0], [10.011, 20.06, -100.0]),
+        ([10.035, 20.002, 150.0], [10.005, 20.07, 0.0]),
+    ];
+    for (k, (from, to)) in rays.iter().enumerate() {
+        let [a, b] = [from, to].map(|&[lat, lon, h]| e.geodetic_deg_to_ecef(lat, lon, h));
+        let ray = Ray::new(a, b.minus(a)).unwrap();
+        let mut st = PickStats::default();
+        let hit = p.pick_with_stats(&ray, &mut st).unwrap();
+        let got = (
+            k,
+            hit.map(|h| (h.cell, h.stride)),
+            [
+                st.quads_visited,
+                st.triangle_pairs_visited,
+                st.triangles_tested,
+            ],
+        );
+        assert!(want.contains(&got), "{got:?}");
+    }
+}

@@ -28,9 +28,9 @@ fn random_rays_agree_with_brute_force_on_rough_terrain() {
         // Spheroidal volumes, then node boxes, on the same rays.
         let plain = TestDem::new(g, hs.clone(), 2);
         // Boxes in their parents' frames, in one frame for the whole grid, and a mix of the two.
-        let boxed = TestDem::with_boxes(g, hs.clone(), 2, |_| false);
-        let one_frame = TestDem::with_boxes(g, hs.clone(), 2, |_| true);
-        let mixed = TestDem::with_boxes(g, hs, 2, |k| k % 3 != 1);
+        let boxed = TestDem::with_boxes(g, hs.clone(), 2, |_, _| false);
+        let one_frame = TestDem::with_boxes(g, hs.clone(), 2, |_, _| true);
+        let mixed = TestDem::with_boxes(g, hs, 2, |k, _| k % 3 != 1);
         assert!(
             mixed
                 .nodes
@@ -81,7 +81,7 @@ fn node_boxes_stand_in_for_the_volumes() {
         .map(|k| if k % 9 == 4 { 1500.0 } else { 200.0 })
         .collect();
     // Every other node's box in the frame of its parent's box (one-cell leaves: every zone has children).
-    let dem = TestDem::with_boxes(g, hs, 1, |k| k % 2 == 0);
+    let dem = TestDem::with_boxes(g, hs, 1, |k, _| k % 2 == 0);
     assert!(dem.nodes.iter().all(|n| n.bbox.is_some()));
     let s = dem.storage();
     let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();

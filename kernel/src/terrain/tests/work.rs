@@ -6,17 +6,18 @@ use super::*;
 
 /// A rough regional DEM of 33 × 33 vertices (0.01° cells at 45° N, 7° E, heights 0–400 m from a fixed
 /// sequence) in leaves of `block × block` cells, without node boxes (0), with each child's box in its parent's
-/// own frame (1), with every box below the zones in its zone's frame (2), or with the boxes of the nodes of odd
-/// ids in the frame their parent's box is in and the others in their parent's own (3).
+/// own frame (1), with every box below the zones in its zone's frame (2), or with the zones' children's boxes in
+/// the grid's frame and every deeper box in its parent's own (3: a node two levels down then needs a frame whose
+/// parent did not form one).
 fn rough(block: u32, boxes: u8) -> TestDem {
     let g = grid(45.0, 7.0, 0.01, 0.01, 33, 33);
     let mut r = Lcg(7);
     let hs: Vec<f64> = (0..33 * 33).map(|_| 400.0 * r.next()).collect();
     match boxes {
         0 => TestDem::new(g, hs, block),
-        1 => TestDem::with_boxes(g, hs, block, |_| false),
-        2 => TestDem::with_boxes(g, hs, block, |_| true),
-        _ => TestDem::with_boxes(g, hs, block, |id| id % 2 == 1),
+        1 => TestDem::with_boxes(g, hs, block, |_, _| false),
+        2 => TestDem::with_boxes(g, hs, block, |_, _| true),
+        _ => TestDem::with_boxes(g, hs, block, |_, level| level == 1),
     }
 }
 
@@ -154,7 +155,7 @@ fn rays_from_orbit_over_a_global_grid_do_the_pinned_work() {
         hs[j] = hs[0];
         hs[(rows - 1) * cols + j] = hs[(rows - 1) * cols];
     }
-    let dem = TestDem::with_boxes(g, hs, 2, |_| false);
+    let dem = TestDem::with_boxes(g, hs, 2, |_, _| false);
     let s = dem.storage();
     let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
     let e = dem.surface.e;
