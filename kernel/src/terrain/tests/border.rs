@@ -33,7 +33,7 @@ fn triangles(s: &Surface) -> Vec<[(u32, u32); 3]> {
 }
 
 /// A ray straight down onto point `p` from 1000 m above it along the ellipsoid normal there.
-fn ray_down_onto(e: &Ellipsoid<f64>, p: V3<f64>) -> Ray<f64> {
+pub(super) fn ray_down_onto(e: &Ellipsoid<f64>, p: V3<f64>) -> Ray<f64> {
     let g = e.ecef_to_geodetic(p);
     let n = e.normal_rad(g.lat_rad, g.lon_rad);
     Ray::new(p.add_scaled(1000.0, n), n.negated()).unwrap()
@@ -342,13 +342,13 @@ fn ray_from_far_away_aimed_just_outside_the_polar_caps_edge_misses() {
 }
 
 /// A point in pairs.
-fn dd3(v: V3<f64>) -> [Dd<f64>; 3] {
+pub(super) fn dd3(v: V3<f64>) -> [Dd<f64>; 3] {
     [v.x, v.y, v.z].map(Dd::from)
 }
 
 /// The side of the line `a–b` on which `x` lies, seen along `ray` (pairs throughout): the sign of
 /// `((b − a) × (x − a)) · d`, rounded to a scalar once.
-fn side_along(ray: &Ray<f64>, a: [Dd<f64>; 3], b: [Dd<f64>; 3], x: [Dd<f64>; 3]) -> f64 {
+pub(super) fn side_along(ray: &Ray<f64>, a: [Dd<f64>; 3], b: [Dd<f64>; 3], x: [Dd<f64>; 3]) -> f64 {
     let sub = |x: [Dd<f64>; 3], y: [Dd<f64>; 3]| [0, 1, 2].map(|k| x[k].minus(y[k]));
     let (u, v, d) = (sub(b, a), sub(x, a), dd3(ray.dir()));
     let n = [

@@ -518,3 +518,48 @@ fn rays_over_stitched_coarse_cells_do_the_pinned_work() {
         assert!(want.contains(&got), "{got:?}");
     }
 }
+
+/// The west child missing, the zone's stride-2 cell over rows 2–4, columns 0–2 is stitched to the fine child
+/// north of it; its west side lies on the grid's west edge, so the fan triangle `M V(2, 0) V(4, 0)` (`M` the
+/// middle of the cell's diagonal) has an outer edge with no triangle across. Straight-down rays onto points swept
+/// across that edge's middle in steps of 0.5 nm from 4 nm outside to 4 nm inside (within the scalar vertices'
+/// rounding) must hit exactly when, by the contract's vertices in pairs, they pass through the closed triangle
+/// (as `border.rs` sweeps the outer edges of full-resolution cells): the fan's outer edge is decided exactly too.
+#[test]
+#[cfg_attr(miri, ignore)] // 17 picks and pair arithmetic: slow there, and border.rs covers the exact test itself
+fn rays_swept_across_a_stitched_coarse_cells_outer_edge_hit_exactly_the_closed_fan_triangle() {
+    use super::border::{dd3, ray_down_onto, side_along};
+    let d = dem();
+    d.evict(d.west_child());
+    let s = d.paged();
+    let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
+    let surface = Surface {
+        e: Ellipsoid::wgs84(),
+        grid: d.grid,
+        heights: d.heights.clone(),
+    };
+    let pair = |i: u32, j: u32| surface.vertex_dd(i, j).unwrap();
+    let (da, db, corner) = (pair(2, 0), pair(4, 0), pair(4, 2));
+    let dm = [0, 1, 2].map(|k| da[k].plus(corner[k]).times_t(0.5));
+    let [va, vb, vm] = [da, db, dm].map(|q| V3::new(q[0].value(), q[1].value(), q[2].value()));
+    let e = vb.minus(va);
+    let foot = va.add_scaled(vm.minus(va).dot(e) / e.dot(e), e);
+    let inward = vm.minus(foot).scaled(1.0 / vm.minus(foot).length());
+    let mid = va.add_scaled(0.5, e);
+    let (mut hits, mut misses) = (0, 0);
+    for step in -8..=8 {
+        let ray = ray_down_onto(&surface.e, mid.add_scaled(0.5e-9 * f64::from(step), inward));
+        let side = side_along(&ray, da, db, dd3(ray.origin()));
+        let third = side_along(&ray, da, db, dm);
+        let inside = side == 0.0 || (side > 0.0) == (third > 0.0);
+        let hit = p.pick(&ray).unwrap();
+        assert_eq!(hit.is_some(), inside, "{step} × 0.5 nm: {hit:?}");
+        if let Some(h) = hit {
+            assert_eq!((h.cell, h.stride), ([2, 0], 2), "{step} × 0.5 nm");
+            hits += 1;
+        } else {
+            misses += 1;
+        }
+    }
+    assert!(hits > 0 && misses > 0, "{hits} hits, {misses} misses");
+}
