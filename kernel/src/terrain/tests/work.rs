@@ -93,8 +93,14 @@ fn rays_straight_down_shallow_both_ways_and_just_above_the_terrain_do_the_pinned
         (3, 8, 2, Some([15, 15]), [3, 5, 4]),
         (3, 8, 3, None, [3, 19, 8]),
     ];
-    for boxes in [0, 1, 2, 3] {
-        for block in [2, 4, 8] {
+    // (under Miri, whose interpreter is slow, leaves of 4 × 4 cells under spheroidal volumes and mixed frames only)
+    let (kinds, blocks): (&[u8], &[u32]) = if cfg!(miri) {
+        (&[0, 3], &[4])
+    } else {
+        (&[0, 1, 2, 3], &[2, 4, 8])
+    };
+    for &boxes in kinds {
+        for &block in blocks {
             let dem = rough(block, boxes);
             let s = dem.storage();
             let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
@@ -136,6 +142,7 @@ fn rays_straight_down_shallow_both_ways_and_just_above_the_terrain_do_the_pinned
 /// to 180°). Rays from orbit straight down, across the antimeridian, and toward the north pole, landing just
 /// short of it; the rows: ray, hit cell, quads visited, triangle pairs visited, triangles tested.
 #[test]
+#[cfg_attr(miri, ignore)] // building the global grid's boxes takes minutes there
 fn rays_from_orbit_over_a_global_grid_do_the_pinned_work() {
     let want: [(usize, Option<[u32; 2]>, [u32; 3]); 3] = [
         (0, Some([21, 39]), [3, 1, 2]),
