@@ -7,8 +7,8 @@
 //! corner vertices lie in that convex volume, so both triangles do — exactly, with no containment problem at
 //! this level — and neighbouring cells share their walls. Only the triangle pairs whose volume the ray crosses
 //! are tested, with the watertight ray–triangle test ([`triangle`]). The paper steps from one pair's volume to
-//! the next through the wall the ray leaves by; here the unit is walked by columns (the meridian walls clip
-//! the ray once per column), which visits the same pairs.
+//! the next through the wall the ray leaves by; here the unit is walked by columns, in the order the ray
+//! crosses them (the meridian walls clip the ray once per column), which visits the same pairs.
 //!
 //! Beyond the paper, two shortcuts: at full resolution, away from the axis, a column's row planes are ordered,
 //! so only the rows between those of the column segment's two ends are visited ([`Picker::crossed_rows`]
