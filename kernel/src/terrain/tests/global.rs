@@ -146,19 +146,7 @@ fn global_grid_with_32_zones_agrees_with_brute_force() {
     // the builder's leaves of 2 × 2 cells under its 8 × 4 zones, which are the 45° tiles of zone_cells; rays
     // from orbit, across the antimeridian, over and through the poles, from below the surface and toward the
     // center.
-    let (rows, cols) = (33, 65);
-    let g = grid(-90.0, -180.0, 5.625, 5.625, rows as u32, cols as u32);
-    let mut r = Lcg(2024);
-    let mut hs: Vec<f64> = (0..rows * cols)
-        .map(|_| -3000.0 + 9000.0 * r.next())
-        .collect();
-    for i in 0..rows {
-        hs[i * cols + cols - 1] = hs[i * cols]; // the repeated column
-    }
-    for j in 0..cols {
-        hs[j] = hs[0]; // one height per pole
-        hs[(rows - 1) * cols + j] = hs[(rows - 1) * cols];
-    }
+    let (g, hs, mut r) = global_relief();
     let dem = TestDem::new(g, hs, 2);
     let s = dem.storage();
     assert_eq!(s.zone_count(), 32);

@@ -322,6 +322,46 @@ impl Lcg {
     }
 }
 
+/// The ray from geodetic `from` to geodetic `to` (latitude and longitude in degrees, height in metres).
+fn ray_between(e: &Ellipsoid<f64>, from: [f64; 3], to: [f64; 3]) -> Ray<f64> {
+    let [a, b] = [from, to].map(|[lat, lon, h]| e.geodetic_deg_to_ecef(lat, lon, h));
+    Ray::new(a, b.minus(a)).unwrap()
+}
+
+/// A pick and its work ([`PickStats`]): quads visited, triangle pairs visited, triangles tested.
+fn pick_counted<S: TerrainCaches<f64>>(
+    p: &Picker<'_, f64, S>,
+    ray: &Ray<f64>,
+) -> (Option<Hit<f64>>, [u32; 3]) {
+    let mut st = PickStats::default();
+    let hit = p.pick_with_stats(ray, &mut st).unwrap();
+    let work = [
+        st.quads_visited,
+        st.triangle_pairs_visited,
+        st.triangles_tested,
+    ];
+    (hit, work)
+}
+
+/// A global 5.625° grid from pole to pole (33 × 65 vertices) whose last column repeats the first (longitudes run
+/// to +180), heights −3 km to 6 km from a fixed sequence, one height per pole; and the sequence, to go on with.
+fn global_relief() -> (Grid<f64>, Vec<f64>, Lcg) {
+    let (rows, cols) = (33, 65);
+    let g = grid(-90.0, -180.0, 5.625, 5.625, rows as u32, cols as u32);
+    let mut r = Lcg(2024);
+    let mut hs: Vec<f64> = (0..rows * cols)
+        .map(|_| -3000.0 + 9000.0 * r.next())
+        .collect();
+    for i in 0..rows {
+        hs[i * cols + cols - 1] = hs[i * cols]; // the repeated column
+    }
+    for j in 0..cols {
+        hs[j] = hs[0]; // one height per pole
+        hs[(rows - 1) * cols + j] = hs[(rows - 1) * cols];
+    }
+    (g, hs, r)
+}
+
 fn radial_ray(e: &Ellipsoid<f64>, lat: f64, lon: f64, h0: f64) -> Ray<f64> {
     let top = e.geodetic_deg_to_ecef(lat, lon, h0);
     let n = e.normal_rad(lat.to_radians(), lon.to_radians());

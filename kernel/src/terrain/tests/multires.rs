@@ -203,9 +203,7 @@ fn ray_over_a_missing_block_before_its_hit_in_a_resident_one_needs_the_block() {
     d.evict(w);
     let s = d.paged();
     let e = Ellipsoid::wgs84();
-    let from = e.geodetic_deg_to_ecef(10.02, 20.005, 250.0);
-    let to = e.geodetic_deg_to_ecef(10.02, 20.07, 0.0);
-    let ray = Ray::new(from, to.minus(from)).unwrap();
+    let ray = ray_between(&e, [10.02, 20.005, 250.0], [10.02, 20.07, 0.0]);
     let p = Picker::<'_, f64, _>::new(&s).unwrap().with_min_level(1);
     assert_eq!(p.pick(&ray), Err(TerrainError::NeedsBlock(w)));
     assert_eq!(p.pick_t(&ray), Err(TerrainError::NeedsBlock(w)));
@@ -501,20 +499,9 @@ fn rays_over_stitched_coarse_cells_do_the_pinned_work() {
         ([10.011, 20.001, 400.0], [10.011, 20.06, -100.0]),
         ([10.035, 20.002, 150.0], [10.005, 20.07, 0.0]),
     ];
-    for (k, (from, to)) in rays.iter().enumerate() {
-        let [a, b] = [from, to].map(|&[lat, lon, h]| e.geodetic_deg_to_ecef(lat, lon, h));
-        let ray = Ray::new(a, b.minus(a)).unwrap();
-        let mut st = PickStats::default();
-        let hit = p.pick_with_stats(&ray, &mut st).unwrap();
-        let got = (
-            k,
-            hit.map(|h| (h.cell, h.stride)),
-            [
-                st.quads_visited,
-                st.triangle_pairs_visited,
-                st.triangles_tested,
-            ],
-        );
+    for (k, &(from, to)) in rays.iter().enumerate() {
+        let (hit, work) = pick_counted(&p, &ray_between(&e, from, to));
+        let got = (k, hit.map(|h| (h.cell, h.stride)), work);
         assert!(want.contains(&got), "{got:?}");
     }
 }

@@ -261,9 +261,7 @@ fn pick_beside_a_peak(from: [f64; 3], to: [f64; 3], what: &str) -> (Hit<f64>, Pi
     let dem = TestDem::new(g, heights, 8);
     let s = dem.storage();
     let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
-    let e = dem.surface.e;
-    let [from, to] = [from, to].map(|[lat, lon, h]| e.geodetic_deg_to_ecef(lat, lon, h));
-    let ray = Ray::new(from, to.minus(from)).unwrap();
+    let ray = ray_between(&dem.surface.e, from, to);
     let mut st = PickStats::default();
     let hit = p.pick_with_stats(&ray, &mut st).unwrap().unwrap();
     // (under Miri the brute force over the 512 triangles takes most of a minute)

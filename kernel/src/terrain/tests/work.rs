@@ -105,22 +105,10 @@ fn rays_straight_down_shallow_both_ways_and_just_above_the_terrain_do_the_pinned
             let s = dem.storage();
             let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
             let e = dem.surface.e;
-            for (k, (from, to)) in RAYS.iter().enumerate() {
-                let [a, b] = [from, to].map(|&[lat, lon, h]| e.geodetic_deg_to_ecef(lat, lon, h));
-                let ray = Ray::new(a, b.minus(a)).unwrap();
-                let mut st = PickStats::default();
-                let hit = p.pick_with_stats(&ray, &mut st).unwrap();
-                let got = (
-                    boxes,
-                    block,
-                    k,
-                    hit.map(|h| h.cell),
-                    [
-                        st.quads_visited,
-                        st.triangle_pairs_visited,
-                        st.triangles_tested,
-                    ],
-                );
+            for (k, &(from, to)) in RAYS.iter().enumerate() {
+                let ray = ray_between(&e, from, to);
+                let (hit, work) = pick_counted(&p, &ray);
+                let got = (boxes, block, k, hit.map(|h| h.cell), work);
                 assert!(want.contains(&got), "{got:?}");
                 // (under Miri the brute force over the 2 048 triangles takes minutes)
                 if !cfg!(miri) {
@@ -136,10 +124,9 @@ fn rays_straight_down_shallow_both_ways_and_just_above_the_terrain_do_the_pinned
     }
 }
 
-/// A global 5.625° grid from pole to pole (heights −3 km to 6 km from a fixed sequence, one per pole, the last
-/// column repeating the first) in leaves of 2 × 2 cells under the builder's 8 × 4 zones, with node boxes: a
-/// zone is clipped by its box in the grid's frame and then by its own volume (a global grid's boxes tilt by up
-/// to 180°). Rays from orbit straight down, across the antimeridian, and toward the north pole, landing just
+/// The global 5.625° grid of [`global_relief`] in leaves of 2 × 2 cells under the builder's 8 × 4 zones, with
+/// node boxes: a zone is clipped by its box in the grid's frame and then by its own volume (a global grid's boxes
+/// tilt by up to 180°). Rays from orbit straight down, across the antimeridian, and toward the north pole, landing just
 /// short of it; the rows: ray, hit cell, quads visited, triangle pairs visited, triangles tested.
 #[test]
 #[cfg_attr(miri, ignore)] // building the global grid's boxes takes minutes there
@@ -149,19 +136,7 @@ fn rays_from_orbit_over_a_global_grid_do_the_pinned_work() {
         (1, Some([16, 1]), [3, 1, 2]),
         (2, Some([29, 32]), [3, 1, 2]),
     ];
-    let (rows, cols) = (33usize, 65usize);
-    let g = grid(-90.0, -180.0, 5.625, 5.625, rows as u32, cols as u32);
-    let mut r = Lcg(2024);
-    let mut hs: Vec<f64> = (0..rows * cols)
-        .map(|_| -3000.0 + 9000.0 * r.next())
-        .collect();
-    for i in 0..rows {
-        hs[i * cols + cols - 1] = hs[i * cols];
-    }
-    for j in 0..cols {
-        hs[j] = hs[0];
-        hs[(rows - 1) * cols + j] = hs[(rows - 1) * cols];
-    }
+    let (g, hs, _) = global_relief();
     let dem = TestDem::with_boxes(g, hs, 2, |_, _| false);
     let s = dem.storage();
     let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
@@ -171,20 +146,10 @@ fn rays_from_orbit_over_a_global_grid_do_the_pinned_work() {
         ([-10.0, 170.0, 2.0e6], [5.0, -170.0, 0.0]),
         ([60.0, 1.0, 1.0e6], [70.0, 179.0, 0.0]),
     ];
-    for (k, (from, to)) in rays.iter().enumerate() {
-        let [a, b] = [from, to].map(|&[lat, lon, h]| e.geodetic_deg_to_ecef(lat, lon, h));
-        let ray = Ray::new(a, b.minus(a)).unwrap();
-        let mut st = PickStats::default();
-        let hit = p.pick_with_stats(&ray, &mut st).unwrap();
-        let got = (
-            k,
-            hit.map(|h| h.cell),
-            [
-                st.quads_visited,
-                st.triangle_pairs_visited,
-                st.triangles_tested,
-            ],
-        );
+    for (k, &(from, to)) in rays.iter().enumerate() {
+        let ray = ray_between(&e, from, to);
+        let (hit, work) = pick_counted(&p, &ray);
+        let got = (k, hit.map(|h| h.cell), work);
         assert!(want.contains(&got), "{got:?}");
         if !cfg!(miri) {
             same_hit(
