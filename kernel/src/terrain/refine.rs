@@ -404,6 +404,103 @@ mod tests {
         }
     }
 
+    /// A point in pairs from scalars.
+    fn dd3([x, y, z]: [f64; 3]) -> [Dd<f64>; 3] {
+        [Dd::from(x), Dd::from(y), Dd::from(z)]
+    }
+
+    /// The right triangle `v0 = (1, −2, 3)`, `v1 = v0 + (2, 0, 0)`, `v2 = v0 + (0, 4, 0)` (normal `(0, 0, 8)`),
+    /// and the ray from `v0 + (x − 0.25, y − 0.5, 2)` along `(0.25, 0.5, −2)`, which meets its plane at
+    /// `v0 + (x, y, 0)` at `t = 1`; every value here is exact in binary.
+    fn slanted_hit(x: f64, y: f64, t_ref: f64) -> PlaneHit<f64> {
+        let v0 = [1.0, -2.0, 3.0];
+        let [a, b, c] = v0;
+        let ray = Ray::new([a + x - 0.25, b + y - 0.5, c + 2.0], [0.25, 0.5, -2.0]).unwrap();
+        plane_through(
+            &ray,
+            t_ref,
+            &dd3(v0),
+            &dd3([a + 2.0, b, c]),
+            &dd3([a, b + 4.0, c]),
+        )
+        .unwrap()
+    }
+
+    /// The plane hit of the slanted ray through `v0 + (0.5, 1, 0)`, stepped from `t_ref` before, at and after
+    /// it: `t = 1` and the point exactly, the slope `|n·d| / |n| = 16 / 8`, `|n| = 8`, the barycentric
+    /// coordinates `(1/2, 1/4, 1/4)` times `|n|² = 64`, and the squared lengths of the edges opposite each
+    /// vertex (20, 16, 4).
+    #[test]
+    fn plane_through_a_right_triangle_from_a_slanted_ray_is_exact_from_any_reference_parameter() {
+        for t_ref in [0.75, 1.0, 3.0, -5.0] {
+            let h = slanted_hit(0.5, 1.0, t_ref);
+            assert_eq!(h.t, 1.0, "{t_ref}");
+            assert_eq!(h.p, [1.5, -1.0, 3.0], "{t_ref}");
+            assert_eq!((h.slope, h.n_len), (2.0, 8.0), "{t_ref}");
+            assert_eq!(h.bary, [32.0, 16.0, 16.0], "{t_ref}");
+            assert_eq!(h.edge2, [20.0, 16.0, 4.0], "{t_ref}");
+        }
+    }
+
+    /// `PlaneHit::inside`: the signed in-plane distance inside each edge (opposite `v0`: the hypotenuse
+    /// `2x + y = 4`; opposite `v1`: `x = 0`; opposite `v2`: `y = 0`), for a point inside and points beyond each
+    /// edge; `within(tol)` accepts a point beyond an edge by at most `tol`, and no further.
+    #[test]
+    fn in_plane_distances_inside_each_edge_and_the_tolerance_beyond_one() {
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-15;
+        let h = slanted_hit(0.5, 1.0, 1.0);
+        assert!(close(h.inside(0), 2.0 / 5.0_f64.sqrt()));
+        assert_eq!((h.inside(1), h.inside(2)), (0.5, 1.0));
+        assert!(h.within(0.0));
+        assert!(h.inside(3).is_nan());
+        // Beyond each edge by 0.5, 0.25 and 2/√5 (the hypotenuse, from (2, 2)).
+        for (x, y, k, beyond) in [
+            (-0.5, 1.0, 1, 0.5),
+            (0.5, -0.25, 2, 0.25),
+            (2.0, 2.0, 0, 2.0 / 5.0_f64.sqrt()),
+        ] {
+            let h = slanted_hit(x, y, 1.0);
+            assert!(close(h.inside(k), -beyond), "{x} {y}: {}", h.inside(k));
+            assert!(h.bary.get(k).is_some_and(|&c| c < 0.0));
+            assert!(!h.within(0.0) && !h.within(0.99 * beyond), "{x} {y}");
+            assert!(h.within(1.01 * beyond) && h.within(2.0 * beyond), "{x} {y}");
+        }
+        // Exactly the tolerance beyond (an exact distance): within.
+        assert!(slanted_hit(-0.5, 1.0, 1.0).within(0.5));
+    }
+
+    /// The guard: a refined hit is kept when it lies in `[t_min, t_max]` (either end included) and moved along
+    /// the normal, `|t − t0|·slope`, by at most `256 ε (‖o‖∞ + ‖o + t0 d‖∞)`: here `256 ε (8 + 4)` with the
+    /// slope 2, so 384 steps of `ulp(4) = 4 ε` from `t0 = 4` are kept and 385 are not, either way.
+    #[test]
+    fn the_guard_keeps_a_refined_hit_moved_by_at_most_its_bound_along_the_normal_and_inside_the_range()
+     {
+        let ray = Ray::new([0.0, 0.0, 8.0], [0.0, 0.0, -1.0]).unwrap();
+        let step = 4.0 * f64::EPSILON;
+        let hit = |t: f64| PlaneHit {
+            t,
+            p: [0.0, 0.0, 8.0 - t],
+            slope: 2.0,
+            n_len: 1.0,
+            bary: [1.0; 3],
+            edge2: [1.0; 3],
+        };
+        let kept = |ray: &Ray<f64>, t: f64| guard(ray, 4.0, &hit(t)).map(|(t, _)| t);
+        for m in [-384.0, -1.0, 0.0, 1.0, 384.0] {
+            assert_eq!(kept(&ray, 4.0 + m * step), Some(4.0 + m * step), "{m}");
+        }
+        for m in [-385.0, 385.0, 1e6] {
+            assert_eq!(kept(&ray, 4.0 + m * step), None, "{m}");
+        }
+        // The range, each end included: t0 on t_max, then on t_min.
+        let to_t0 = ray.with_interval(0.0, 4.0).unwrap();
+        assert_eq!(kept(&to_t0, 4.0), Some(4.0));
+        assert_eq!(kept(&to_t0, 4.0 + step), None);
+        let from_t0 = ray.with_interval(4.0, 6.0).unwrap();
+        assert_eq!(kept(&from_t0, 4.0), Some(4.0));
+        assert_eq!(kept(&from_t0, 4.0 - step), None);
+    }
+
     #[test]
     fn the_triangle_across_each_edge_shares_exactly_that_edge() {
         let g = Grid {

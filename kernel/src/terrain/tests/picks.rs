@@ -588,3 +588,168 @@ fn straight_down_rays_on_the_antimeridian_keep_the_western_column_on_an_exact_ti
         assert_eq!((hit.cell, cell), ([0, 1], [0, 1]), "latitude {lat}");
     }
 }
+
+/// The refinement's containment walk (`refine.rs`, "Ties"): started on a neighbour of the triangle a ray crosses,
+/// across each of the three edges of either triangle of a cell, the walk steps across the one edge the start
+/// plane's point lies beyond, to the crossed triangle, and the refined `t` lies on that triangle's plane through
+/// the contract's vertices in pairs. Each ray descends along the normal through the crossed triangle's centroid on
+/// rough 3.6″ terrain (the start triangles' planes differ from the crossed one's by tens of metres there).
+#[test]
+fn containment_walk_from_each_neighbour_steps_across_the_shared_edge_to_the_crossed_triangle() {
+    use super::refine::{Tri, refine};
+    let (rows, cols) = (6, 6);
+    let g = grid(45.0, 7.0, 0.001, 0.001, rows, cols);
+    let mut r = Lcg(9);
+    let hs: Vec<f64> = (0..rows * cols).map(|_| 300.0 * r.next()).collect();
+    let dem = TestDem::new(g, hs, 4);
+    let s = dem.storage();
+    let e = dem.surface.e;
+    let v = |i: u32, j: u32| dem.surface.vertex_dd(i, j).unwrap();
+    let (i, j) = (2, 2);
+    // The crossed triangle's grid vertices, and its neighbours across its edges opposite v0, v1, v2 (written out
+    // here rather than taken from the refinement's own `across`).
+    let cases = [
+        (
+            Tri::First,
+            [(i, j), (i, j + 1), (i + 1, j + 1)],
+            [
+                ([i, j + 1], Tri::Second),
+                ([i, j], Tri::Second),
+                ([i - 1, j], Tri::Second),
+            ],
+        ),
+        (
+            Tri::Second,
+            [(i, j), (i + 1, j + 1), (i + 1, j)],
+            [
+                ([i + 1, j], Tri::First),
+                ([i, j - 1], Tri::First),
+                ([i, j], Tri::First),
+            ],
+        ),
+    ];
+    for (tri, corners, neighbours) in cases {
+        let (lat, lon) = corners.iter().fold((0.0, 0.0), |(a, b), &(ci, cj)| {
+            (a + g.lat_deg(ci) / 3.0, b + g.lon_deg(cj) / 3.0)
+        });
+        let ray = radial_ray(&e, lat, lon, 2000.0);
+        let t_exact = dd_plane_t(&ray, corners.map(|(ci, cj)| v(ci, cj)));
+        for (k, (start, start_tri)) in neighbours.into_iter().enumerate() {
+            let refined = refine(&s, &g, &ray, t_exact, start, start_tri, &|_| true);
+            assert!(
+                refined.is_some_and(|(t, _)| (t - t_exact).abs() < 1e-10),
+                "{tri:?} from across edge {k}: {refined:?}, t {t_exact}"
+            );
+        }
+        // Started on the crossed triangle itself, no step.
+        let (t, _) = refine(&s, &g, &ray, t_exact, [i, j], tri, &|_| true).unwrap();
+        assert!((t - t_exact).abs() < 1e-10, "{tri:?}");
+    }
+}
+
+/// Outside the grid the refinement has no triangle: a cell in the grid's last row or column of vertices (whose
+/// far corners would be past the grid) and a triangle with a vertex one column or one row past the grid give no
+/// refined hit and no exact sides (the traversal never asks for them; the refinement's own range checks and the
+/// storage's, whose height is `None` out of range, each ensure it).
+#[test]
+fn refinement_of_a_cell_or_vertex_outside_the_grid_is_none() {
+    use super::refine::{Tri, TriRef, Vtx, exact_sides, refine};
+    let (rows, cols) = (5, 5);
+    let g = grid(45.0, 7.0, 0.001, 0.001, rows, cols);
+    let dem = TestDem::new(g, std::vec![100.0; (rows * cols) as usize], 2);
+    let s = dem.storage();
+    let ray = radial_ray(&dem.surface.e, g.lat_deg(1), g.lon_deg(1), 1000.0);
+    for tri in [Tri::First, Tri::Second] {
+        // cell [1, 1] is inside and refines; cells on the last column or row of vertices do not
+        assert!(refine(&s, &g, &ray, 900.0, [1, 1], tri, &|_| true).is_some());
+        for cell in [[1, cols - 1], [rows - 1, 1]] {
+            assert_eq!(
+                refine(&s, &g, &ray, 900.0, cell, tri, &|_| true),
+                None,
+                "{cell:?}"
+            );
+        }
+    }
+    let inside = [Vtx::Grid(1, 1), Vtx::Grid(1, 2), Vtx::Grid(2, 2)];
+    assert!(exact_sides(&s, &g, &ray, [1, 1], TriRef::Vertices(inside)).is_some());
+    for past in [Vtx::Grid(1, cols), Vtx::Grid(rows, 1)] {
+        let tri = TriRef::Vertices([Vtx::Grid(1, 1), past, Vtx::Grid(2, 2)]);
+        assert_eq!(exact_sides(&s, &g, &ray, [1, 1], tri), None, "{past:?}");
+    }
+}
+
+/// Rays through grid vertices and edge midpoints, where the triangles that share the point each see it on an
+/// edge, within rounding outside or inside: straight down onto rough 3.6″ terrain, and grazing (0.1° below the
+/// horizon, from 2 km away) onto nearly flat terrain, where a plane's point slides along it by the miss over the
+/// sine of the incidence. The containment walk's tolerance (`16 ε ‖p‖∞`) settles the refinement, and the refined
+/// `t` lies on one of their planes through the contract's vertices in pairs (within 1e-10 m), where the traversal's
+/// `t` is off by the `f64` vertices' rounding.
+#[test]
+fn refined_hits_through_vertices_and_edge_midpoints_settle_on_a_plane_that_shares_the_point() {
+    let (rows, cols) = (8, 8);
+    let g = grid(45.0, 7.0, 0.001, 0.001, rows, cols);
+    for (relief, grazing) in [(300.0, false), (0.2, true)] {
+        let mut r = Lcg(17);
+        let hs: Vec<f64> = (0..rows * cols)
+            .map(|_| 1000.0 + relief * r.next())
+            .collect();
+        let dem = TestDem::new(g, hs, 4);
+        let s = dem.storage();
+        let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+        let e = dem.surface.e;
+        let v = |i: u32, j: u32| dem.surface.vertex_dd(i, j).unwrap();
+        let vf = |i: u32, j: u32| dem.surface.vertex(i, j).unwrap();
+        let (mut worst, mut worst_traversal) = (0.0_f64, 0.0_f64);
+        // (under Miri, whose interpreter is slow, the vertices of one cell)
+        let span = if cfg!(miri) { 2..4 } else { 2..6 };
+        for i in span.clone() {
+            for j in span.clone() {
+                // the vertex, and the midpoints of the edges north, east and north-east (the diagonal) of it
+                for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                    let target = vf(i, j).plus(vf(i + di, j + dj)).scaled(0.5);
+                    let (lat, lon) = (g.lat_deg(i).to_radians(), g.lon_deg(j).to_radians());
+                    let up = e.normal_rad(lat, lon);
+                    let dir = if grazing {
+                        let east = V3::new(-lon.sin(), lon.cos(), 0.0);
+                        let north = up.cross(east);
+                        east.scaled(0.6)
+                            .add_scaled(0.8, north)
+                            .add_scaled(-(0.1_f64.to_radians().tan()), up)
+                    } else {
+                        up.negated()
+                    };
+                    let ray =
+                        Ray::new(target.add_scaled(-2000.0 / dir.length(), dir), dir).unwrap();
+                    let hit = p.pick(&ray).unwrap().unwrap();
+                    let (t_trav, _) = p.pick_t(&ray).unwrap().unwrap();
+                    // the planes of the eight triangles of the four cells around vertex (i, j)
+                    let t_near = |t: f64| {
+                        let mut planes = Vec::new();
+                        for (ci, cj) in [(i - 1, j - 1), (i - 1, j), (i, j - 1), (i, j)] {
+                            planes.push(dd_plane_t(
+                                &ray,
+                                [v(ci, cj), v(ci, cj + 1), v(ci + 1, cj + 1)],
+                            ));
+                            planes.push(dd_plane_t(
+                                &ray,
+                                [v(ci, cj), v(ci + 1, cj + 1), v(ci + 1, cj)],
+                            ));
+                        }
+                        let len = ray.dir().length();
+                        planes
+                            .into_iter()
+                            .map(|tp| (tp - t).abs() * len)
+                            .fold(f64::INFINITY, f64::min)
+                    };
+                    worst = worst.max(t_near(hit.t));
+                    worst_traversal = worst_traversal.max(t_near(t_trav));
+                }
+            }
+        }
+        assert!(worst < 1e-10, "grazing {grazing}: refined {worst} m");
+        assert!(
+            worst_traversal > 1e-10,
+            "grazing {grazing}: traversal {worst_traversal} m"
+        );
+    }
+}
