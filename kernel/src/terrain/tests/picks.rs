@@ -753,3 +753,40 @@ fn refined_hits_through_vertices_and_edge_midpoints_settle_on_a_plane_that_share
         );
     }
 }
+
+/// The refined point's tolerance beyond a triangle's edge (`16 ε ‖p‖∞`, 1.6e-8 m here): a ray along the
+/// triangle's normal through a point 5e-9 m outside the grid's outer edge is refined, as a full-resolution cell's
+/// triangle (`refine`, whose walk finds no triangle across that edge) and given by its vertices (`refine_vertices`,
+/// coarse cells' and fans' triangles); one through a point 1e-6 m outside is not (the traversal's hit is kept).
+#[test]
+fn refinement_accepts_a_plane_point_within_its_tolerance_beyond_an_outer_edge_and_no_further() {
+    use super::refine::{Tri, Vtx, refine, refine_vertices};
+    let (rows, cols) = (5, 5);
+    let g = grid(45.0, 7.0, 0.001, 0.001, rows, cols);
+    let mut r = Lcg(3);
+    let hs: Vec<f64> = (0..rows * cols).map(|_| 100.0 + 50.0 * r.next()).collect();
+    let dem = TestDem::new(g, hs, 2);
+    let s = dem.storage();
+    let vf = |i: u32, j: u32| dem.surface.vertex(i, j).unwrap();
+    // Cell [0, 1]'s first triangle V(0,1) V(0,2) V(1,2): its edge a–b lies on the grid's first row.
+    let (a, b, c) = (vf(0, 1), vf(0, 2), vf(1, 2));
+    let n = b.minus(a).cross(c.minus(a));
+    let up = n.scaled(1.0 / n.length());
+    let out = up.cross(b.minus(a));
+    let out = out.scaled(1.0 / out.length());
+    let out = if out.dot(c.minus(a)) > 0.0 {
+        out.negated()
+    } else {
+        out
+    };
+    let middle = a.plus(b).scaled(0.5);
+    for (offset, kept) in [(5e-9, true), (1e-6, false)] {
+        let target = middle.add_scaled(offset, out);
+        let ray = Ray::new(target.add_scaled(1000.0, up), up.negated()).unwrap();
+        let full = refine(&s, &g, &ray, 1000.0, [0, 1], Tri::First, &|_| true);
+        let vertices = [Vtx::Grid(0, 1), Vtx::Grid(0, 2), Vtx::Grid(1, 2)];
+        let coarse = refine_vertices(&s, &g, &ray, 1000.0, vertices);
+        assert_eq!(full.is_some(), kept, "{offset} m outside: {full:?}");
+        assert_eq!(coarse.is_some(), kept, "{offset} m outside: {coarse:?}");
+    }
+}
