@@ -507,4 +507,70 @@ mod tests {
         );
         assert_eq!(square_len(MAX_LEVEL + 1), usize::MAX);
     }
+
+    /// Each bad number alone is refused: the center's either coordinate not finite, a singular map (determinant
+    /// exactly 0 with no zero entry), a map with an infinite or NaN entry, a semi-axis 0, negative or infinite, a
+    /// NaN shear; and a tangential polygon with a straight corner (collinear neighbours, α = π) or a folded one
+    /// (α = 0). The same calls with good numbers succeed.
+    #[test]
+    fn each_non_finite_or_degenerate_input_alone_is_refused() {
+        let mut out = vec![[0.0_f64; 2]; 64];
+        let shape = Err(TessellateError::InvalidShape);
+        let (nan, inf) = (f64::NAN, f64::INFINITY);
+        let identity = [[1.0, 0.0], [0.0, 1.0]];
+        assert!(affine_circle([0.0, 0.0], identity, 2, &mut out).is_ok());
+        for center in [[nan, 0.0], [0.0, nan], [inf, 0.0], [0.0, -inf]] {
+            assert_eq!(
+                affine_circle(center, identity, 2, &mut out),
+                shape,
+                "{center:?}"
+            );
+        }
+        for m in [
+            [[1.0, 2.0], [2.0, 4.0]],
+            [[inf, 0.0], [0.0, 1.0]],
+            [[1.0, nan], [0.0, 1.0]],
+        ] {
+            assert_eq!(affine_circle([0.0, 0.0], m, 2, &mut out), shape, "{m:?}");
+        }
+        assert!(sheared_ellipse([0.0, 0.0], 2.0, 1.0, 0.5, 2, &mut out).is_ok());
+        for (a, b, s) in [
+            (0.0, 1.0, 0.5),
+            (2.0, 0.0, 0.5),
+            (-2.0, 1.0, 0.5),
+            (inf, 1.0, 0.5),
+            (2.0, inf, 0.5),
+            (2.0, 1.0, nan),
+            (2.0, 1.0, inf),
+        ] {
+            assert_eq!(
+                sheared_ellipse([0.0, 0.0], a, b, s, 2, &mut out),
+                shape,
+                "{a} {b} {s}"
+            );
+        }
+        let mut arcs = [Arc {
+            start: [0.0; 2],
+            corner: [0.0; 2],
+            alpha: 0.0,
+        }; 4];
+        let square = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
+        assert_eq!(
+            arcs_of_tangential_polygon([0.0, 0.0], &square, &mut arcs),
+            Ok(4)
+        );
+        let bad = Err(TessellateError::InvalidControlPolygon);
+        // a straight corner: (1, 0) between (1, −1) and (1, 1)
+        let straight = [[-1.0, -1.0], [1.0, -1.0], [1.0, 0.0], [1.0, 1.0]];
+        assert_eq!(
+            arcs_of_tangential_polygon([0.0, 0.0], &straight, &mut arcs),
+            bad
+        );
+        // a folded corner: (1, −1) between (−1, −1) and (0, −1), going back along the same line
+        let folded = [[-1.0, -1.0], [1.0, -1.0], [0.0, -1.0]];
+        assert_eq!(
+            arcs_of_tangential_polygon([0.0, 0.0], &folded, &mut arcs),
+            bad
+        );
+    }
 }

@@ -465,7 +465,7 @@ fn walk_octant<T: Real>(
 /// Decides `test` at `level` exactly by visiting every vertex (deviation) or every edge (normal angle) of the
 /// positive octant — the polyhedron is symmetric under the three coordinate reflections — skipping the subtrees
 /// that the bounds of the `lod` module docs clear, and stopping at the first violation.
-fn decide_by_walk<T: Real>(
+pub(super) fn decide_by_walk<T: Real>(
     e: &Ell<T>,
     level: u32,
     test: EllTest<T>,

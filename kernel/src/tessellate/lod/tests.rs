@@ -1,5 +1,5 @@
 use super::super::bevel::tangent_planes_meet;
-use super::ellipsoid::{decide_cheaply, leaf_at, witness_targets};
+use super::ellipsoid::{decide_by_walk, decide_cheaply, leaf_at, witness_targets};
 use super::*;
 use crate::vec3::V3;
 
@@ -186,6 +186,38 @@ fn ellipsoid_walk_decides_levels_the_witnesses_leave_open() {
             let a = w.max_normal_angle * (1.0 + f);
             let b = Bound::MinDihedral(core::f64::consts::PI - a);
             assert_eq!(min_level(Shape::Ellipsoid(axes), b), Ok(k), "{b:?}");
+        }
+    }
+}
+
+/// The exhaustive octant walk alone (`decide_by_walk`, without the witnesses that decide most levels before it):
+/// for a bound just below a level's exact worst deviation or normal angle (by the unpruned walk of
+/// [`ellipsoid_worst_case`]) it finds the violation, and just above it finds none, for three ellipsoids (one
+/// long axis, one short, all three different) at levels 1 to 5. A bound that cleared a subtree holding the worst
+/// vertex or edge would answer "meets" below it.
+#[test]
+#[cfg_attr(miri, ignore)]
+fn the_octant_walk_alone_finds_each_levels_worst_case_and_nothing_past_it() {
+    for axes in [[3.0_f64, 2.0, 1.0], [1.0, 1.0, 0.3], [1.0, 4.0, 1.0]] {
+        let (e, hi) = Ell::new(axes).unwrap();
+        for k in 1..=5u32 {
+            let w = ellipsoid_worst_case(axes, k).unwrap();
+            for f in [1e-9, 1e-6, 1e-3] {
+                for (factor, meets) in [(1.0 - f, false), (1.0 + f, true)] {
+                    let dev = EllTest::Deviation(w.max_deviation * factor / hi);
+                    assert_eq!(
+                        decide_by_walk(&e, k, dev),
+                        Ok(meets),
+                        "{axes:?} {k} {dev:?}"
+                    );
+                    let angle = EllTest::NormalAngle(w.max_normal_angle * factor);
+                    assert_eq!(
+                        decide_by_walk(&e, k, angle),
+                        Ok(meets),
+                        "{axes:?} {k} {angle:?}"
+                    );
+                }
+            }
         }
     }
 }
