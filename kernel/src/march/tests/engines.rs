@@ -449,3 +449,67 @@ fn polar_ray_whose_flat_direction_alone_is_tiny_is_an_error_not_a_crossing_at_in
     assert_eq!(m.error(), Some(MarchError::Unrepresentable), "{got:?}");
     assert!(got.iter().all(|c| c.t_exit.is_finite()), "{got:?}");
 }
+
+/// A tiny direction whose `t` overflows only where the line leaves the outer ball, beyond a finite `t_max` (the
+/// line from (−1.5, 0.1, 0.2) along +x at 1e-308 enters the unit ball at t ≈ 5.3e307 and would leave it at
+/// t ≈ 2.5e308): restricted to `t ≤ 1e308` it marches its one crossing, finite, to `t_max`; with `t_max = ∞` it
+/// is refused. Behind the origin the same: from (0.9, 0.1, 0.2) the line left the ball at t ≈ −4.7e308 (not
+/// finite) and leaves it ahead at t ≈ 1.9e307; from `t_min = 0` that crossing is marched, from `t_min = −∞` the
+/// march is refused (both engines).
+#[test]
+fn tiny_direction_whose_t_overflows_only_outside_the_interval_marches() {
+    let mut ws = [0.0; 64];
+    let g = SphericalGrid::new(&R, &TH, &PH, &mut ws).unwrap();
+    let x_ball = 0.95_f64.sqrt();
+    let cases = [
+        (
+            [-1.5, 0.1, 0.2],
+            1e-308,
+            [0.0, 1e308],
+            (1.5 - x_ball) / 1e-308,
+            1e308,
+        ),
+        (
+            [0.9, 0.1, 0.2],
+            4e-309,
+            [0.0, f64::INFINITY],
+            0.0,
+            (x_ball - 0.9) / 4e-309,
+        ),
+    ];
+    for (o, dx, [t_min, t_max], t_enter, t_exit) in cases {
+        let ray = Ray::new(o, [dx, 0.0, 0.0]).unwrap();
+        let limited = ray.with_interval(t_min, t_max).unwrap();
+        let mut m = g.march(&limited);
+        let got: Vec<_> = m.by_ref().collect();
+        assert_eq!(m.error(), None, "{o:?}");
+        assert_eq!(got.len(), 1, "{o:?}: {got:?}");
+        let c = got[0];
+        assert_eq!(c.cell, [1, 0, 0], "{o:?}");
+        assert!(
+            (c.t_enter - t_enter).abs() <= 1e-14 * t_exit,
+            "{o:?}: {c:?} vs {t_enter}"
+        );
+        assert!(
+            (c.t_exit - t_exit).abs() <= 1e-14 * t_exit,
+            "{o:?}: {c:?} vs {t_exit}"
+        );
+        let separable: Vec<_> = g.march_separable::<32>(&limited).unwrap().collect();
+        assert_eq!(separable, got, "{o:?}");
+        // The whole line on the side where t overflows: refused.
+        let whole = if t_min == 0.0 && t_max.is_finite() {
+            ray.with_interval(0.0, f64::INFINITY)
+        } else {
+            ray.with_interval(f64::NEG_INFINITY, t_max)
+        }
+        .unwrap();
+        let mut m = g.march(&whole);
+        assert_eq!(m.by_ref().count(), 0, "{o:?}");
+        assert_eq!(m.error(), Some(MarchError::Unrepresentable), "{o:?}");
+        assert_eq!(
+            g.march_separable::<32>(&whole).err(),
+            Some(MarchError::Unrepresentable),
+            "{o:?}"
+        );
+    }
+}
