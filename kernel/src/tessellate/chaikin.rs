@@ -572,5 +572,49 @@ mod tests {
             arcs_of_tangential_polygon([0.0, 0.0], &folded, &mut arcs),
             bad
         );
+        // An arc with one bad number alone: its start or corner not finite, its α not in (0, π).
+        let good = Arc {
+            start: [1.0, 0.0],
+            corner: [1.0, 1.0],
+            alpha: core::f64::consts::FRAC_PI_2,
+        };
+        assert!(refine_closed(&[good; 4], 1, &mut out).is_ok());
+        let pi = core::f64::consts::PI;
+        for arc in [
+            Arc {
+                start: [nan, 0.0],
+                ..good
+            },
+            Arc {
+                start: [1.0, inf],
+                ..good
+            },
+            Arc {
+                corner: [-inf, 1.0],
+                ..good
+            },
+            Arc {
+                corner: [1.0, nan],
+                ..good
+            },
+            Arc { alpha: 0.0, ..good },
+            Arc { alpha: pi, ..good },
+            Arc { alpha: nan, ..good },
+        ] {
+            assert_eq!(
+                refine_closed(&[good, arc, good], 1, &mut out),
+                bad,
+                "{arc:?}"
+            );
+        }
+        // MAX_LEVEL itself is accepted (2^21 points an arc): only the buffer is too short for it.
+        assert_eq!(points_per_arc(MAX_LEVEL), 1 << (MAX_LEVEL + 1));
+        assert!(matches!(
+            refine_closed(&[good; 4], MAX_LEVEL, &mut out),
+            Err(TessellateError::BufferTooSmall {
+                buffer: "point",
+                ..
+            })
+        ));
     }
 }

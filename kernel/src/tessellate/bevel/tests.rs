@@ -154,6 +154,14 @@ fn typed_errors_for_impossible_requests() {
             max: MAX_LEVEL
         })
     );
+    // MAX_LEVEL itself is accepted: only the buffers are too short for it.
+    assert!(matches!(
+        bevel_sphere(MAX_LEVEL, 1.0, &mut v, &mut f),
+        Err(TessellateError::BufferTooSmall {
+            buffer: "vertex",
+            ..
+        })
+    ));
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         assert_eq!(
             bevel_ellipsoid(0, [1.0, bad, 1.0], &mut v, &mut f),
@@ -332,4 +340,45 @@ fn tangent_planes_meet_solves_each_planes_equation_for_normals_off_unit_length()
             }
         }
     }
+}
+
+/// Every face's ring is counter-clockwise seen from outside (`Face::vertices`' contract): its vector area
+/// `½ Σ v_k × v_{k+1}` points along the face's outward normal, for the sphere and an ellipsoid at levels 0 to 3
+/// (a consistent orientation alone, which `check_closed` checks, would also hold for every ring reversed).
+#[test]
+fn every_faces_ring_runs_counter_clockwise_seen_from_outside() {
+    for axes in [[1.0, 1.0, 1.0], [3.0, 2.0, 0.5]] {
+        for level in 0..=3 {
+            let (v, f) = build(level, axes);
+            for face in &f {
+                let ring: Vec<V3<f64>> = face
+                    .vertex_indices()
+                    .iter()
+                    .map(|&i| v[i as usize])
+                    .collect();
+                let area = (0..ring.len()).fold(V3::ZERO, |s, k| {
+                    s.plus(ring[k].cross(ring[(k + 1) % ring.len()]).scaled(0.5))
+                });
+                let along = area.dot(face.normal) / area.length();
+                assert!(along > 0.999, "{axes:?} {level}: {along} for {face:?}");
+            }
+        }
+    }
+}
+
+/// `normalized` scales before it divides, so huge and tiny vectors (whose squared length would overflow or
+/// underflow) give their unit direction too; zero and non-finite ones give `None`.
+#[test]
+fn normalized_gives_the_unit_direction_of_huge_and_tiny_vectors() {
+    let h = core::f64::consts::FRAC_1_SQRT_2;
+    for scale in [1.0, 1e300, 1e-300] {
+        let n = normalized(V3::new(scale, 0.0, -scale)).unwrap();
+        assert!(
+            (n.x - h).abs() < 1e-15 && n.y == 0.0 && (n.z + h).abs() < 1e-15,
+            "{scale}: {n:?}"
+        );
+    }
+    assert_eq!(normalized(V3::<f64>::ZERO), None);
+    assert_eq!(normalized(V3::new(f64::INFINITY, 0.0, 0.0)), None);
+    assert_eq!(normalized(V3::new(1.0, f64::NAN, 0.0)), None);
 }
