@@ -396,3 +396,36 @@ fn screen_space_bound_picks_the_first_level_whose_deviation_subtends_at_most_a_p
         );
     }
 }
+
+/// `vertex_meets`' cheap bounds decide only what the closest point would: for points a relative 1e-6 to 1e-1
+/// outside the unit sphere in many directions, mapped onto three ellipsoids, a limit 1e-6 above the point's
+/// distance (`Ell::distance`, checked against a bisection in `closest_point_distance_matches_a_meridian_bisection`)
+/// is met and one 1e-6 below it is not (the distance itself is known to about `ε / excess` relatively: `|p|² − 1`
+/// cancels); a point inside the sphere meets every limit from 0.
+#[test]
+fn vertex_test_agrees_with_the_closest_point_just_above_and_below_its_distance() {
+    let mut seed = 11u64;
+    let mut next = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for axes in [[3.0_f64, 2.0, 1.0], [1.0, 1.0, 0.3], [1.0, 4.0, 1.0]] {
+        let (e, _) = Ell::new(axes).unwrap();
+        for k in 0..300 {
+            let dir = V3::new(next() - 0.5, next() - 0.5, next() - 0.5);
+            let dir = dir.scaled(1.0 / dir.length());
+            let excess = 10f64.powf(-6.0 + 5.0 * f64::from(k % 6) / 5.0);
+            let p = dir.scaled(1.0 + excess);
+            let d = e.distance(p);
+            assert!(d > 0.0, "{axes:?} {p:?}");
+            assert!(e.vertex_meets(p, d * (1.0 + 1e-6)), "{axes:?} {p:?} {d}");
+            assert!(!e.vertex_meets(p, d * (1.0 - 1e-6)), "{axes:?} {p:?} {d}");
+            assert!(
+                e.vertex_meets(dir.scaled(1.0 - excess), 0.0),
+                "{axes:?} {dir:?}"
+            );
+        }
+    }
+}
