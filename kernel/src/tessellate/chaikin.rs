@@ -409,7 +409,26 @@ mod tests {
             let mut out = vec![[0.0; 2]; square_len(level)];
             ellipse([cx, cy], a, b, level, &mut out).unwrap();
             check_on_unit_circle(&out, level, |[x, y]| [(x - cx) / a, (y - cy) / b], 1e-13);
+            // counter-clockwise (the map's determinant is positive): at least 0.8 π a b, at most 4 a b (the
+            // circumscribed parallelogram)
+            let area = |p: &[[f64; 2]]| {
+                (0..p.len()).fold(0.0, |acc, k| {
+                    let ([x0, y0], [x1, y1]) = (p[k], p[(k + 1) % p.len()]);
+                    acc + 0.5 * (x0 * y1 - x1 * y0)
+                })
+            };
+            let full = core::f64::consts::PI * a * b;
+            assert!(
+                area(&out) > 0.8 * full && area(&out) <= 4.0 * a * b,
+                "{level}: {}",
+                area(&out)
+            );
             sheared_ellipse([cx, cy], a, b, s, level, &mut out).unwrap();
+            assert!(
+                area(&out) > 0.8 * full && area(&out) <= 4.0 * a * b,
+                "{level}: {}",
+                area(&out)
+            );
             check_on_unit_circle(
                 &out,
                 level,
@@ -538,6 +557,7 @@ mod tests {
             (0.0, 1.0, 0.5),
             (2.0, 0.0, 0.5),
             (-2.0, 1.0, 0.5),
+            (2.0, -1.0, 0.5),
             (inf, 1.0, 0.5),
             (2.0, inf, 0.5),
             (2.0, 1.0, nan),
