@@ -331,8 +331,10 @@ mod tests {
                 // Evenly spaced: the i/2-th of 4·2^level points around the circle.
                 let want = 2.0 * theta * (i / 2) as f64;
                 let got = y.atan2(x).rem_euclid(2.0 * core::f64::consts::PI);
+                // (modulo a turn: an angle a rounding below 0 reads as just below 2π)
+                let off = (got - want).abs();
                 assert!(
-                    (got - want).abs() < tol,
+                    off.min(2.0 * core::f64::consts::PI - off) < tol,
                     "tangent point {i} at angle {got}, want {want}"
                 );
             } else {
@@ -400,6 +402,30 @@ mod tests {
         assert!((t_2 / (1.0 - t_2) - ratio(1)).abs() < 1e-14, "t_2 = {t_2}");
         // The two parameters differ: the refinement is non-stationary.
         assert!(t_2 - t_1 > 0.05);
+    }
+
+    /// A general affine image (every entry of `M` non-zero, a negative one among them): its points map back onto
+    /// the unit circle by `M⁻¹`.
+    #[test]
+    fn affine_circle_with_a_full_matrix_maps_back_onto_the_unit_circle() {
+        let (m, c) = ([[2.0, 0.5], [-0.7, 1.5]], [1.0, -2.0]);
+        let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+        for level in 0..=4 {
+            let mut out = vec![[0.0; 2]; square_len(level)];
+            affine_circle(c, m, level, &mut out).unwrap();
+            check_on_unit_circle(
+                &out,
+                level,
+                |[x, y]| {
+                    let (u, v) = (x - c[0], y - c[1]);
+                    [
+                        (m[1][1] * u - m[0][1] * v) / det,
+                        (m[0][0] * v - m[1][0] * u) / det,
+                    ]
+                },
+                1e-13,
+            );
+        }
     }
 
     #[test]
@@ -591,6 +617,31 @@ mod tests {
         assert_eq!(
             arcs_of_tangential_polygon([0.0, 0.0], &folded, &mut arcs),
             bad
+        );
+        // One folded corner alone: (2, 0) has both neighbours to its west (every other corner is proper).
+        let one_fold = [[0.0, 0.0], [2.0, 0.0], [1.0, 0.0], [1.0, 1.0]];
+        assert_eq!(
+            arcs_of_tangential_polygon([0.5, 0.25], &one_fold, &mut arcs),
+            bad
+        );
+        // A side whose squared length overflows (corners 1e200 apart).
+        let huge = [
+            [-1e200, -1e200],
+            [1e200, -1e200],
+            [1e200, 1e200],
+            [-1e200, 1e200],
+        ];
+        assert_eq!(
+            arcs_of_tangential_polygon([0.0, 0.0], &huge, &mut arcs),
+            bad
+        );
+        assert_eq!(
+            arcs_of_tangential_polygon(
+                [0.0, 0.0],
+                &huge.map(|[x, y]| [x * 1e-100, y * 1e-100]),
+                &mut arcs
+            ),
+            Ok(4)
         );
         // An arc with one bad number alone: its start or corner not finite, its α not in (0, π).
         let good = Arc {

@@ -429,3 +429,29 @@ fn vertex_test_agrees_with_the_closest_point_just_above_and_below_its_distance()
         }
     }
 }
+
+/// The requests refused at their boundaries: a sphere of radius 0 (not positive), a screen-space bound whose
+/// allowed deviation underflows to 0 (a subnormal pixel angle with the eye 2^-40 radii off the bounding sphere);
+/// and `screen_space_error`'s saturation at π when the deviation subtends half a radian's sine of 1 or more (the
+/// eye closer to the polyhedron than half the deviation) or the eye touches it.
+#[test]
+fn zero_radius_an_underflowing_allowed_deviation_and_a_saturated_screen_error() {
+    assert_eq!(
+        min_level(Shape::Sphere(0.0_f64), Bound::MaxDeviation(0.1)),
+        Err(TessellateError::InvalidShape)
+    );
+    let b = Bound::ScreenSpace {
+        distance: 1.0 + 2f64.powi(-40),
+        pixel_angle: 1e-320,
+    };
+    assert_eq!(
+        min_level(Shape::Sphere(1.0_f64), b),
+        Err(TessellateError::InvalidBound)
+    );
+    let pi = core::f64::consts::PI;
+    // d − r − e = 0.1 and e / (2 · 0.1) = 4.5: saturated; d − r − e = 0: the eye on the polyhedron
+    assert_eq!(screen_space_error(1.0_f64, 2.0, 0.9), pi);
+    assert_eq!(screen_space_error(1.0_f64, 2.0, 1.0), pi);
+    // e / (2 (d − r − e)) = 0.5: 2·asin(0.5) = π/3
+    assert!((screen_space_error(1.0_f64, 2.0, 0.5) - pi / 3.0).abs() < 1e-15);
+}
