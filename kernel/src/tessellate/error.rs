@@ -90,3 +90,36 @@ pub(crate) fn need(buffer: &'static str, needed: usize, got: usize) -> Result<()
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::string::ToString;
+
+    /// Each error's message names what went wrong and carries its numbers.
+    #[test]
+    fn each_error_message_says_what_and_carries_its_numbers() {
+        let level = TessellateError::LevelTooDeep { level: 13, max: 12 }.to_string();
+        assert!(level.contains("13") && level.contains("12"), "{level}");
+        let buffer = TessellateError::BufferTooSmall {
+            buffer: "vertex",
+            needed: 32,
+            got: 8,
+        }
+        .to_string();
+        assert!(
+            buffer.contains("vertex") && buffer.contains("32") && buffer.contains('8'),
+            "{buffer}"
+        );
+        for e in [
+            TessellateError::InvalidShape,
+            TessellateError::AxisRatioTooLarge,
+            TessellateError::InvalidControlPolygon,
+            TessellateError::InvalidBound,
+            TessellateError::Unreachable,
+            TessellateError::Internal,
+        ] {
+            assert!(e.to_string().len() > 10, "{e:?}");
+        }
+    }
+}
