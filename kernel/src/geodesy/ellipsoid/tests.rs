@@ -36,6 +36,19 @@ fn sin_cos_deg_exact_quadrants() {
     assert_eq!(sin_cos_deg(-180.0_f64), (0.0, -1.0));
     let (s, c) = sin_cos_deg(30.0_f64);
     assert!(close(s, 0.5, 2e-16) && close(c, 0.75_f64.sqrt(), 2e-16));
+    // Every zero is +0, whichever quadrant's sign flip made it (−0 == 0, so the bits are compared).
+    for x in [
+        0.0, -0.0, 90.0, -90.0, 180.0, -180.0, 270.0, -270.0, 360.0, 540.0_f64,
+    ] {
+        let (s, c) = sin_cos_deg(x);
+        for v in [s, c].into_iter().filter(|v| *v == 0.0) {
+            assert_eq!(v.to_bits(), 0.0_f64.to_bits(), "{x}: ({s:?}, {c:?})");
+        }
+        let (s, c) = sin_cos_deg(x as f32);
+        for v in [s, c].into_iter().filter(|v| *v == 0.0) {
+            assert_eq!(v.to_bits(), 0.0_f32.to_bits(), "{x} in f32: ({s:?}, {c:?})");
+        }
+    }
 }
 
 /// The `f32` sine and cosine of degrees (reduction, conversion to radians and `sin_cos_f32` all in `f32`)
