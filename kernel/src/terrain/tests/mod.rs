@@ -373,6 +373,7 @@ mod builder;
 mod global;
 mod multires;
 mod picks;
+mod refinement;
 mod rough;
 mod rows;
 mod work;

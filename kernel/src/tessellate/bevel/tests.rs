@@ -312,13 +312,7 @@ fn check_closed_generic<T: Real>(f: &[Face<T>], nv: usize, level: u32) {
 /// of `|n_i|·|P|` (1.35 measured).
 #[test]
 fn tangent_planes_meet_solves_each_planes_equation_for_normals_off_unit_length() {
-    let mut seed = 7u64;
-    let mut next = move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut next = crate::test_util::xorshift_uniform(7);
     for (spread, off_unit) in [(1.0, 0.1), (0.1, 0.1), (1e-2, 1e-6), (1e-4, 1e-9)] {
         for _ in 0..50 {
             let axis = V3::new(next() - 0.5, next() - 0.5, next() - 0.5);

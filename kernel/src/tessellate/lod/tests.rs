@@ -404,13 +404,7 @@ fn screen_space_bound_picks_the_first_level_whose_deviation_subtends_at_most_a_p
 /// cancels); a point inside the sphere meets every limit from 0.
 #[test]
 fn vertex_test_agrees_with_the_closest_point_just_above_and_below_its_distance() {
-    let mut seed = 11u64;
-    let mut next = move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut next = crate::test_util::xorshift_uniform(11);
     for axes in [[3.0_f64, 2.0, 1.0], [1.0, 1.0, 0.3], [1.0, 4.0, 1.0]] {
         let (e, _) = Ell::new(axes).unwrap();
         for k in 0..300 {
