@@ -14,6 +14,9 @@ use crate::real::Real;
 use crate::surface::{Side, Spheroid, Surface};
 use crate::vec3::V3;
 
+#[cfg(test)]
+mod tests;
+
 /// The middle meridian of a wedge narrower than 180° from its walls' sines and cosines: `(cos λm, sin λm)`, and
 /// `cos(Δλ/2)` lowered by a few ε so that the rounding of λm and of the span cannot make a chord plane too tight.
 fn middle_meridian<T: Real>(trig: &QuadTrig<T>) -> (T, T, T) {

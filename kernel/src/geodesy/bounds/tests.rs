@@ -1,6 +1,8 @@
 use super::*;
 use crate::geodesy::relaxed::{RelaxedVolume, relaxed_interval};
 
+mod magnitudes;
+
 #[test]
 fn sagitta_of_a_chord_on_the_sphere_is_bounded() {
     // Sphere of radius R: a chord of length D between two points at height 0 dips by

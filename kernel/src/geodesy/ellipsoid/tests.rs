@@ -1,6 +1,8 @@
 use super::*;
 use crate::surface::{Side, Surface};
 
+mod hard_cases;
+
 fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol
 }

@@ -376,3 +376,43 @@ fn normalized_gives_the_unit_direction_of_huge_and_tiny_vectors() {
     assert_eq!(normalized(V3::new(f64::INFINITY, 0.0, 0.0)), None);
     assert_eq!(normalized(V3::new(1.0, f64::NAN, 0.0)), None);
 }
+
+/// The numbering a caller indexes by: vertices octant by octant (octant `k` negates x when bit 0 of `k` is set,
+/// y for bit 1, z for bit 2), and each face's ring counter-clockwise from the direction `−u`, where
+/// `u = n × e` and `e` is the coordinate axis least aligned with the face's center `n` (x, then y, on ties).
+#[test]
+fn vertices_come_octant_by_octant_and_each_ring_starts_after_its_tangent_axis() {
+    let (v, _) = build(0, [1.0, 1.0, 1.0]);
+    for (k, p) in v.iter().enumerate() {
+        let sign = |bit: usize| if k & bit == 0 { 1.0 } else { -1.0 };
+        assert_eq!((p.x, p.y, p.z), (sign(1), sign(2), sign(4)), "vertex {k}");
+    }
+    for level in 0..=2 {
+        let (v, f) = build(level, [1.0, 1.0, 1.0]);
+        for face in &f {
+            let n = face.center;
+            let (ax, ay, az) = (n.x.abs(), n.y.abs(), n.z.abs());
+            let e = if ax <= ay && ax <= az {
+                V3::new(1.0, 0.0, 0.0)
+            } else if ay <= az {
+                V3::new(0.0, 1.0, 0.0)
+            } else {
+                V3::new(0.0, 0.0, 1.0)
+            };
+            let u = normalized(n.cross(e)).unwrap();
+            let w = n.cross(u);
+            let angles: Vec<f64> = face
+                .vertex_indices()
+                .iter()
+                .map(|&i| {
+                    let d = v[i as usize].minus(n);
+                    libm::atan2(d.dot(w), d.dot(u))
+                })
+                .collect();
+            assert!(
+                angles.windows(2).all(|p| p[0] < p[1]),
+                "level {level}, face at {n:?}: angles {angles:?}"
+            );
+        }
+    }
+}
