@@ -479,3 +479,61 @@ fn straight_down_rays_on_the_antimeridian_keep_the_western_column_on_an_exact_ti
         assert_eq!((hit.cell, cell), ([0, 1], [0, 1]), "latitude {lat}");
     }
 }
+
+/// The global clip to `B^{h_max}` is widened by `64 ε (|t_enter| + |t_exit|)`: on the equator `B^{h_max}` passes
+/// through a vertex at `h_max` (its equatorial radius is `a + h`), so a ray straight down onto such a peak from far
+/// away meets it within the vertex's rounding of where it enters `B^{h_max}`, and one from inside the peak's hill
+/// straight up meets it where it leaves; both must hit it, at peaks of several longitudes (the rounding falls either
+/// way) and from 10 km to 20 000 km.
+#[test]
+fn rays_onto_an_equatorial_peak_at_the_highest_height_hit_it_where_they_cross_the_global_bound() {
+    let (mut checked, mut grazing_hits) = (0, 0);
+    for lon in [0.004, 10.37, 33.3, 71.01, 123.456, 179.5, -45.55, -99.9] {
+        // 3 × 3 vertices 0.01° apart around (0°, lon); the middle one, the peak, is the highest at 800 m.
+        let mut h = std::vec![100.0; 9];
+        h[4] = 800.0;
+        let dem = TestDem::new(grid(-0.01, lon - 0.01, 0.01, 0.01, 3, 3), h, 2);
+        let s = dem.storage();
+        let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+        let e = dem.surface.e;
+        let peak = dem.surface.vertex(1, 1).unwrap();
+        let n = e.normal_deg(0.0, lon);
+        for dist in [1.0e4, 1.0e6, 2.0e7] {
+            let down = Ray::new(peak.add_scaled(dist, n), n.negated()).unwrap();
+            let hit = p.pick(&down).unwrap();
+            assert!(
+                hit.is_some_and(|h| (h.t - dist).abs() < 1e-6),
+                "lon {lon}, down from {dist} m: {hit:?}"
+            );
+            // From below the hill's surface, up through the peak and out of B^{h_max} there.
+            let up = Ray::new(peak.add_scaled(-1.0, n), n)
+                .unwrap()
+                .with_interval(0.0, dist)
+                .unwrap();
+            let hit = p.pick(&up).unwrap();
+            assert!(
+                hit.is_some_and(|h| (h.t - 1.0).abs() < 1e-6),
+                "lon {lon}, up: {hit:?}"
+            );
+            checked += 1;
+        }
+        // Level with the peak, grazing it: the ray touches B^{h_max} there, entering and leaving it at once.
+        let east = V3::new(-n.y, n.x, 0.0);
+        for k in -4..=4 {
+            let o = peak
+                .add_scaled(-1.0e4, east)
+                .add_scaled(f64::from(k) * 2.0e-9, n);
+            let ray = Ray::new(o, east).unwrap();
+            let got = p.pick(&ray).unwrap().map(|h| (h.t, h.cell));
+            same_hit(
+                &ray,
+                got,
+                dem.surface.brute(&ray),
+                &std::format!("lon {lon}, grazing at {k}"),
+            );
+            grazing_hits += usize::from(got.is_some());
+        }
+    }
+    assert_eq!(checked, 24);
+    std::println!("grazing hits {grazing_hits}");
+}

@@ -204,3 +204,45 @@ fn segment_behind_the_units_middle_meridian_gets_every_column() {
         }
     });
 }
+
+/// An end of the segment `k` tolerances west of meridian 3 (its column 2), the other end high above column 1
+/// (10 000 km up, so that the tolerance's direction part counts as much as its origin part), and the same
+/// mirrored east of meridian 5 with the other end above column 7: the column beyond the meridian is added
+/// exactly while `k < 1`, the tolerance being `64 ε (|o_x| + |o_y| + (|d_x| + |d_y|) max(|t_in|, |t_out|))`.
+#[test]
+fn segment_ends_within_the_meridian_tolerance_add_the_column_beyond_and_no_further() {
+    with_picker(true, |p, dem| {
+        let e = dem.surface.e;
+        let s = dem.storage();
+        for (m, other_lon, outward) in [(3u32, 7.015, 1.0), (5, 7.075, -1.0)] {
+            let (sm, cm) = s.col_sin_cos(m);
+            // The meridian plane's side `c·y − s·x` (east positive) and its unit gradient.
+            let side = |q: V3<f64>| cm * q.y - sm * q.x;
+            let grad = V3::new(-sm, cm, 0.0);
+            let o = e
+                .geodetic_deg_to_ecef(45.05, other_lon, 0.0)
+                .add_scaled(1.0e7, e.normal_deg(45.05, other_lon));
+            let on = e.geodetic_deg_to_ecef(45.05, 7.0 + 0.01 * f64::from(m), 0.0);
+            let t_out = 2.0;
+            for (k, beyond) in [(0.5, true), (0.95, true), (1.05, false), (2.0, false)] {
+                // The end at t_out, k tolerances on the far side of the meridian from the other end (the
+                // tolerance formed from the segment through `on`, which the end moves by far less than it).
+                let d0 = on.minus(o).scaled(1.0 / t_out);
+                let tol = 64.0
+                    * f64::EPSILON
+                    * ((o.x.abs() + o.y.abs()) + (d0.x.abs() + d0.y.abs()) * t_out);
+                let end = on.add_scaled(-outward * k * tol - side(on), grad);
+                let end = end.add_scaled(-outward * k * tol - side(end), grad);
+                let ray = Ray::new(o, end.minus(o).scaled(1.0 / t_out)).unwrap();
+                let cols = p.unit_columns(&UNIT, &ray, 0.0, t_out);
+                let want = match (outward > 0.0, beyond) {
+                    (true, true) => (1, 4),
+                    (true, false) => (1, 3),
+                    (false, true) => (4, 8),
+                    (false, false) => (5, 8),
+                };
+                assert_eq!(cols, want, "meridian {m}, {k} tolerances on its far side");
+            }
+        }
+    });
+}

@@ -80,3 +80,74 @@ fn heights_only_bound_is_above_every_vertex_in_f64_and_within_centimetres_on_lea
 fn heights_only_bound_is_above_every_vertex_in_f32() {
     bound_holds::<f32>(if cfg!(miri) { 30 } else { 30_000 });
 }
+
+/// Both culls from both sides of their tolerance: a cell is kept while the ray's part in it comes within `tol`
+/// of the bound (0.5 and 0.9 of it) and skipped beyond (1.1 and 2 of it), for a ray climbing and one falling
+/// across the cell, so that each end of its part in the cell is the one that counts once; and `top_of` is the
+/// spheroid's top plus `h` plus `128 ε |h|`.
+#[test]
+fn each_cull_keeps_a_cell_within_its_tolerance_of_the_ray_and_skips_it_beyond() {
+    let e = Ellipsoid::<f64>::wgs84();
+    let ((sp, cp), (sl, cl)) = (sin_cos_deg(40.0), sin_cos_deg(10.0));
+    let frame = LocalFrame::at(e.a(), (sp, cp), (sl, cl));
+    let n = V3::new(cp * cl, cp * sl, sp); // the frame's up axis
+    let east = V3::new(-sl, cl, 0.0);
+    let base = e.geodetic_deg_to_ecef(40.0, 10.0, 0.0);
+    // A point whose up coordinate is `z`, along the up axis from the base point.
+    let at_up = |z: f64| {
+        let p = base.add_scaled(z - frame.up(base), n);
+        p.add_scaled(z - frame.up(p), n)
+    };
+    let tol = 1.0e-3;
+    let (clo, chi) = (10.0, 30.0);
+    let sides = [(0.5, false), (0.9, false), (1.1, true), (2.0, true)];
+    for slope in [0.25, -0.25] {
+        let cull = HeightCull::new(frame, (at_up(100.0), east.add_scaled(slope, n)), tol, e.b());
+        let up = |t: f64| cull.up_origin + t * cull.up_rate;
+        let (low, high) = (up(clo).min(up(chi)), up(clo).max(up(chi)));
+        assert!(
+            high - low > 4.0,
+            "the ray's part in the cell spans {} m of height",
+            high - low
+        );
+        for h in [-11.0e3, 0.0, 9.0e3] {
+            let want = cull.spheroid_top + h + 128.0 * f64::EPSILON * h.abs();
+            assert!(
+                (cull.top_of(h) - want).abs() <= 4.0 * f64::EPSILON * want.abs(),
+                "{h}"
+            );
+        }
+        for (k, skipped) in sides {
+            // Heights whose bound lies k tolerances below the ray's lowest point in the cell.
+            let h = low - k * tol - cull.spheroid_top;
+            assert_eq!(
+                cull.surely_above(h, clo, chi),
+                skipped,
+                "slope {slope}: heights {k} tol below"
+            );
+            // Corners whose highest is k tolerances below the ray's part, and whose lowest is k above it.
+            let below = [
+                Some(at_up(low - k * tol)),
+                Some(at_up(low - 5.0)),
+                None,
+                Some(at_up(low - 9.0)),
+            ];
+            assert_eq!(
+                cull.passes_clear_of(&below, clo, chi),
+                skipped,
+                "slope {slope}: {k} tol below"
+            );
+            let above = [
+                Some(at_up(high + k * tol)),
+                None,
+                Some(at_up(high + 5.0)),
+                Some(at_up(high + 9.0)),
+            ];
+            assert_eq!(
+                cull.passes_clear_of(&above, clo, chi),
+                skipped,
+                "slope {slope}: {k} tol above"
+            );
+        }
+    }
+}
