@@ -488,7 +488,13 @@ fn straight_down_rays_on_the_antimeridian_keep_the_western_column_on_an_exact_ti
 #[test]
 fn rays_onto_an_equatorial_peak_at_the_highest_height_hit_it_where_they_cross_the_global_bound() {
     let (mut checked, mut grazing_hits) = (0, 0);
-    for lon in [0.004, 10.37, 33.3, 71.01, 123.456, 179.5, -45.55, -99.9] {
+    // Two of the eight under Miri (each pick is slow there).
+    let lons: &[f64] = if cfg!(miri) {
+        &[10.37, -99.9]
+    } else {
+        &[0.004, 10.37, 33.3, 71.01, 123.456, 179.5, -45.55, -99.9]
+    };
+    for &lon in lons {
         // 3 × 3 vertices 0.01° apart around (0°, lon); the middle one, the peak, is the highest at 800 m.
         let mut h = std::vec![100.0; 9];
         h[4] = 800.0;
@@ -534,6 +540,9 @@ fn rays_onto_an_equatorial_peak_at_the_highest_height_hit_it_where_they_cross_th
             grazing_hits += usize::from(got.is_some());
         }
     }
-    assert_eq!(checked, 24);
-    std::println!("grazing hits {grazing_hits}");
+    assert_eq!(checked, 3 * lons.len());
+    std::println!(
+        "grazing rays that hit: {grazing_hits} of {}",
+        9 * lons.len()
+    );
 }
