@@ -322,5 +322,20 @@ mod tests {
         r.push(8, 2.0, Side::Negative);
         r.clear();
         assert_eq!((r.kept(), r.last()), (0, None));
+        // a slot reused for the same side keeps that side: sixteen entering the positive side, then sixteen the
+        // negative, each read back as pushed
+        for (k, s) in (0..32u32).map(|k| {
+            (
+                k,
+                if k < 16 {
+                    Side::Positive
+                } else {
+                    Side::Negative
+                },
+            )
+        }) {
+            r.push(k, f64::from(k), s);
+            assert_eq!(r.last(), Some((k, f64::from(k), s)), "push {k}");
+        }
     }
 }

@@ -491,3 +491,34 @@ fn ray_through_the_center_within_rounding_walks_there_like_an_exact_one() {
         1e-15,
     );
 }
+
+/// A skew line below the equator, `z = −1`, `y = 1`, along x: θ rises from 101.1° across the cones of 120° and
+/// 130° to its largest, 135°, where it passes closest to the z axis, and comes back down across them in the
+/// reverse order. At the start θ is rising (⟨p|v⟩ < 0) while the turn lies ahead (⟨d|v⟩ > 0): the stream must
+/// search upward first.
+#[test]
+fn skew_line_below_the_equator_whose_zenith_rises_across_two_cones_turns_and_comes_back() {
+    let th: std::vec::Vec<f64> = [0.0, 100.0, 120.0, 130.0, 180.0]
+        .iter()
+        .map(|d| d * PI / 180.0)
+        .collect();
+    let ray = Ray::new([-5.0, 1.0, -1.0], [1.0, 0.0, 0.0])
+        .unwrap()
+        .with_interval(0.0, 10.0)
+        .unwrap();
+    let got = march_s(&[0.0, 10.0], &th, &[0.0, 2.0 * PI], &ray);
+    // (t − 5)² = tan²(180° − θ) − 1 on the cone of zenith angle θ.
+    let at = |deg: f64| (libm::tan((180.0 - deg) * PI / 180.0).powi(2) - 1.0).sqrt();
+    let (a, b) = (at(120.0), at(130.0));
+    expect(
+        &got,
+        &[
+            ([0, 1, 0], 0.0, 5.0 - a),
+            ([0, 2, 0], 5.0 - a, 5.0 - b),
+            ([0, 3, 0], 5.0 - b, 5.0 + b),
+            ([0, 2, 0], 5.0 + b, 5.0 + a),
+            ([0, 1, 0], 5.0 + a, 10.0),
+        ],
+        1e-14,
+    );
+}
