@@ -254,8 +254,8 @@ impl<T: Real> Ellipsoid<T> {
     ///
     /// * Longitude: the point turned by −λ₀ about the z axis is `(R cos Δλ, R sin Δλ)`; `Δλ` is the arctangent
     ///   of their ratio `w` by its series to `w⁹` (the next term is below `2e-20` for `|w| ≤ 0.02`), so
-    ///   `λ = λ₀ + Δλ`, wrapped into `(−180°, 180°]`. `None` beyond `|w| = 0.02` (1.1°), on the z axis, or
-    ///   for λ₀ more than a turn outside ±180°.
+    ///   `λ = λ₀ + Δλ`, wrapped once by a turn into `(−180°, 180°]`. `None` beyond `|w| = 0.02` (1.1°), on the
+    ///   z axis, or where one wrap does not bring `λ` into that range (λ₀ a turn or more outside it).
     /// * Latitude: Newton steps from ψ₀ on the condition that the point lies on the normal at φ,
     ///   `f(φ) = R sin φ − z cos φ − e² N sin φ cos φ = 0`, with
     ///   `f′ = R cos φ + z sin φ − e² N (cos²φ − sin²φ) − e⁴ N sin²φ cos²φ / W²` (`W² = 1 − e² sin²φ`). Near the
