@@ -661,3 +661,6 @@ type RowValues<T> = (T, T, T, T);
 
 /// Rows of a leaf whose trigonometry is cached per leaf (leaves up to 64 cells tall).
 const ROW_CACHE: usize = 65;
+
+#[cfg(test)]
+mod tests;

@@ -213,3 +213,42 @@ impl<T: Real> Stream<T> {
         true
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `rounding_level` is `|w| ≤ 8 ε a b`: from both sides of that bound, with factors of different sizes and
+    /// either sign of `w`.
+    #[test]
+    fn rounding_level_holds_up_to_8_eps_times_the_factors_and_no_further() {
+        for (a, b) in [(1.0, 1.0), (3.0e6, 2.0e-3), (0.25, 5.0e8)] {
+            let bound = 8.0 * f64::EPSILON * a * b;
+            for w in [0.0, 0.5 * bound, 0.99 * bound, -0.99 * bound] {
+                assert!(rounding_level(w, a, b), "{w} of {bound}");
+            }
+            for w in [1.01 * bound, -1.01 * bound, 2.0 * bound] {
+                assert!(!rounding_level(w, a, b), "{w} of {bound}");
+            }
+        }
+    }
+
+    /// `sqrt_epsilon` is the power of two `2^−⌊(p − 1)/2⌋`, `p` the mantissa's digits: `2^−26` in `f64`,
+    /// `2^−11` in `f32`.
+    #[test]
+    fn sqrt_epsilon_is_the_power_of_two_below_the_square_root_of_epsilon() {
+        assert_eq!(sqrt_epsilon::<f64>(), 2f64.powi(-26));
+        assert_eq!(sqrt_epsilon::<f32>(), 2f32.powi(-11));
+    }
+
+    /// `later` keeps the previous event on a tie, so a root at −0 after a start at +0 stays +0, and a NaN root
+    /// gives the previous event.
+    #[test]
+    fn later_keeps_the_previous_event_on_a_tie_and_for_nan() {
+        assert_eq!(later(2.0, 1.0), 2.0);
+        assert_eq!(later(1.0, 2.0), 2.0);
+        assert_eq!(later(-0.0_f64, 0.0).to_bits(), 0.0f64.to_bits());
+        assert_eq!(later(0.0_f64, -0.0).to_bits(), (-0.0f64).to_bits());
+        assert_eq!(later(f64::NAN, 3.0), 3.0);
+    }
+}

@@ -522,3 +522,24 @@ fn skew_line_below_the_equator_whose_zenith_rises_across_two_cones_turns_and_com
         1e-14,
     );
 }
+
+/// Segments ending exactly on a boundary: on the sphere of radius 1.25 (`(0, 0.75, 0)` along x, `t_max = 1`, all
+/// exact in binary) and on the plane θ = π/2 (`z` from 0.5 down to 0). The end point belongs to the cell beyond
+/// (cells are half-open: a point on a sphere is in the outer band, on a cone in the band of larger θ), so the
+/// march ends with a zero-length crossing of that cell at `t_max`.
+#[test]
+fn segment_ending_exactly_on_a_sphere_or_the_equator_plane_ends_in_the_cell_beyond_with_zero_length()
+ {
+    let ray = Ray::new([0.0, 0.75, 0.0], [1.0, 0.0, 0.0])
+        .unwrap()
+        .with_interval(0.0, 1.0)
+        .unwrap();
+    let got = march_s(&[0.0, 0.5, 1.25, 2.0], &[0.0, PI], &[0.0, 2.0 * PI], &ray);
+    expect(&got, &[([1, 0, 0], 0.0, 1.0), ([2, 0, 0], 1.0, 1.0)], 0.0);
+    let ray = Ray::new([0.3, 0.0, 0.5], [0.0, 0.0, -1.0])
+        .unwrap()
+        .with_interval(0.0, 0.5)
+        .unwrap();
+    let got = march_s(&[0.0, 2.0], &[0.0, PI / 2.0, PI], &[0.0, 2.0 * PI], &ray);
+    expect(&got, &[([0, 0, 0], 0.0, 0.5), ([0, 1, 0], 0.5, 0.5)], 0.0);
+}

@@ -82,6 +82,12 @@ impl<T: Real> HeightCull<T> {
         );
         up_lo.min(up_hi) > z_max + self.tol || up_lo.max(up_hi) < z_min - self.tol
     }
+
+    /// The up coordinates' rounding tolerance (for the leaf walk's tests).
+    #[cfg(test)]
+    pub(super) fn tol(&self) -> T {
+        self.tol
+    }
 }
 
 #[cfg(test)]
