@@ -508,7 +508,10 @@ fn skew_line_below_the_equator_whose_zenith_rises_across_two_cones_turns_and_com
         .unwrap();
     let got = march_s(&[0.0, 10.0], &th, &[0.0, 2.0 * PI], &ray);
     // (t − 5)² = tan²(180° − θ) − 1 on the cone of zenith angle θ.
-    let at = |deg: f64| (libm::tan((180.0 - deg) * PI / 180.0).powi(2) - 1.0).sqrt();
+    let at = |deg: f64| {
+        let tan = libm::tan((180.0 - deg) * PI / 180.0);
+        (tan * tan - 1.0).sqrt()
+    };
     let (a, b) = (at(120.0), at(130.0));
     expect(
         &got,
