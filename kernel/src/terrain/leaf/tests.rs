@@ -5,28 +5,13 @@
 
 use super::*;
 use crate::geodesy::Ellipsoid;
-use crate::terrain::Grid;
-use crate::terrain::boxes::NodeBox;
-use crate::terrain::build::{self, NodeRecord, SliceStorage};
-use std::vec::Vec;
+use crate::terrain::tests::{Storage, TestDem, grid};
 
-type Storage<'a> = SliceStorage<'a, f64, f64, Option<NodeBox>>;
-
-/// 9 × 9 vertices of 0.01° at 45° N, 7° E, in one leaf of 8 × 8 cells, flat at 100 m; `f` with its picker.
+/// 9 × 9 vertices of 0.01° at 45° N, 7° E, in one leaf of 8 × 8 cells, flat at 100 m; `f` with its picker and
+/// storage.
 fn with_leaf<R>(f: impl FnOnce(&Picker<'_, f64, Storage<'_>>, &Storage<'_>) -> R) -> R {
-    let grid = Grid {
-        lat0_deg: 45.0,
-        lon0_deg: 7.0,
-        dlat_deg: 0.01,
-        dlon_deg: 0.01,
-        rows: 9,
-        cols: 9,
-    };
-    let heights = std::vec![100.0; 81];
-    let mut nodes: Vec<NodeRecord<f64, Option<NodeBox>>> =
-        std::vec![NodeRecord::EMPTY; build::node_slots(9, 9, 8)];
-    let tree = build::build_tree(&heights, &grid, 8, &mut nodes).unwrap();
-    let s = SliceStorage::new(Ellipsoid::wgs84(), grid, &heights, &nodes, tree).unwrap();
+    let dem = TestDem::new(grid(45.0, 7.0, 0.01, 0.01, 9, 9), std::vec![100.0; 81], 8);
+    let s = dem.storage();
     let p = Picker::new(&s).unwrap();
     f(&p, &s)
 }

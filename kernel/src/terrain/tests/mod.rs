@@ -123,12 +123,12 @@ impl Surface {
 }
 
 /// The storage the tests pick on: the kernel's builder's ([`build::SliceStorage`]).
-type Storage<'a> = build::SliceStorage<'a, f64, f64, Option<boxes::NodeBox>>;
+pub(super) type Storage<'a> = build::SliceStorage<'a, f64, f64, Option<boxes::NodeBox>>;
 
 /// A [`Surface`] and the kernel's builder's buffers over it, which [`TestDem::storage`] serves: the node
 /// records of [`build::build_tree`] (leaves of `block × block` cells under the builder's zones) and, if asked
 /// for, node boxes.
-struct TestDem {
+pub(super) struct TestDem {
     surface: Surface,
     nodes: Vec<build::NodeRecord<f64, Option<boxes::NodeBox>>>,
     tree: build::Tree,
@@ -136,7 +136,7 @@ struct TestDem {
 
 impl TestDem {
     /// A DEM without node boxes.
-    fn new(grid: Grid<f64>, heights: Vec<f64>, block: u32) -> Self {
+    pub(super) fn new(grid: Grid<f64>, heights: Vec<f64>, block: u32) -> Self {
         Self::build(grid, heights, block, None)
     }
 
@@ -183,7 +183,7 @@ impl TestDem {
     }
 
     /// The storage over the buffers.
-    fn storage(&self) -> Storage<'_> {
+    pub(super) fn storage(&self) -> Storage<'_> {
         let s = &self.surface;
         build::SliceStorage::new(s.e, s.grid, &s.heights, &self.nodes, self.tree).unwrap()
     }
@@ -260,7 +260,7 @@ impl TerrainCaches<f64> for CachedBounds<'_> {
     }
 }
 
-fn grid(
+pub(super) fn grid(
     lat0_deg: f64,
     lon0_deg: f64,
     dlat_deg: f64,

@@ -4,6 +4,24 @@
 
 use super::*;
 
+/// The ray's refined hit, the traversal's `t` (`pick_t`) and where the ray meets the plane of the hit cell's
+/// triangle nearest the refined `t` (the one hit), through the contract's vertices in pairs; `None` on a miss.
+fn against_exact_plane(
+    dem: &TestDem,
+    p: &Picker<'_, f64, Storage<'_>>,
+    ray: &Ray<f64>,
+) -> Option<(Hit<f64>, f64, f64)> {
+    let (hit, (t_trav, _)) = (p.pick(ray).unwrap()?, p.pick_t(ray).unwrap()?);
+    let [i, j] = hit.cell;
+    let v = |i: u32, j: u32| dem.surface.vertex_dd(i, j).unwrap();
+    let tris = [
+        [v(i, j), v(i, j + 1), v(i + 1, j + 1)],
+        [v(i, j), v(i + 1, j + 1), v(i + 1, j)],
+    ];
+    let t_exact = nearest_plane_t(ray, hit.t, tris);
+    Some((hit, t_trav, t_exact))
+}
+
 /// The refinement (`refine.rs`): a hit's `t` is where the ray meets its triangle's plane through the contract's
 /// vertices in pairs, to about the rounding of `t` itself. Checked against that plane intersection formed here in
 /// pairs from the vertices (`Surface::vertex_dd`), for rays slanting down from 2 km above a rough 3″ terrain and
@@ -31,19 +49,10 @@ fn refined_hits_lie_on_their_triangles_exact_plane_far_below_the_f64_vertices_ro
         let dir = V3::new(r.next() - 0.5, r.next() - 0.5, r.next() - 0.5).minus(up);
         let dist = if k % 2 == 0 { 2000.0 } else { 3.0e5 };
         let ray = Ray::new(target.add_scaled(-dist / dir.length(), dir), dir).unwrap();
-        let (Some(hit), Some((t_trav, _))) = (p.pick(&ray).unwrap(), p.pick_t(&ray).unwrap())
-        else {
+        let Some((hit, t_trav, t_exact)) = against_exact_plane(&dem, &p, &ray) else {
             continue;
         };
         hits += 1;
-        let [i, j] = hit.cell;
-        let v = |i: u32, j: u32| dem.surface.vertex_dd(i, j).unwrap();
-        // The cell's two triangles: the one hit is the one whose plane the refined t lies on.
-        let tris = [
-            [v(i, j), v(i, j + 1), v(i + 1, j + 1)],
-            [v(i, j), v(i + 1, j + 1), v(i + 1, j)],
-        ];
-        let t_exact = nearest_plane_t(&ray, hit.t, tris);
         let len = ray.dir().length();
         worst_refined = worst_refined.max((hit.t - t_exact).abs() * len);
         worst_traversal = worst_traversal.max((t_trav - t_exact).abs() * len);
@@ -88,18 +97,10 @@ fn refined_grazing_hits_lie_on_their_triangles_exact_plane_point_and_parameter()
         let flat = flat.scaled(1.0 / flat.length());
         let dir = flat.add_scaled(-(1e-3 + 2e-3 * r.next()), up);
         let ray = Ray::new(target.add_scaled(-300.0, dir), dir).unwrap();
-        let (Some(hit), Some((t_trav, _))) = (p.pick(&ray).unwrap(), p.pick_t(&ray).unwrap())
-        else {
+        let Some((hit, t_trav, t_exact)) = against_exact_plane(&dem, &p, &ray) else {
             continue;
         };
         hits += 1;
-        let [i, j] = hit.cell;
-        let v = |i: u32, j: u32| dem.surface.vertex_dd(i, j).unwrap();
-        let tris = [
-            [v(i, j), v(i, j + 1), v(i + 1, j + 1)],
-            [v(i, j), v(i + 1, j + 1), v(i + 1, j)],
-        ];
-        let t_exact = nearest_plane_t(&ray, hit.t, tris);
         let len = ray.dir().length();
         worst_t = worst_t.max((hit.t - t_exact).abs() * len);
         worst_traversal = worst_traversal.max((t_trav - t_exact).abs() * len);
