@@ -205,3 +205,144 @@ impl<T: Real> Stream<T> {
         self.next_walk(axis.boundaries.max(1), t_max)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! `complete_azimuth` called directly: no march is known to reach its walk (the half-plane tests order the
+    //! crossings of every line found so far), so its contract is checked on streams set up as a march would leave
+    //! them, stopped in a sector other than the direction's with no boundary ahead.
+    use super::*;
+    use crate::ray::Ray;
+    use core::f64::consts::{FRAC_PI_2, PI, TAU};
+    use std::vec::Vec;
+
+    /// Four sectors, a quarter turn each.
+    const QUARTERS: [f64; 5] = [0.0, FRAC_PI_2, PI, 3.0 * FRAC_PI_2, TAU];
+    /// Five sectors, with boundaries whose cosine and sine are both far from 0 and of either sign.
+    const SKEWED: [f64; 6] = [0.0, 1.0, 2.0, 3.0, 4.5, TAU];
+
+    /// Completes the stream of the line `origin + t dir` stopped in sector `band`, turning counter-clockwise or
+    /// not, in a grid of outer radius 1, and walks it to its end with no `t_max`: what it returns, then each event
+    /// `(t, sector)`.
+    fn completion(
+        phi: &[f64],
+        origin: [f64; 3],
+        dir: [f64; 3],
+        band: u32,
+        ccw: bool,
+    ) -> (bool, Vec<(f64, u32)>) {
+        let mut ws = [0.0; 16];
+        let mut ws = &mut ws[..];
+        let mut axis = AzimuthAxis::build(phi, &mut ws).unwrap();
+        axis.scale = 1.0;
+        let ray = Ray::new(origin, dir).unwrap();
+        let mut stream = Stream {
+            band,
+            t: 0.0,
+            kind: Kind::Azimuth {
+                ccw,
+                from: (1.0, 0.0),
+                crossed: axis.boundaries,
+            },
+        };
+        let walks = stream.complete_azimuth(&axis, ray.line(), f64::INFINITY);
+        let mut events = Vec::new();
+        let mut more = walks;
+        while more {
+            events.push((stream.t, stream.band));
+            more = stream.next_walk(axis.boundaries, f64::INFINITY);
+        }
+        assert_eq!(stream.kind, Kind::Fixed);
+        (walks, events)
+    }
+
+    /// The line from (−3, −1.5 + e, 0.25) along (1.5, 0.75, 0.1) passes the z axis at a distance 1.5e/|d_xy|:
+    /// `(p × d)_z = −1.5e`. Near enough for the completion when `|(p × d)_z| ≤ 64 √ε · 3 · 1.5` (the origin's and
+    /// the direction's largest horizontal components); returns `e` at `k` times that bound.
+    fn offset_at(k: f64) -> f64 {
+        k * 64.0 * sqrt_epsilon::<f64>() * 3.0 * 1.5 / 1.5
+    }
+
+    /// The closest approach of that line to the z axis: `t = −(p·d)/(d·d)` over x and y, written out.
+    fn closest(e: f64) -> f64 {
+        (3.0 * 1.5 + (1.5 - e) * 0.75) / (1.5 * 1.5 + 0.75 * 0.75)
+    }
+
+    #[test]
+    fn line_passing_the_z_axis_within_the_completion_bound_walks_to_its_direction_in_the_turning_sense()
+     {
+        // From sector 2 (φ of −d, π + 0.46) to sector 0 (φ of d, 0.46): through sector 3 counter-clockwise,
+        // through sector 1 clockwise, both at the closest approach to the axis.
+        let e = offset_at(0.9);
+        let o = [-3.0, -1.5 + e, 0.25];
+        let d = [1.5, 0.75, 0.1];
+        for (ccw, between) in [(true, 3), (false, 1)] {
+            let (walks, ev) = completion(&QUARTERS, o, d, 2, ccw);
+            assert!(walks, "ccw {ccw}");
+            assert_eq!(ev.iter().map(|e| e.1).collect::<Vec<_>>(), [between, 0]);
+            for (t, _) in ev {
+                assert!(
+                    (t - closest(e)).abs() <= 1e-14,
+                    "{t} against {}",
+                    closest(e)
+                );
+            }
+        }
+        // the same line, stopped in sector 1 turning clockwise: one step
+        let (_, ev) = completion(&QUARTERS, o, d, 1, false);
+        assert_eq!(ev.iter().map(|e| e.1).collect::<Vec<_>>(), [0]);
+    }
+
+    #[test]
+    fn line_passing_the_z_axis_beyond_the_completion_bound_ends_where_its_half_plane_tests_left_it()
+    {
+        let (walks, ev) = completion(
+            &QUARTERS,
+            [-3.0, -1.5 + offset_at(1.1), 0.25],
+            [1.5, 0.75, 0.1],
+            2,
+            true,
+        );
+        assert!(!walks);
+        assert!(ev.is_empty());
+        // and one within it already in its direction's sector: nothing to walk
+        let (walks, ev) = completion(
+            &QUARTERS,
+            [-3.0, -1.5 + offset_at(0.5), 0.25],
+            [1.5, 0.75, 0.1],
+            0,
+            true,
+        );
+        assert!(!walks);
+        assert!(ev.is_empty());
+    }
+
+    /// The direction `k` times boundary `j`'s stored `(cos, sin)` of [`SKEWED`] (exactly on its line), from an
+    /// origin 2 of it behind the axis and `2^-30` aside: completed from sector `band`.
+    fn along_boundary(j: usize, k: f64, band: u32) -> (bool, Vec<(f64, u32)>) {
+        let h = crate::surface::HalfPlane::from_azimuth_rad(SKEWED[j]).unwrap();
+        let d = [k * h.cos(), k * h.sin(), 0.1];
+        let o = [-2.0 * d[0], -2.0 * d[1] + libm::scalbn(1.0, -30), 0.25];
+        completion(&SKEWED, o, d, band, true)
+    }
+
+    #[test]
+    fn direction_exactly_on_a_boundary_line_ends_in_the_sector_it_approaches_without_a_walk() {
+        // d along boundaries 3 (φ = 3: cos −0.99, sin 0.14) and 4 (φ = 4.5: cos −0.21, sin −0.98), twice their
+        // (cos, sin); the stream stopped two sectors before: φ tends to the boundary from one side, and the
+        // sector it ends in is the one the half-plane tests left (the boundary itself is never crossed).
+        for (j, band) in [(3, 1), (4, 2)] {
+            let (walks, ev) = along_boundary(j, 2.0, band);
+            assert!(!walks && ev.is_empty(), "boundary {j}: {ev:?}");
+        }
+    }
+
+    #[test]
+    fn direction_exactly_opposite_a_boundary_line_walks_to_its_sector() {
+        // d = −2 (cos, sin) of boundary 1 (φ = 1): its direction is φ = 1 + π, in sector 3 ([3, 4.5)); from
+        // sector 1, counter-clockwise through sector 2. (On the boundary's line, but not its half-plane.)
+        let (walks, ev) = along_boundary(1, -2.0, 1);
+        assert!(walks);
+        assert_eq!(ev.iter().map(|e| e.1).collect::<Vec<_>>(), [2, 3]);
+    }
+}

@@ -550,3 +550,82 @@ fn rays_swept_across_a_stitched_coarse_cells_outer_edge_hit_exactly_the_closed_f
     }
     assert!(hits > 0 && misses > 0, "{hits} hits, {misses} misses");
 }
+
+/// A stride-2 block over 8 × 7 cells: its last column is one cell wide (longitudes 20.06° to 20.07°), so its
+/// middle meridian and half width are not the full columns' (`clip_column`). Its row walls are the chord planes
+/// through that column's own ends. Rays straight down (along the normal, so parallel to the walls) either side
+/// of each of its rows, near both ends and in the middle of the column, hit the cell they are over, at its flat
+/// 100 m (to the triangles' sag below the spheroid, a few cm): 1.1 mm and 1.1 cm south of the parallel, and north
+/// of the chord, which lies poleward of the parallel by its sag (4 mm at the middle, 0.2 mm 0.0001° from an
+/// end): 1.1 mm and 1.1 cm north near the ends, 1.1 cm at the middle. (A chord through a column twice as wide,
+/// from 20.06° to 20.08°, would lie 8 mm further north at the middle and 16 mm near the east end.)
+#[test]
+fn straight_down_rays_either_side_of_a_row_in_a_coarse_blocks_narrow_last_column_hit_the_cell_below_them()
+ {
+    let s = OneLeaf {
+        grid: grid(10.0, 20.0, 0.01, 0.01, 9, 8),
+        rows: [0, 8],
+        cols: [0, 7],
+        stride: 2,
+    };
+    let p: Picker<'_, f64, OneLeaf> = Picker::new(&s).unwrap();
+    let e = Ellipsoid::wgs84();
+    // 1e-8° and 1e-7° of latitude: 1.1 mm and 1.1 cm
+    let near_end: &[f64] = &[-1e-7, -1e-8, 1e-8, 1e-7];
+    let middle: &[f64] = &[-1e-7, -1e-8, 1e-7];
+    let lons: &[(f64, &[f64])] = if cfg!(miri) {
+        &[(20.0699, near_end)]
+    } else {
+        &[(20.0601, near_end), (20.065, middle), (20.0699, near_end)]
+    };
+    for &(lon, offsets) in lons {
+        for row in [2u32, 4, 6] {
+            let lat_row = 10.0 + 0.01 * f64::from(row);
+            for &dlat in offsets {
+                let hit = p
+                    .pick(&radial_ray(&e, lat_row + dlat, lon, 1000.0))
+                    .unwrap();
+                let want = if dlat < 0.0 { row - 2 } else { row };
+                assert!(hit.is_some(), "{lon} {lat_row} {dlat}: no hit");
+                let h = hit.unwrap();
+                assert_eq!((h.cell, h.stride), ([want, 6], 2), "{lon} {lat_row} {dlat}");
+                assert!((h.h - 100.0).abs() < 0.2, "{lon} {lat_row} {dlat}: {h:?}");
+            }
+        }
+    }
+}
+
+/// A stride-4 block over 8 × 7 cells: its last column is three cells wide (longitudes 20.04° to 20.07°), and as
+/// the grid's last it is a border column, whose row walls are the tangent plane along its middle meridian and the
+/// chord plane through its own ends (`border_wall`). Rays almost level, from 99.99 m to 99.9 m high, along the
+/// column 4.4 cm south of its middle row (latitude 10.04° − 4e-7°), either way, do pinned work (`work.rs`): the
+/// eastward one crosses one triangle pair, under the surface; the westward one crosses three and hits the
+/// western column (its line runs on beyond the segment given). The northern cell's tangent wall lies south of
+/// the row by the parallel's sag over half the column (about 3.7 cm at its ends), so the rays stay outside it.
+/// A half width taken from a column of the full stride, or any other, moves that wall's meridian: a ninth of the
+/// half width puts it along 20.0417°, 13 cm south of the row at the far end, and the eastward ray then visits
+/// the northern cell too.
+#[test]
+fn level_rays_along_a_coarse_blocks_narrow_last_column_south_of_a_row_do_the_pinned_work() {
+    let s = OneLeaf {
+        grid: grid(10.0, 20.0, 0.01, 0.01, 9, 8),
+        rows: [0, 8],
+        cols: [0, 7],
+        stride: 4,
+    };
+    let p: Picker<'_, f64, OneLeaf> = Picker::new(&s).unwrap();
+    let e = Ellipsoid::wgs84();
+    let lat = 10.04 - 4e-7;
+    let cases = [
+        ((20.0401, 20.0699), None, [1, 1, 2]),
+        ((20.0699, 20.0401), Some(([0, 0], 4)), [1, 3, 6]),
+    ];
+    for ((a, b), want_hit, want_work) in cases {
+        let (hit, work) = pick_counted(&p, &ray_between(&e, [lat, a, 99.99], [lat, b, 99.9]));
+        assert_eq!(
+            (hit.map(|h| (h.cell, h.stride)), work),
+            (want_hit, want_work),
+            "from {a}° to {b}°"
+        );
+    }
+}
