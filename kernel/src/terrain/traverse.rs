@@ -144,10 +144,10 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
         // found there, the answer is not representable (below).
         let beyond = t_exit == T::INFINITY;
         let t_exit = if beyond { T::MAX } else { t_exit };
-        // Inflate the clip by a few ulps: the triangle test decides hits, the clip only culls.
-        let slack = T::from_f64(64.0) * T::EPSILON * (t_enter.abs() + t_exit.abs());
-        let t_lo = (t_enter - slack).max(ray.t_min());
-        let t_hi = (t_exit + slack).min(ray.t_max()).min(T::MAX);
+        // Inflate the clip by a few ulps ([`inflated_clip`]): the triangle test decides hits, the clip only
+        // culls. (No ray is known whose hit needs the slack: the zones' and cells' own intervals carry their
+        // own tolerances; it keeps the clip from being the one bound without any.)
+        let (t_lo, t_hi) = inflated_clip(ray, t_enter, t_exit);
         if !t_hi.is_finite() || !(t_lo <= t_hi) {
             return Ok(None);
         }
@@ -523,4 +523,40 @@ fn node_budget<T: Real>(g: &Grid<T>, zones: usize) -> u64 {
         .saturating_mul(4)
         .saturating_add(u64::try_from(zones).unwrap_or(u64::MAX))
         .saturating_add(16)
+}
+
+/// The global clip `[t_enter, t_exit]` widened by `64 ε (|t_enter| + |t_exit|)` at either end, then cut to the
+/// ray's interval and to the largest finite `t`.
+#[inline]
+fn inflated_clip<T: Real>(ray: &Ray<T>, t_enter: T, t_exit: T) -> (T, T) {
+    let slack = T::from_f64(64.0) * T::EPSILON * (t_enter.abs() + t_exit.abs());
+    let t_lo = (t_enter - slack).max(ray.t_min());
+    let t_hi = (t_exit + slack).min(ray.t_max()).min(T::MAX);
+    (t_lo, t_hi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The clip's slack is `64 ε (|t_enter| + |t_exit|)` at both ends (exactly, for ends whose sum and slack
+    /// are exact), inside the ray's own interval.
+    #[test]
+    fn the_global_clip_widens_by_64_eps_times_the_ends_magnitudes_inside_the_rays_interval() {
+        let ray = Ray::new([1.0e7, 0.0, 0.0], [-1.0, 0.0, 0.0])
+            .and_then(|r| r.with_interval(f64::NEG_INFINITY, f64::INFINITY))
+            .unwrap();
+        // 3 · 2^20 and 5 · 2^20: the slack is 64 ε · 2^23 = 2^-23 exactly
+        let (a, b) = (3.0 * 1_048_576.0, 5.0 * 1_048_576.0);
+        let slack = 1.0 / 8_388_608.0;
+        assert_eq!(inflated_clip(&ray, a, b), (a - slack, b + slack));
+        // either end's sign does not shrink the slack
+        assert_eq!(inflated_clip(&ray, -a, b), (-a - slack, b + slack));
+        // cut to the ray's interval where it ends within the slack
+        let inner = slack / 2.0;
+        let seg = ray.with_interval(a - inner, b + inner).unwrap();
+        assert_eq!(inflated_clip(&seg, a, b), (a - inner, b + inner));
+        // and to the largest finite t
+        assert_eq!(inflated_clip(&ray, a, f64::MAX).1, f64::MAX);
+    }
 }

@@ -278,7 +278,6 @@ pub(super) fn grid(
     }
 }
 
-/// A small deterministic generator (no external crates in the kernel's tests).
 /// Where `ray` meets the plane through the vertices `(a, b, c)` (in pairs), computed in pairs: `t = n·(a − o) /
 /// n·d` with `n = (b − a) × (c − a)`. The refinement's answer, found independently (`refine.rs` takes one step
 /// from the traversal's `t` with a scalar normal).
@@ -311,6 +310,7 @@ fn nearest_plane_t(ray: &Ray<f64>, t: f64, tris: [[[crate::dd::Dd<f64>; 3]; 3]; 
         .unwrap_or(f64::NAN)
 }
 
+/// A small deterministic generator (no external crates in the kernel's tests).
 struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> f64 {

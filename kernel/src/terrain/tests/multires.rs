@@ -629,3 +629,26 @@ fn level_rays_along_a_coarse_blocks_narrow_last_column_south_of_a_row_do_the_pin
         );
     }
 }
+
+/// A missing block after the hit, in a zone visited before the zone of the hit: the ray runs level at 1 m,
+/// eastward along the border of the first two zones (10.08°), 4.4 cm south of it, from the west edge. Its
+/// line is a chord of the parallel, so it bulges north across the border into the second zone and dips to the
+/// ground there; after the hit it would come back south, into the first zone's south-east child, which is
+/// missing below `min_level`. The first zone is entered first and the missing child recorded, at its entry
+/// beyond the hit; the answer is the hit, not the block (`nearest`: a missing block matters only before the
+/// nearest hit).
+#[test]
+fn missing_block_entered_beyond_the_hit_in_a_zone_visited_first_does_not_replace_the_hit() {
+    let d = dem();
+    d.evict(d.child([4, 8], [4, 8]));
+    let s = d.paged();
+    let p = Picker::<'_, f64, _>::new(&s).unwrap().with_min_level(1);
+    let e = Ellipsoid::wgs84();
+    let lat = 10.08 - 4e-7;
+    let ray = ray_between(&e, [lat, 20.0, 1.0], [lat, 20.08, 1.0]);
+    let hit = p.pick(&ray).unwrap().unwrap();
+    assert_eq!((hit.cell, hit.stride, hit.level), ([8, 1], 1, 1), "{hit:?}");
+    // on the flat ground, to the triangles' sag below the spheroid (2 cm)
+    assert!(hit.lat_deg > 10.08 && hit.h.abs() < 0.05, "{hit:?}");
+    assert_eq!(p.pick_t(&ray).map(|t| t.map(|t| t.1)), Ok(Some(hit.cell)));
+}

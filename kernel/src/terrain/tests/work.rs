@@ -161,3 +161,37 @@ fn rays_from_orbit_over_a_global_grid_do_the_pinned_work() {
         }
     }
 }
+
+/// Rays passing just outside the regional DEM of [`rough`] (leaves of 4 × 4 cells, with node boxes), level
+/// with its highest vertices, inside the zone's box in the grid's frame but outside its volume: 2 m north of
+/// the northern edge heading east, and 1.1 m east of the eastern edge heading north. A regional grid's zones are
+/// clipped by their boxes alone (tight there, where a global grid's tilt), so the traversal enters the zone and
+/// the boxes below it before finding nothing: pinned, as above (volumes, ray, quads visited, triangle pairs
+/// visited, triangles tested).
+#[test]
+fn rays_just_outside_a_regional_dems_edges_enter_its_zones_box_and_do_the_pinned_work() {
+    let want: [(u8, usize, [u32; 3]); 6] = [
+        (1, 0, [1, 0, 0]),
+        (1, 1, [10, 0, 0]),
+        (2, 0, [3, 0, 0]),
+        (2, 1, [10, 0, 0]),
+        (3, 0, [3, 0, 0]),
+        (3, 1, [10, 0, 0]),
+    ];
+    let rays = [
+        ([45.320018, 7.25, 345.0], [45.320018, 7.35, 337.0]),
+        ([44.9856, 7.32001, 382.0], [45.0856, 7.32001, 368.0]),
+    ];
+    let kinds: &[u8] = if cfg!(miri) { &[3] } else { &[1, 2, 3] };
+    for &boxes in kinds {
+        let dem = rough(4, boxes);
+        let s = dem.storage();
+        let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+        let e = dem.surface.e;
+        for (k, &(from, to)) in rays.iter().enumerate() {
+            let (hit, work) = pick_counted(&p, &ray_between(&e, from, to));
+            assert!(hit.is_none(), "{boxes} {k}: {hit:?}");
+            assert!(want.contains(&(boxes, k, work)), "{:?}", (boxes, k, work));
+        }
+    }
+}
