@@ -652,3 +652,62 @@ fn missing_block_entered_beyond_the_hit_in_a_zone_visited_first_does_not_replace
     assert!(hit.lat_deg > 10.08 && hit.h.abs() < 0.05, "{hit:?}");
     assert_eq!(p.pick_t(&ray).map(|t| t.map(|t| t.1)), Ok(Some(hit.cell)));
 }
+
+/// The west child missing, its area traced from the zone's stride-2 block: the full-resolution cell (3, 4) east
+/// of the border meets the coarse cell (rows 2–4, columns 2–4) across its west side, the meridian 20.04°.
+/// Grazing rays from the west (1 m up, 2.2 km away) aimed at points swept across that side in steps of 1 nm,
+/// from 40 nm west to 40 nm east of it, meet the surface at a tie of the two cells. A hit on cell (3, 4) is
+/// refined on that cell's triangles only: its `t` is where the ray meets one of their planes (computed in pairs,
+/// within 1e-10 m), or, when the refined point lies beyond the side and the containment walk would have to step
+/// into the coarse cell (whose triangles are not the full-resolution ones), the traversal's own `t`.
+#[test]
+fn grazing_hits_at_the_side_of_a_full_resolution_cell_shared_with_a_coarse_cell_are_refined_on_its_own_triangles()
+ {
+    let d = dem();
+    d.evict(d.west_child());
+    let s = d.paged();
+    let p = Picker::<'_, f64, _>::new(&s).unwrap();
+    let e = Ellipsoid::wgs84();
+    let surface = Surface {
+        e,
+        grid: d.grid,
+        heights: d.heights.clone(),
+    };
+    let pair = |i: u32, j: u32| surface.vertex_dd(i, j).unwrap();
+    let tris = [
+        [pair(3, 4), pair(3, 5), pair(4, 5)],
+        [pair(3, 4), pair(4, 5), pair(4, 4)],
+    ];
+    let v = |i: u32, j: u32| {
+        e.geodetic_deg_to_ecef(10.0 + 0.01 * f64::from(i), 20.0 + 0.01 * f64::from(j), 0.0)
+    };
+    let (a, b) = (v(3, 4), v(4, 4));
+    let east = v(3, 5).minus(a);
+    let east = east.scaled(1.0 / east.length());
+    let o = e.geodetic_deg_to_ecef(10.033, 20.02, 1.0);
+    let step = if cfg!(miri) { 10 } else { 1 };
+    let (mut on_plane, mut kept) = (0, 0);
+    for k in (-40..=40).step_by(step) {
+        let target = a
+            .add_scaled(0.3, b.minus(a))
+            .add_scaled(1e-9 * f64::from(k), east);
+        let ray = Ray::new(o, target.minus(o)).unwrap();
+        let hit = p.pick(&ray).unwrap().unwrap();
+        if (hit.cell, hit.stride) != ([3, 4], 1) {
+            continue;
+        }
+        let traversal = p.pick_t(&ray).unwrap().unwrap().0;
+        let plane = nearest_plane_t(&ray, hit.t, tris);
+        let off = (hit.t - plane).abs() * ray.dir().length();
+        if off <= 1e-10 {
+            on_plane += 1;
+        } else {
+            assert_eq!(hit.t, traversal, "{k} nm: {off} m off the cell's planes");
+            kept += 1;
+        }
+    }
+    assert!(
+        on_plane > 0 && (kept > 0 || cfg!(miri)),
+        "{on_plane} refined, {kept} kept"
+    );
+}
