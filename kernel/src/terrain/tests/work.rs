@@ -195,3 +195,28 @@ fn rays_just_outside_a_regional_dems_edges_enter_its_zones_box_and_do_the_pinned
         }
     }
 }
+
+/// A ray descending eastward into a cell of [`rough`] (leaves of 4 × 4 cells, no boxes) 1.1 mm north of row 16,
+/// the southern border of a leaf, from 410 m to 0 m over 0.0029° of longitude: pinned, as above. A
+/// full-resolution leaf's border cells keep the chord planes of their rows as walls, shared with the cells
+/// across; only a coarse unit's border cells (which may be stitched) take the wider walls of `border_wall`, and
+/// with those here the height cull would pass two more triangles.
+#[test]
+fn ray_along_a_full_resolution_leafs_border_row_does_the_pinned_work() {
+    let dem = rough(4, 0);
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = dem.surface.e;
+    let lat = 45.16 + 1e-8;
+    let ray = ray_between(&e, [lat, 7.1201, 410.0], [lat, 7.123, 0.0]);
+    let (hit, work) = pick_counted(&p, &ray);
+    assert_eq!((hit.map(|h| h.cell), work), (Some([15, 12]), [4, 2, 2]));
+    if !cfg!(miri) {
+        same_hit(
+            &ray,
+            hit.map(|h| (h.t, h.cell)),
+            dem.surface.brute(&ray),
+            "along a border row",
+        );
+    }
+}
