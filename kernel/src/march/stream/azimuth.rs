@@ -328,10 +328,11 @@ mod tests {
 
     #[test]
     fn direction_exactly_on_a_boundary_line_ends_in_the_sector_it_approaches_without_a_walk() {
-        // d along boundaries 3 (φ = 3: cos −0.99, sin 0.14) and 4 (φ = 4.5: cos −0.21, sin −0.98), twice their
-        // (cos, sin); the stream stopped two sectors before: φ tends to the boundary from one side, and the
-        // sector it ends in is the one the half-plane tests left (the boundary itself is never crossed).
-        for (j, band) in [(3, 1), (4, 2)] {
+        // d along boundaries 3 (φ = 3: cos −0.99, sin 0.14), 4 (φ = 4.5: cos −0.21, sin −0.98) and 0 (φ = 0:
+        // exactly (1, 0), so d has no y part), twice their (cos, sin); the stream stopped two sectors before: φ
+        // tends to the boundary from one side, and the sector it ends in is the one the half-plane tests left (the
+        // boundary itself is never crossed).
+        for (j, band) in [(3, 1), (4, 2), (0, 3)] {
             let (walks, ev) = along_boundary(j, 2.0, band);
             assert!(!walks && ev.is_empty(), "boundary {j}: {ev:?}");
         }

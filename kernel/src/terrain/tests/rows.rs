@@ -246,3 +246,45 @@ fn segment_ends_within_the_meridian_tolerance_add_the_column_beyond_and_no_furth
         }
     });
 }
+
+/// `unit_columns` over a grid of 10° columns (13 rows of 0.01° from 45° N, 36 columns from 0° E) for the
+/// segment from `(a, 1000 m)` to `(b, 0 m)` (latitude, longitude), for a unit over columns `cols`.
+fn wide_columns(cols: [u32; 2], a: [f64; 2], b: [f64; 2]) -> (u32, u32) {
+    let dem = TestDem::new(
+        grid(45.0, 0.0, 0.01, 10.0, 13, 37),
+        std::vec![0.0; 13 * 37],
+        4,
+    );
+    let s = dem.storage();
+    let p: Picker<'_, f64, Storage<'_>> = Picker::new(&s).unwrap();
+    let e = dem.surface.e;
+    let a = e.geodetic_deg_to_ecef(a[0], a[1], 1000.0);
+    let b = e.geodetic_deg_to_ecef(b[0], b[1], 0.0);
+    let ray = Ray::new(a, b.minus(a)).unwrap();
+    let unit = Unit {
+        rows: [2, 10],
+        cols,
+        stride: 1,
+        level: 0,
+    };
+    p.unit_columns(&unit, &ray, 0.0, 1.0)
+}
+
+/// A unit whose columns and one more span 180° or more gets every column: its meridians are not all within 90° of
+/// the middle one, where the meridian planes' sides order the columns. Up to 170° they are searched: the segment
+/// from 75° to 95° crosses columns 7 to 9. So is one from 113° to 127° in a unit 160° wide whose middle meridian
+/// is 120° (columns 4 to 20; its columns 7 and 8), where that meridian's cosine is negative; a segment from 125°
+/// through the Earth to the antipode of its start ends behind that meridian and gets every column.
+#[test]
+fn units_spanning_half_a_turn_get_every_column_and_narrower_ones_are_searched() {
+    let lat = 45.05;
+    let cols = |c: [u32; 2], a: f64, b: f64| wide_columns(c, [lat, a], [lat, b]);
+    assert_eq!(cols([0, 18], 75.0, 95.0), (0, 18));
+    assert_eq!(cols([0, 17], 75.0, 95.0), (0, 17));
+    assert_eq!(cols([0, 16], 75.0, 95.0), (7, 10));
+    assert_eq!(cols([0, 16], 95.0, 75.0), (7, 10));
+    assert_eq!(cols([4, 20], 113.0, 127.0), (7, 9));
+    assert_eq!(cols([4, 20], 127.0, 113.0), (7, 9));
+    assert_eq!(wide_columns([4, 20], [lat, 125.0], [-lat, -55.0]), (0, 16));
+    assert_eq!(wide_columns([4, 20], [-lat, -55.0], [lat, 125.0]), (0, 16));
+}
