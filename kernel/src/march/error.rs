@@ -155,3 +155,35 @@ impl core::fmt::Display for MarchError {
 }
 
 impl core::error::Error for MarchError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::string::ToString;
+
+    /// Each march error says what went wrong, naming the coordinate and the capacity where it has them.
+    #[test]
+    fn march_errors_say_what_went_wrong() {
+        let full = MarchError::BufferFull {
+            axis: Axis::Theta,
+            capacity: 16,
+        };
+        assert_eq!(
+            full.to_string(),
+            "separable march: more than 16 theta crossings"
+        );
+        assert_eq!(
+            MarchError::IterationBound.to_string(),
+            "march exceeded its iteration bound"
+        );
+        assert_eq!(
+            MarchError::Ray(RayError::NonFiniteOrigin).to_string(),
+            "ray relative to the grid center: ray origin is not finite"
+        );
+        assert!(
+            MarchError::Unrepresentable.to_string().starts_with(
+                "the ray crosses the grid where its t exceeds the largest finite value"
+            )
+        );
+    }
+}
