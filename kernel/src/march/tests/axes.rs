@@ -183,3 +183,21 @@ fn azimuth_span_over_a_full_turn_by_rounding_is_a_full_turn_and_beyond_it_an_err
     let mut ws = &mut buf[..];
     assert!(AzimuthAxis::build(&phi, &mut ws).is_err());
 }
+
+/// An axis of `u32::MAX / 4` breakpoints or more is refused before anything is read (the band and event counts
+/// stay far from overflowing `u32`); one fewer is accepted.
+#[test]
+fn axis_of_a_quarter_of_u32_max_breakpoints_is_refused_and_one_fewer_accepted() {
+    let limit = (u32::MAX / 4) as usize;
+    assert_eq!(
+        crate::march::axes::len_u32(Axis::Phi, limit),
+        Err(GridError::TooManyBreakpoints {
+            axis: Axis::Phi,
+            len: limit
+        })
+    );
+    assert_eq!(
+        crate::march::axes::len_u32(Axis::Phi, limit - 1),
+        Ok(u32::MAX / 4 - 1)
+    );
+}

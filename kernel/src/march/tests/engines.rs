@@ -513,3 +513,27 @@ fn tiny_direction_whose_t_overflows_only_outside_the_interval_marches() {
         );
     }
 }
+
+/// The line y = 0.5 along +x through a ball of radius 1 cut into 36 sectors (boundaries at 5° + 10°k): its
+/// azimuth falls from 150° where it enters the ball to 30° where it leaves, crossing the twelve boundaries from
+/// 145° to 35° inside, and goes on falling towards 0° outside, across 25°, 15° and 5°. The separable engine
+/// lists only the twelve (it stops a coordinate's list at the last event of the radius, once the ray has left
+/// the outer sphere for good), and gives the serial engine's crossings.
+#[test]
+fn separable_march_lists_no_azimuth_crossing_after_the_ray_leaves_the_outer_sphere() {
+    let r = [0.0, 1.0];
+    let th = [0.0, PI];
+    let ph: Vec<f64> = (0..=36)
+        .map(|k| (5.0 + 10.0 * f64::from(k)).to_radians())
+        .collect();
+    let mut ws = [0.0; 128];
+    let g = SphericalGrid::new(&r, &th, &ph, &mut ws).unwrap();
+    let ray = Ray::new([-3.0, 0.5, 0.0], [1.0, 0.0, 0.0]).unwrap();
+    let mut m = SeparableMarch::<f64, 16>::default();
+    g.march_separable_into(&ray, &mut m).unwrap();
+    assert_eq!(m.listed()[2], 12);
+    let got: Vec<_> = m.by_ref().collect();
+    let want: Vec<_> = g.march(&ray).collect();
+    assert_eq!(got, want);
+    assert_eq!(got.len(), 13);
+}
