@@ -537,3 +537,70 @@ fn separable_march_lists_no_azimuth_crossing_after_the_ray_leaves_the_outer_sphe
     assert_eq!(got, want);
     assert_eq!(got.len(), 13);
 }
+
+/// A tiny direction from inside the ball (radius 1) whose crossings of the inner sphere (radius 0.5) have finite
+/// `t` but whose exit from the ball does not: refused before any crossing, by both engines (the set-up's test of
+/// the outer ball, whose first, cheap bound must hold however the origin and the radius compare). From
+/// (−0.5, 0.1, 0.2) along x at 5e-309 (the inner sphere at t ≈ 1.1e307 and 1.9e308, the ball's exit beyond
+/// 2.9e308) and from (−0.05, 0.01, 0.02) at 4e-309 (the inner sphere at t ≈ 1.4e308, the exit beyond 2.6e308).
+#[test]
+fn tiny_direction_from_inside_the_ball_whose_exit_overflows_is_refused_before_any_crossing() {
+    let mut ws = [0.0; 64];
+    let g = SphericalGrid::new(&R, &TH, &PH, &mut ws).unwrap();
+    for (o, dx) in [([-0.5, 0.1, 0.2], 5e-309), ([-0.05, 0.01, 0.02], 4e-309)] {
+        let ray = Ray::new(o, [dx, 0.0, 0.0]).unwrap();
+        let mut m = g.march(&ray);
+        let got: Vec<_> = m.by_ref().collect();
+        assert_eq!(
+            (got.as_slice(), m.error()),
+            (&[][..], Some(MarchError::Unrepresentable)),
+            "{o:?}"
+        );
+        assert_eq!(
+            g.march_separable::<32>(&ray).err(),
+            Some(MarchError::Unrepresentable)
+        );
+    }
+}
+
+/// Tiny directions whose `t` overflows only where the line does not cross the ball: marched without an error.
+/// The lines y = 1 and z = 1 along x from x = −3 at 2^−1023 touch the unit ball at t = 3·2^1023, beyond the
+/// largest `f64` (a touch is not a crossing): no crossing. The line from (−3, 0.1, 0.2) along x at 2^−1020 crosses
+/// it at t below 4·2^1020, all finite, though the set-up's cheap bound (28·2^1020) is not: the crossings of the
+/// same line along x at unit speed, each `t` times 2^1020 exactly, from `t = 0` or over the whole line.
+#[test]
+fn tiny_direction_touching_the_ball_or_crossing_it_at_finite_t_marches_without_an_error() {
+    let mut ws = [0.0; 64];
+    let g = SphericalGrid::new(&R, &TH, &PH, &mut ws).unwrap();
+    let tiny = |k: i32| libm::scalbn(1.0, k);
+    for o in [[-3.0, 1.0, 0.0], [-3.0, 0.0, 1.0]] {
+        let ray = Ray::new(o, [tiny(-1023), 0.0, 0.0]).unwrap();
+        let mut m = g.march(&ray);
+        assert_eq!(m.by_ref().count(), 0, "{o:?}");
+        assert_eq!(m.error(), None, "{o:?}");
+        assert_eq!(g.march_separable::<32>(&ray).map(|s| s.count()), Ok(0));
+    }
+    let o = [-3.0, 0.1, 0.2];
+    let unit: Vec<_> = g.march(&Ray::new(o, [1.0, 0.0, 0.0]).unwrap()).collect();
+    let ray = Ray::new(o, [tiny(-1020), 0.0, 0.0]).unwrap();
+    let mut m = g.march(&ray);
+    let got: Vec<_> = m.by_ref().collect();
+    assert_eq!(m.error(), None);
+    assert!(!unit.is_empty());
+    let scaled: Vec<_> = unit
+        .iter()
+        .map(|c| CellCrossing {
+            cell: c.cell,
+            t_enter: c.t_enter * tiny(1020),
+            t_exit: c.t_exit * tiny(1020),
+        })
+        .collect();
+    assert_eq!(got, scaled);
+    let separable: Vec<_> = g.march_separable::<32>(&ray).unwrap().collect();
+    assert_eq!(separable, scaled);
+    // and over the whole line (t from −∞): the same crossings
+    let line = ray.with_interval(f64::NEG_INFINITY, f64::INFINITY).unwrap();
+    let mut m = g.march(&line);
+    assert_eq!(m.by_ref().collect::<Vec<_>>(), scaled);
+    assert_eq!(m.error(), None);
+}
