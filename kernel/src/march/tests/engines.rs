@@ -604,3 +604,35 @@ fn tiny_direction_touching_the_ball_or_crossing_it_at_finite_t_marches_without_a
     assert_eq!(m.by_ref().collect::<Vec<_>>(), scaled);
     assert_eq!(m.error(), None);
 }
+
+/// Cylinder grid rho ∈ {0.5, 1, 2} (a hole of radius 0.5 round the axis), φ ∈ {−0.5, 0, 0.5}, z ∈ {0, 1}. A
+/// vertical line at (0.5, −0.2) (ρ² = 0.29, between the radii 0.5 and 1; x² − y² and x²y² would put it in the
+/// hole) stays in the cell of its ρ; a horizontal ray starting in the hole, at (0, 0.1, 0.5) along x, marches from
+/// where it leaves the hole (ρ = 0.5 at x = √0.24) out through ρ = 1 and 2.
+#[test]
+fn vertical_line_in_the_cell_of_its_radius_and_a_ray_starting_in_the_hole_of_a_cylinder_grid() {
+    let (rho, ph, z) = ([0.5, 1.0, 2.0], [-0.5, 0.0, 0.5], [0.0, 1.0]);
+    let mut ws = [0.0; 16];
+    let g = CylindricalGrid::new(&rho, &ph, &z, &mut ws).unwrap();
+    // at φ = −0.38, in the sector [−0.5, 0)
+    let vertical = Ray::new([0.5, -0.2, -1.0], [0.0, 0.0, 1.0]).unwrap();
+    let c: Vec<_> = g.march(&vertical).collect();
+    assert_eq!(c.len(), 1);
+    assert_eq!(
+        (c[0].cell, c[0].t_enter, c[0].t_exit),
+        ([0, 0, 0], 1.0, 2.0)
+    );
+    let from_hole = Ray::new([0.0, 0.1, 0.5], [1.0, 0.0, 0.0]).unwrap();
+    let c: Vec<_> = g.march(&from_hole).collect();
+    let cells: Vec<_> = c.iter().map(|c| c.cell).collect();
+    assert_eq!(cells, [[0, 1, 0], [1, 1, 0]]);
+    for (got, want) in [
+        (c[0].t_enter, 0.24f64.sqrt()),
+        (c[0].t_exit, 0.99f64.sqrt()),
+        (c[1].t_exit, 3.99f64.sqrt()),
+    ] {
+        assert!((got - want).abs() < 1e-15, "{got} against {want}");
+    }
+    let s: Vec<_> = g.march_separable::<16>(&from_hole).unwrap().collect();
+    assert_eq!(s, c);
+}
