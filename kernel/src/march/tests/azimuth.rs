@@ -118,6 +118,41 @@ fn ray_starting_exactly_on_the_azimuth_zero_boundary_going_clockwise_crosses_it_
     );
 }
 
+/// From half of boundary φ = 4 stored (cos, sin) (both negative, the sine larger: on that half-plane exactly,
+/// z = 0.2), clockwise along (sin, −cos): in its sector [4, 2π) for no length, then in [2, 4) until it leaves the
+/// ball at t = √0.71 (φ falls towards 4 − π/2 and is 2.97 there). The arc test's tie (the start on the boundary's
+/// own half) is decided by the sign of cos·x + sin·y, here of a sum of two positive squares.
+#[test]
+fn ray_starting_exactly_on_an_azimuth_boundary_with_negative_cosine_and_sine_going_clockwise_crosses_it_at_once()
+ {
+    let ph = [0.0, 2.0, 4.0, 2.0 * PI];
+    let h = crate::surface::HalfPlane::from_azimuth_rad(4.0).unwrap();
+    let (c, s) = (h.cos(), h.sin());
+    let ray = Ray::new([0.5 * c, 0.5 * s, 0.2], [s, -c, 0.0]).unwrap();
+    let out = 0.71f64.sqrt();
+    expect(
+        &march_s(&R, &TH, &ph, &ray),
+        &[([1, 0, 2], 0.0, 0.0), ([1, 0, 1], 0.0, out)],
+        1e-15,
+    );
+}
+
+/// Boundaries at 0 and 5.5 (a full turn): the sector [0, 5.5) is wider than 3π/2. From (0.5 cos 0.2, 0.5 sin 0.2,
+/// 0.2) counter-clockwise along the tangent, φ rises towards 0.2 + π/2 and never reaches 5.5, although that
+/// boundary's direction is within 90° of the start's (it lies 5.3 ahead in the turning sense, 1 behind): one
+/// sector until the ray leaves the ball.
+#[test]
+fn ray_in_a_sector_wider_than_three_quarter_turns_never_reaches_its_next_boundary() {
+    let ph = [0.0, 5.5, 2.0 * PI];
+    let (s0, c0) = libm::sincos(0.2);
+    let ray = Ray::new([0.5 * c0, 0.5 * s0, 0.2], [-s0, c0, 0.0]).unwrap();
+    expect(
+        &march_s(&R, &TH, &ph, &ray),
+        &[([1, 0, 0], 0.0, 0.71f64.sqrt())],
+        1e-15,
+    );
+}
+
 #[test]
 fn ray_parallel_to_an_azimuth_boundary_plane_never_crosses_it() {
     // Along +x at y = 0.1: φ falls from about π toward 0 but never reaches the half-plane φ = 0, parallel to

@@ -636,3 +636,36 @@ fn vertical_line_in_the_cell_of_its_radius_and_a_ray_starting_in_the_hole_of_a_c
     let s: Vec<_> = g.march_separable::<16>(&from_hole).unwrap().collect();
     assert_eq!(s, c);
 }
+
+/// The line from (−0.5, 1e-10, 0.1) along (1, −(1 + 2^−20)·2^−30, 0) crosses the half-plane φ = π (y = 0,
+/// x < 0) inside the ball, nearly parallel to it, at t ≈ 0.1. Along the same direction times 2^−996 (exactly),
+/// every crossing's `t` is the first one's times 2^996, bit for bit: the plane's `t` is formed in the scaled
+/// parameter and rescaled exactly, where folding the rescaling into its small denominator (about 2^−1026, a
+/// subnormal, which keeps fewer bits than the denominator has) would round.
+#[test]
+fn tiny_direction_nearly_parallel_to_an_azimuth_plane_crosses_it_at_exactly_the_rescaled_t() {
+    let mut ws = [0.0; 64];
+    let g = SphericalGrid::new(&R, &TH, &PH, &mut ws).unwrap();
+    let o = [-0.5, 1e-10, 0.1];
+    // (1 + 2^−20)·2^−30: few enough bits that the direction times 2^−996 (subnormal) is exact
+    let d = [
+        1.0,
+        -(1.0 + libm::scalbn(1.0, -20)) * libm::scalbn(1.0, -30),
+        0.0,
+    ];
+    let unit: Vec<_> = g.march(&Ray::new(o, d).unwrap()).collect();
+    let k = libm::scalbn(1.0, -996);
+    let tiny: Vec<_> = g
+        .march(&Ray::new(o, [d[0] * k, d[1] * k, d[2] * k]).unwrap())
+        .collect();
+    assert!(unit.iter().any(|c| c.cell[2] == 1) && unit.iter().any(|c| c.cell[2] == 0));
+    let scaled: Vec<_> = unit
+        .iter()
+        .map(|c| CellCrossing {
+            cell: c.cell,
+            t_enter: c.t_enter / k,
+            t_exit: c.t_exit / k,
+        })
+        .collect();
+    assert_eq!(tiny, scaled);
+}
