@@ -216,24 +216,24 @@ impl TerrainStorage<f64> for GridOnly {
 
 impl TerrainCaches<f64> for GridOnly {}
 
-/// The builder's storage with [`TerrainCaches::cached_bounds`], which the builder does not provide (its
-/// node boxes stand in for it): every node's [`quad_bounds`], by node id.
-struct CachedBounds<'a> {
-    inner: Storage<'a>,
+/// A storage with [`TerrainCaches::cached_bounds`], which the builder does not provide (its node boxes stand
+/// in for it): every node's [`quad_bounds`] (its own cells', stride 1), by node id, for the first `slots` ids.
+struct CachedBounds<S> {
+    inner: S,
     cache: Vec<Option<HeightQuadBounds<f64>>>,
 }
 
-impl<'a> CachedBounds<'a> {
-    fn new(inner: Storage<'a>) -> Self {
+impl<S: TerrainStorage<f64>> CachedBounds<S> {
+    fn new(inner: S, slots: usize) -> Self {
         let (e, g) = (inner.ellipsoid(), inner.grid());
-        let cache = (0..inner.tree().slots() as u32)
+        let cache = (0..slots as u32)
             .map(|k| quad_bounds(&e, &g, &inner.node(NodeId(k)).unwrap()).unwrap())
             .collect();
         CachedBounds { inner, cache }
     }
 }
 
-impl TerrainStorage<f64> for CachedBounds<'_> {
+impl<S: TerrainStorage<f64>> TerrainStorage<f64> for CachedBounds<S> {
     fn ellipsoid(&self) -> Ellipsoid<f64> {
         self.inner.ellipsoid()
     }
@@ -252,9 +252,15 @@ impl TerrainStorage<f64> for CachedBounds<'_> {
     fn height(&self, i: u32, j: u32) -> Option<f64> {
         self.inner.height(i, j)
     }
+    fn is_resident(&self, id: NodeId) -> bool {
+        self.inner.is_resident(id)
+    }
+    fn block_stride(&self, id: NodeId) -> u32 {
+        self.inner.block_stride(id)
+    }
 }
 
-impl TerrainCaches<f64> for CachedBounds<'_> {
+impl<S: TerrainStorage<f64>> TerrainCaches<f64> for CachedBounds<S> {
     fn cached_bounds(&self, id: NodeId) -> Option<HeightQuadBounds<f64>> {
         self.cache.get(id.0 as usize).copied().flatten()
     }

@@ -43,15 +43,32 @@ impl Dem {
     /// in the builder's multi-resolution tree with leaves of `block × block` cells under their zones (one level),
     /// every node resident.
     fn flat_with_peaks(lat0: f64, [rows, cols]: [u32; 2], block: u32, peaks: &[[u32; 2]]) -> Dem {
-        let mut heights = vec![0.0; (rows * cols) as usize];
+        Dem::flat_on(grid(lat0, 20.0, 0.01, 0.01, rows, cols), block, peaks)
+    }
+    /// [`Dem::flat_with_peaks`] on any `grid`.
+    fn flat_on(grid: Grid<f64>, block: u32, peaks: &[[u32; 2]]) -> Dem {
+        let mut heights = vec![0.0; (grid.rows * grid.cols) as usize];
         for &[i, j] in peaks {
-            heights[(i * cols + j) as usize] = 300.0;
+            heights[(i * grid.cols + j) as usize] = 300.0;
         }
-        let grid = grid(lat0, 20.0, 0.01, 0.01, rows, cols);
-        let mut nodes = vec![NodeRecord::EMPTY; node_slots(rows, cols, block)];
+        let d = Dem::new(grid, heights, block);
+        assert_eq!(d.tree.depth(), 1);
+        d
+    }
+    /// `rows × cols` vertices of 0.01° from (10°, 20°) whose heights vary at every vertex (so each stride is a
+    /// different surface), in leaves of 4 × 4 cells.
+    fn varied(rows: u32, cols: u32) -> Dem {
+        let heights = (0..rows * cols)
+            .map(|k| 40.0 * f64::from((k % cols * 3 + k / cols * 5) % 7))
+            .collect();
+        Dem::new(grid(10.0, 20.0, 0.01, 0.01, rows, cols), heights, 4)
+    }
+    /// `heights` on `grid` in the builder's multi-resolution tree with leaves of `block × block` cells, every
+    /// node resident.
+    fn new(grid: Grid<f64>, heights: Vec<f64>, block: u32) -> Dem {
+        let mut nodes = vec![NodeRecord::EMPTY; node_slots(grid.rows, grid.cols, block)];
         let tree =
             build_multires_tree(&heights, &grid, block, MultiRes::default(), &mut nodes).unwrap();
-        assert_eq!(tree.depth(), 1);
         let resident = (0..tree.slots()).map(|_| AtomicBool::new(true)).collect();
         Dem {
             grid,
@@ -68,18 +85,18 @@ impl Dem {
     }
     /// The child covering rows 0–3, columns 0–3.
     fn west_child(&self) -> NodeId {
-        let k = self
-            .nodes
-            .iter()
-            .position(|n| n.level == 1 && n.rows == [0, 4] && n.cols == [0, 4]);
-        NodeId(k.unwrap() as u32)
+        self.child([0, 4], [0, 4])
     }
     /// The child covering `rows` and `cols`.
     fn child(&self, rows: [u32; 2], cols: [u32; 2]) -> NodeId {
+        self.node(1, rows, cols)
+    }
+    /// The node at depth `level` covering `rows` and `cols`.
+    fn node(&self, level: u8, rows: [u32; 2], cols: [u32; 2]) -> NodeId {
         let k = self
             .nodes
             .iter()
-            .position(|n| n.level == 1 && n.rows == rows && n.cols == cols);
+            .position(|n| n.level == level && n.rows == rows && n.cols == cols);
         NodeId(k.unwrap() as u32)
     }
     fn evict(&self, id: NodeId) {
@@ -385,26 +402,12 @@ fn missing_inner_node_lets_its_resident_leaves_answer_and_a_missing_leaf_below_i
  {
     // 65 × 65 vertices: zones of 16 × 16 cells (block stride 4) over nodes of 8 × 8 cells (stride 2) over leaves
     // of 4 × 4 cells (stride 1). Heights vary at every vertex, so each stride is a different surface.
-    let (rows, cols) = (65u32, 65u32);
-    let heights: Vec<f64> = (0..rows * cols)
-        .map(|k| 40.0 * f64::from((k % cols * 3 + k / cols * 5) % 7))
-        .collect();
-    let grid = grid(10.0, 20.0, 0.01, 0.01, rows, cols);
-    let mut nodes = vec![NodeRecord::<f64>::EMPTY; node_slots(rows, cols, 4)];
-    let tree = build_multires_tree(&heights, &grid, 4, MultiRes::default(), &mut nodes).unwrap();
-    assert_eq!(tree.depth(), 2);
-    let id = |level: u8, r: [u32; 2], c: [u32; 2]| {
-        let k = nodes
-            .iter()
-            .position(|n| n.level == level && n.rows == r && n.cols == c);
-        NodeId(k.unwrap() as u32)
-    };
-    let resident: Vec<AtomicBool> = (0..tree.slots()).map(|_| AtomicBool::new(true)).collect();
+    let d = Dem::varied(65, 65);
+    assert_eq!(d.tree.depth(), 2);
     // The zone's first inner node (rows and columns 0–7) missing, and one of its leaves (rows 4–7, columns 0–3).
-    resident[id(1, [0, 8], [0, 8]).0 as usize].store(false, Ordering::Relaxed);
-    resident[id(2, [4, 8], [0, 4]).0 as usize].store(false, Ordering::Relaxed);
-    let parts = Parts::new(&heights[..], &nodes[..]).with_resident(&resident);
-    let s = TreeStorage::with_buffers(Ellipsoid::wgs84(), grid, tree, parts).unwrap();
+    d.evict(d.node(1, [0, 8], [0, 8]));
+    d.evict(d.node(2, [4, 8], [0, 4]));
+    let s = d.paged();
     let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
     let e = Ellipsoid::wgs84();
     // Under the missing inner node a resident leaf answers with its own block ...
@@ -413,6 +416,29 @@ fn missing_inner_node_lets_its_resident_leaves_answer_and_a_missing_leaf_below_i
     // ... and the missing leaf is traced with the nearest resident ancestor's block, the zone's (stride 4).
     let coarse = p.pick(&down_at(&e, 10.055, 20.015)).unwrap().unwrap();
     assert_eq!((coarse.level, coarse.stride, coarse.cell), (0, 4, [4, 0]));
+}
+
+/// [`Dem::varied`] with 129 × 129 vertices: zones of 32 × 32 cells (block stride 8) over nodes of 16 × 16
+/// (stride 4), 8 × 8 (stride 2) and leaves of 4 × 4 (stride 1). With the first zone's node of rows and
+/// columns 0–15 missing and its child of rows and columns 0–7 too, the source is the zone's stride-8 block. Its
+/// cells (8 grid steps) fit the first node's children (rows and columns 0–7 and 8–15), so the traversal goes on
+/// down; they do not fit the second node's (0–3 and 4–7), so that node is traced whole with the zone's block, although its
+/// leaves are resident (descending to them would also trace the deeper blocks' cells under a coarser parent's).
+#[test]
+fn missing_node_whose_children_are_off_the_sources_lattice_is_traced_whole_with_the_source_block() {
+    let d = Dem::varied(129, 129);
+    assert_eq!(d.tree.depth(), 3);
+    d.evict(d.node(1, [0, 16], [0, 16]));
+    d.evict(d.node(2, [0, 8], [0, 8]));
+    let s = d.paged();
+    let p: Picker<'_, f64, _> = Picker::new(&s).unwrap();
+    let e = Ellipsoid::wgs84();
+    // Over the second node: the zone's block (stride 8, its cell of rows and columns 0–7).
+    let coarse = p.pick(&down_at(&e, 10.015, 20.025)).unwrap().unwrap();
+    assert_eq!((coarse.level, coarse.stride, coarse.cell), (0, 8, [0, 0]));
+    // Over the first node's next child (rows 0–7, columns 8–15, resident): its resident leaves.
+    let own = p.pick(&down_at(&e, 10.015, 20.105)).unwrap().unwrap();
+    assert_eq!((own.level, own.stride), (3, 1));
 }
 
 /// One zone that is a resident leaf over cell rows `rows` and columns `cols` of a `grid`, its block of stride
@@ -721,4 +747,5 @@ fn grazing_hits_at_the_side_of_a_full_resolution_cell_shared_with_a_coarse_cell_
     );
 }
 
+mod polar;
 mod sides;

@@ -225,9 +225,11 @@ fn cached_bounds_give_identical_picks() {
             })
             .collect()
     };
-    let s = CachedBounds::new(dem.storage());
+    let s = dem.storage();
+    let slots = s.tree().slots();
+    let s = CachedBounds::new(s, slots);
     assert!(s.cache.iter().flatten().count() > 4);
-    let p: Picker<'_, f64, CachedBounds<'_>> = Picker::new(&s).unwrap();
+    let p: Picker<'_, f64, CachedBounds<Storage<'_>>> = Picker::new(&s).unwrap();
     for (k, want) in plain.iter().enumerate() {
         let ray = radial_ray(
             &dem.surface.e,
