@@ -155,12 +155,14 @@ impl<T: Real> Stream<T> {
         let v = V3::new(-w.y, w.x, T::ZERO);
         let f = q.dot(v);
         let g = d.dot(v);
-        let up = if f < T::ZERO {
-            true
+        // ⟨q + t d | v⟩ = f + t g changes sign once: at f = 0 the start is θ's turn, and θ is monotone after it
+        // (so a start on a cone there, touching it, does not cross back at the start).
+        let (up, switched) = if f < T::ZERO {
+            (true, false)
         } else if f > T::ZERO {
-            false
+            (false, false)
         } else {
-            g < T::ZERO
+            (g < T::ZERO, true)
         };
         (
             Stream {
@@ -168,7 +170,7 @@ impl<T: Real> Stream<T> {
                 t: t0,
                 kind: Kind::Zenith {
                     up,
-                    switched: false,
+                    switched,
                     left: zenith_event_bound(axis.len),
                 },
             },
@@ -221,6 +223,19 @@ impl<T: Real> Stream<T> {
                         into: [into0, into1],
                         n,
                     } = cone.scaled_crossings_past_origin(ray);
+                    // A touch from the positive side, met going down from band j + 1: the line stays in that
+                    // band, which owns the point of contact on the cone (as the outer cell owns a sphere's), so
+                    // it crosses nothing there. (Met going up, the touch is the crossing into that band of a
+                    // stream that rounding started just below it.)
+                    let n = if n == 2
+                        && s0 == s1
+                        && into1 == Side::Positive
+                        && want == Side::Negative
+                    {
+                        0
+                    } else {
+                        n
+                    };
                     let t0 = ray.t_from_scaled(s0);
                     if n >= 1 && into0 == want && t0 >= *t_own {
                         hit = Some(t0);

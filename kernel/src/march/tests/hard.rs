@@ -546,3 +546,90 @@ fn segment_ending_exactly_on_a_sphere_or_the_equator_plane_ends_in_the_cell_beyo
     let got = march_s(&[0.0, 2.0], &[0.0, PI / 2.0, PI], &[0.0, 2.0 * PI], &ray);
     expect(&got, &[([0, 0, 0], 0.0, 0.5), ([0, 1, 0], 0.5, 0.5)], 0.0);
 }
+
+/// The cone of zenith angle `theta` as the grid stores it: `(sin θ, cos θ)`.
+fn cone_pair(theta: f64) -> (f64, f64) {
+    let cone = crate::surface::AxialCone::from_zenith_rad(0.0, theta).unwrap();
+    (cone.sin(), cone.cos())
+}
+
+/// Cones at 0.5, 1, 2 and 2.5 rad, radii 0.5 and 2, one φ cell.
+const TOUCH_TH: [f64; 6] = [0.0, 0.5, 1.0, 2.0, 2.5, PI];
+const TOUCH_R: [f64; 3] = [0.0, 0.5, 2.0];
+const ONE_PHI: [f64; 2] = [0.0, 2.0 * PI];
+
+#[test]
+fn ray_starting_on_a_cone_above_the_equator_tangent_to_it_stays_in_the_band_above() {
+    // From (sin 1, 0, cos 1) along ±y: θ is smallest at the start, on the cone θ = 1, and rises (the line lies
+    // in θ ≥ 1). The point of contact belongs to the band above the cone, so the ray never leaves that band:
+    // one crossing, not a zero-length visit to the band below and back.
+    let (s, c) = cone_pair(1.0);
+    for dy in [1.0, -1.0] {
+        let ray = Ray::new([s, 0.0, c], [0.0, dy, 0.0]).unwrap();
+        let got = march_s(&TOUCH_R, &TOUCH_TH, &ONE_PHI, &ray);
+        expect(&got, &[([1, 2, 0], 0.0, 3f64.sqrt())], 1e-15);
+    }
+}
+
+#[test]
+fn ray_starting_on_a_cone_below_the_equator_tangent_to_it_leaves_its_band_once() {
+    // From (sin 2, 0, cos 2) along ±y: θ is largest at the start, on the cone θ = 2, and falls. The start
+    // belongs to the band above the cone (θ ≥ 2): a zero-length crossing there, then the band below, once.
+    let (s, c) = cone_pair(2.0);
+    for dy in [1.0, -1.0] {
+        let ray = Ray::new([s, 0.0, c], [0.0, dy, 0.0]).unwrap();
+        let got = march_s(&TOUCH_R, &TOUCH_TH, &ONE_PHI, &ray);
+        expect(
+            &got,
+            &[([1, 3, 0], 0.0, 0.0), ([1, 2, 0], 0.0, 3f64.sqrt())],
+            1e-15,
+        );
+    }
+}
+
+#[test]
+fn ray_touching_a_cone_above_the_equator_between_two_bands_crosses_nothing_there() {
+    // From (sin 1, −1, cos 1) along +y: θ falls to 1 at t = 1, touching the cone θ = 1 from the band above it,
+    // which owns the point of contact, and rises again: one crossing, as for a touch of a sphere.
+    let (s, c) = cone_pair(1.0);
+    let ray = Ray::new([s, -1.0, c], [0.0, 1.0, 0.0]).unwrap();
+    let got = march_s(&TOUCH_R, &TOUCH_TH, &ONE_PHI, &ray);
+    expect(&got, &[([1, 2, 0], 0.0, 1.0 + 3f64.sqrt())], 1e-15);
+}
+
+#[test]
+fn ray_touching_a_cone_below_the_equator_between_two_bands_visits_the_band_above_for_no_length() {
+    // From (sin 2, −1, cos 2) along +y: θ rises to 2 at t = 1, touching the cone θ = 2 from the band below it.
+    // The point of contact belongs to the band above: a zero-length crossing of it at t = 1.
+    let (s, c) = cone_pair(2.0);
+    let ray = Ray::new([s, -1.0, c], [0.0, 1.0, 0.0]).unwrap();
+    let got = march_s(&TOUCH_R, &TOUCH_TH, &ONE_PHI, &ray);
+    let end = 1.0 + 3f64.sqrt();
+    expect(
+        &got,
+        &[
+            ([1, 2, 0], 0.0, 1.0),
+            ([1, 3, 0], 1.0, 1.0),
+            ([1, 2, 0], 1.0, end),
+        ],
+        1e-15,
+    );
+}
+
+#[test]
+fn ray_starting_on_a_zenith_domains_last_cone_tangent_to_it_outside_the_domain_crosses_nothing() {
+    // A domain of θ in [0.5, 1): from (sin 1, 0, cos 1) along ±y, θ rises from 1, so no point of the ray lies in
+    // the domain (the start, at θ = 1, is outside it). From the first cone's point instead, θ rises from 0.5
+    // through the domain until it reaches 1, where cos θ = cos 1: at t² = (cos 0.5 / cos 1)² − 1.
+    let th = [0.5, 1.0];
+    let (s1, c1) = cone_pair(1.0);
+    let (s0, c0) = cone_pair(0.5);
+    let leave = ((c0 / c1) * (c0 / c1) - 1.0).sqrt();
+    for dy in [1.0, -1.0] {
+        let outside = Ray::new([s1, 0.0, c1], [0.0, dy, 0.0]).unwrap();
+        assert_eq!(march_s(&TOUCH_R, &th, &ONE_PHI, &outside), []);
+        let inside = Ray::new([s0, 0.0, c0], [0.0, dy, 0.0]).unwrap();
+        let got = march_s(&TOUCH_R, &th, &ONE_PHI, &inside);
+        expect(&got, &[([1, 0, 0], 0.0, leave)], 1e-14);
+    }
+}
