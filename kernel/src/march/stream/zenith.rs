@@ -246,6 +246,11 @@ impl<T: Real> Stream<T> {
                         let t1 = ray.t_from_scaled(s1);
                         if t1 >= *t_own {
                             hit = Some(t1);
+                        } else if s0 == s1 {
+                            // A touch behind the stream, from the side it wants: the line lies on that side
+                            // but at the point of contact, so a stream still on this one is within rounding of
+                            // that point (a start there that rounding put just across), and crosses now.
+                            hit = Some(*t_own);
                         }
                     }
                 }
@@ -282,8 +287,15 @@ impl<T: Real> Stream<T> {
         if target != b && !on_limit_boundary {
             // One band toward the limit, then the ordinary search resumes in that direction only (so the
             // remaining cones are still crossed where the solver sees them). Each repair moves toward the
-            // limit band, so there are at most as many repairs as bands.
-            let t = later(ray.t_closest(), *t_own);
+            // limit band, so there are at most as many repairs as bands. Where the stream stands on the cone
+            // to cross, within rounding, the repair is there (a start between two roots the solver could not
+            // tell apart, at θ's turn); elsewhere at the closest approach to the center.
+            let cone = if target > b { b } else { b.wrapping_sub(1) };
+            let t = if axis.along_cone(cone, point_at(ray, *t_own)) {
+                *t_own
+            } else {
+                later(ray.t_closest(), *t_own)
+            };
             if !(t <= t_max) {
                 self.kind = Kind::Fixed;
                 return false;

@@ -633,3 +633,67 @@ fn ray_starting_on_a_zenith_domains_last_cone_tangent_to_it_outside_the_domain_c
         expect(&got, &[([1, 0, 0], 0.0, leave)], 1e-14);
     }
 }
+
+/// The parameter where the ray leaves the sphere of radius `r` about the origin (the larger root).
+fn sphere_exit(ray: &Ray<f64>, r: f64) -> f64 {
+    let (o, d) = (ray.origin(), ray.dir());
+    let (a, b) = (d.dot(d), o.dot(d));
+    (-b + (b * b - a * (o.dot(o) - r * r)).sqrt()) / a
+}
+
+#[test]
+fn ray_starting_at_thetas_turn_just_inside_a_zenith_domains_first_cone_is_inside_from_its_start() {
+    // A domain of θ in [0.234, 2.213). The ray starts at θ's turn on the cone 0.234, within rounding of it (a
+    // start made in double precision from sin and cos of 0.234), and θ rises from there: the ray is inside from
+    // t = 0 (by a 200-bit evaluation along it). The band test puts the start just outside, and the solver sees a
+    // touch just before the start, from inside: the stream crosses in at the start. (It used to cross only at
+    // the repair, at the closest approach to the center, t = 0.079.)
+    let ray = Ray::new(
+        [
+            -0.189_571_444_826_286_82,
+            -0.155_424_122_683_362_45,
+            1.028_418_927_211_274_7,
+        ],
+        [
+            0.647_484_861_056_789_4,
+            -0.762_277_200_409_813_5,
+            -0.073_046_873_852_698_69,
+        ],
+    )
+    .unwrap();
+    let got = march_s(&[0.0, 2.87], &[0.234, 2.213], &ONE_PHI, &ray);
+    expect(&got, &[([0, 0, 0], 0.0, sphere_exit(&ray, 2.87))], 1e-15);
+}
+
+#[test]
+fn ray_starting_at_thetas_turn_within_rounding_of_a_cone_below_the_equator_leaves_its_band_at_the_start()
+ {
+    // Cones at 1.584, 1.604 and 2.816. The ray starts at θ's turn 2e-18 rad above the cone 1.604 (by a 200-bit
+    // evaluation), in the band above it, and θ falls from there: it is in the band below from t ≈ 1e-8 until θ
+    // reaches 1.584 at t = 1.49834681648918. The solver sees no root of that cone (its discriminant rounds
+    // below 0), so the stream has no crossing to take; the repair that moves it a band toward the band of the
+    // direction is made where it stands on the cone, at the start (it used to be made at the closest approach
+    // to the center, t = 1.089, so the ray was in the wrong band up to there).
+    let ray = Ray::new(
+        [
+            -1.720_542_736_172_401_5,
+            -1.335_380_725_780_967,
+            -0.072_342_853_775_578_68,
+        ],
+        [
+            1.419_178_687_843_992_5,
+            -0.164_376_013_847_288_17,
+            0.033_891_392_589_579_03,
+        ],
+    )
+    .unwrap();
+    let got = march_s(&[0.0, 2.61], &[1.584, 1.604, 2.816], &ONE_PHI, &ray);
+    expect(
+        &got,
+        &[
+            ([0, 1, 0], 0.0, 0.0),
+            ([0, 0, 0], 0.0, 1.498_346_816_489_18),
+        ],
+        1e-15,
+    );
+}
