@@ -246,11 +246,6 @@ impl<T: Real> Stream<T> {
                         let t1 = ray.t_from_scaled(s1);
                         if t1 >= *t_own {
                             hit = Some(t1);
-                        } else if s0 == s1 {
-                            // A touch behind the stream, from the side it wants: the line lies on that side
-                            // but at the point of contact, so a stream still on this one is within rounding of
-                            // that point (a start there that rounding put just across), and crosses now.
-                            hit = Some(*t_own);
                         }
                     }
                 }

@@ -645,9 +645,10 @@ fn sphere_exit(ray: &Ray<f64>, r: f64) -> f64 {
 fn ray_starting_at_thetas_turn_just_inside_a_zenith_domains_first_cone_is_inside_from_its_start() {
     // A domain of θ in [0.234, 2.213). The ray starts at θ's turn on the cone 0.234, within rounding of it (a
     // start made in double precision from sin and cos of 0.234), and θ rises from there: the ray is inside from
-    // t = 0 (by a 200-bit evaluation along it). The band test puts the start just outside, and the solver sees a
-    // touch just before the start, from inside: the stream crosses in at the start. (It used to cross only at
-    // the repair, at the closest approach to the center, t = 0.079.)
+    // t = 0 (by a 200-bit evaluation along it). The band test puts the start just outside, and no root of that
+    // cone lies past it: the repair toward the band of the direction is made where the stream stands on the
+    // cone within rounding, at the start. (It used to be made at the closest approach to the center,
+    // t = 0.079.)
     let ray = Ray::new(
         [
             -0.189_571_444_826_286_82,
