@@ -134,9 +134,14 @@ pub(crate) fn sphere_roots_signed<T: Real>(
     if !(disc >= T::ZERO) {
         return None;
     }
+    let root = disc.sqrt();
+    if near_vertex(pp, a2, dd, pd, root) {
+        let (v, h) = (-pd / dd, root / dd);
+        return Some((v - h, v + h));
+    }
     let c = pp - a2;
     // ‖d‖² grows toward outside ⇒ the root where the quadratic decreases is the entry into the ball.
-    let (s_in, s_out) = stable_quadratic_signed(dd, pd, c, disc.sqrt(), sign);
+    let (s_in, s_out) = stable_quadratic_signed(dd, pd, c, root, sign);
     // Near tangency the two roots are equal within rounding, and the two roundings (q/a, c/q) can put them in
     // reverse order: that is a touch (the tangency convention of `surface`), reported at the parabola's vertex
     // −⟨p|d⟩/‖d‖², the closest approach, which lies between the exact roots. Not at the computed roots'
@@ -149,12 +154,26 @@ pub(crate) fn sphere_roots_signed<T: Real>(
     Some((s_in, s_out))
 }
 
+/// Whether a sphere's roots are better formed from the vertex: `|q| = |⟨p|d⟩| + √disc` (the stable formula's
+/// divisor) below `√(ε ‖d‖² (‖p‖² + R²))`, a start within rounding of the line's closest approach on a line
+/// within rounding of tangent. There `c/q` divides the rounding of `‖p‖² − R²` (up to ε(‖p‖² + R²)) by almost
+/// nothing and can land anywhere (16 for a start 3e-17 inside a sphere of radius 2.07, on a tangent line), while
+/// `−⟨p|d⟩/‖d‖² ± √disc/‖d‖²` is off by no more than the discriminant's rounding allows.
+#[inline]
+fn near_vertex<T: Real>(pp: T, a2: T, dd: T, pd: T, root: T) -> bool {
+    let q = pd.abs() + root;
+    q * q < T::EPSILON * dd * (pp + a2)
+}
+
 /// The exit root alone of [`sphere_roots_signed`], for a sphere whose two roots the caller knows to be distinct
 /// and in order (it entered the ball at the first, from the same invariants): the same bits as that function's
 /// second root, with one division instead of two and no test for a touch.
 #[inline]
 pub(crate) fn sphere_exit_root_signed<T: Real>(a2: T, pp: T, dd: T, pd: T, ww: T, sign: T) -> T {
     let root = (dd * a2 - ww).sqrt();
+    if near_vertex(pp, a2, dd, pd, root) {
+        return -pd / dd + root / dd;
+    }
     // `stable_quadratic_signed`'s q, and of its two quotients the one it returns second for this sign
     let q = -(pd + sign * root);
     if sign > T::ZERO {

@@ -698,3 +698,49 @@ fn ray_starting_at_thetas_turn_within_rounding_of_a_cone_below_the_equator_leave
         1e-15,
     );
 }
+
+#[test]
+fn ray_starting_within_rounding_inside_the_outer_sphere_on_a_tangent_line_leaves_at_once() {
+    // A shell of radii 1.16 and 2.07. The start is 3e-17 inside the outer sphere, at the line's closest
+    // approach to the center (a tangent made in double precision), so the ray leaves the grid within 1e-8 (by a
+    // 200-bit evaluation). The sphere's discriminant rounds to 0 and ⟨p|d⟩ to 6e-17: the stable formula's
+    // other root, (‖p‖² − R²)/q, divided a rounding residue by that and put the exit at t = 16, far outside.
+    let ray = Ray::new(
+        [
+            -0.495_461_563_738_870_46,
+            -1.022_644_868_616_464,
+            1.730_206_725_090_920_3,
+        ],
+        [
+            -1.102_488_796_872_608_7,
+            0.101_684_370_644_019_72,
+            -0.255_607_504_601_652_3,
+        ],
+    )
+    .unwrap();
+    let got = march_s(&[1.16, 2.07], &[0.0, PI], &ONE_PHI, &ray);
+    expect(&got, &[([0, 0, 0], 0.0, 0.0)], 0.0);
+}
+
+#[test]
+fn ray_starting_within_rounding_inside_a_shells_inner_sphere_on_a_tangent_line_enters_the_shell_at_once()
+ {
+    // The same shell. The start is 1e-16 inside the inner sphere (in the hole), at the line's closest approach:
+    // the ray is in the shell from t < 1e-7 until it leaves the outer sphere. It used to be marched as in the
+    // hole up to t = 16, missing the shell.
+    let ray = Ray::new(
+        [
+            -0.064_931_201_077_070_12,
+            0.074_151_157_206_739_38,
+            1.155_805_150_106_016,
+        ],
+        [
+            0.415_617_231_506_453_36,
+            1.805_556_092_186_211,
+            -0.092_487_516_254_309_7,
+        ],
+    )
+    .unwrap();
+    let got = march_s(&[1.16, 2.07], &[0.0, PI], &ONE_PHI, &ray);
+    expect(&got, &[([0, 0, 0], 0.0, sphere_exit(&ray, 2.07))], 1e-15);
+}
