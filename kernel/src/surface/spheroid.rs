@@ -431,4 +431,31 @@ mod tests {
             );
         }
     }
+
+    /// Sphere roots from the invariants (`a2 = R²`, `pp`, `dd`, `pd`, `ww`) on either side of `near_vertex`. With
+    /// `R² = 4`, `‖d‖² = 4` its bound `ε ‖d‖² (‖p‖² + R²)` is about 7.1e-15.
+    #[test]
+    fn sphere_roots_within_rounding_of_a_tangent_lines_closest_approach_are_the_vertex_plus_minus_half_the_separation()
+     {
+        // disc = 16 − ww = 2^-48, √disc = 2^-24; 2^-50 is ‖p‖² − R² in the second case.
+        let (ww, two_m24, two_m50) = (
+            16.0 - 3.552_713_678_800_501e-15,
+            5.960_464_477_539_063e-8,
+            8.881_784_197_001_252e-16,
+        );
+        // |⟨p|d⟩| + √disc = 1e-8 + 2^-24, squared 4.8e-15: below the bound. The roots are −⟨p|d⟩/‖d‖² ∓
+        // √disc/‖d‖² (the stable formula would give 0 for the first: ‖p‖² − R² is 0 here).
+        let pd = -1e-8;
+        let (v, h) = (1e-8 / 4.0, 1.490_116_119_384_765_6e-8); // 2^-24 / 4
+        let got = sphere_roots_signed(4.0, 4.0, 4.0, pd, ww, -1.0);
+        assert_eq!(got, Some((v - h, v + h)));
+        assert_eq!(sphere_exit_root_signed(4.0, 4.0, 4.0, pd, ww, -1.0), v + h);
+        // |⟨p|d⟩| + √disc = 7e-8 + 2^-24, squared 1.7e-14: above it (|⟨p|d⟩| − √disc would be below). The
+        // stable formula: q = −(⟨p|d⟩ − √disc), the entry (‖p‖² − R²)/q, the exit q/‖d‖².
+        let (pd, pp) = (-7e-8, 4.0 + two_m50);
+        let q = 7e-8 + two_m24;
+        let got = sphere_roots_signed(4.0, pp, 4.0, pd, ww, -1.0);
+        assert_eq!(got, Some((two_m50 / q, q / 4.0)));
+        assert_eq!(sphere_exit_root_signed(4.0, pp, 4.0, pd, ww, -1.0), q / 4.0);
+    }
 }
