@@ -450,10 +450,11 @@ mod tests {
         let got = sphere_roots_signed(4.0, 4.0, 4.0, pd, ww, -1.0);
         assert_eq!(got, Some((v - h, v + h)));
         assert_eq!(sphere_exit_root_signed(4.0, 4.0, 4.0, pd, ww, -1.0), v + h);
-        // |⟨p|d⟩| + √disc = 7e-8 + 2^-24, squared 1.7e-14: above it (|⟨p|d⟩| − √disc would be below). The
-        // stable formula: q = −(⟨p|d⟩ − √disc), the entry (‖p‖² − R²)/q, the exit q/‖d‖².
-        let (pd, pp) = (-7e-8, 4.0 + two_m50);
-        let q = 7e-8 + two_m24;
+        // |⟨p|d⟩| + √disc = 4e-8 + 2^-24, squared 9.9e-15: above it (|⟨p|d⟩| − √disc would be below, and so
+        // would a bound of ε ‖d‖² ‖p‖² R², 1.4e-14). The stable formula: q = −(⟨p|d⟩ − √disc), the entry
+        // (‖p‖² − R²)/q, the exit q/‖d‖².
+        let (pd, pp) = (-4e-8, 4.0 + two_m50);
+        let q = 4e-8 + two_m24;
         let got = sphere_roots_signed(4.0, pp, 4.0, pd, ww, -1.0);
         assert_eq!(got, Some((two_m50 / q, q / 4.0)));
         assert_eq!(sphere_exit_root_signed(4.0, pp, 4.0, pd, ww, -1.0), q / 4.0);
