@@ -104,6 +104,31 @@ pub(crate) fn zenith_event_bound(len: u32) -> u32 {
     len.saturating_mul(4).saturating_add(64)
 }
 
+/// Whether a root of cone `j` into `want` that the solver puts just behind the stream is to be crossed where the
+/// stream stands, at `t`: the point there lies on the cone within rounding (a start on the cone that the band
+/// test put on the other side), and θ moves toward `want` there clearly beyond the rounding of its rate, so the
+/// line crosses the cone there rather than grazing it (a graze at θ's turn crosses nothing).
+fn crossing_here<T: Real>(
+    axis: &ZenithAxis<'_, T>,
+    ray: &Line<T>,
+    j: u32,
+    want: Side,
+    t: T,
+) -> bool {
+    let q = point_at(ray, t);
+    let w = ray.p_cross_d();
+    let v = V3::new(-w.y, w.x, T::ZERO);
+    // θ rises where ⟨q | v⟩ < 0 (Lemma 2); its rounding is a few ε of |q|·|v| per term
+    let f = q.dot(v);
+    let tol = T::from_f64(16.0) * T::EPSILON * q.max_abs() * v.max_abs();
+    let moving = if want == Side::Positive {
+        f < -tol
+    } else {
+        f > tol
+    };
+    moving && axis.along_cone(j, q)
+}
+
 impl<T: Real> Stream<T> {
     /// The zenith stream for a ray starting at the finite `t0`.
     /// (Kept out of line, as is `azimuth`: their temporaries then live in their own frames, not in the set-up's
@@ -236,17 +261,27 @@ impl<T: Real> Stream<T> {
                     } else {
                         n
                     };
+                    let t_here = *t_own;
+                    let ahead = |t: T| {
+                        if t >= t_here {
+                            Some(t)
+                        } else {
+                            crossing_here(axis, ray, j, want, t_here).then_some(t_here)
+                        }
+                    };
                     let t0 = ray.t_from_scaled(s0);
-                    if n >= 1 && into0 == want && t0 >= *t_own {
-                        hit = Some(t0);
+                    let first = if n >= 1 && into0 == want {
+                        ahead(t0)
+                    } else {
+                        None
+                    };
+                    if let Some(t) = first {
+                        hit = Some(t);
                         if n == 2 {
                             keep = Some((j, ray.t_from_scaled(s1), into1));
                         }
                     } else if n == 2 && into1 == want {
-                        let t1 = ray.t_from_scaled(s1);
-                        if t1 >= *t_own {
-                            hit = Some(t1);
-                        }
+                        hit = ahead(ray.t_from_scaled(s1));
                     }
                 }
                 if let Some(t) = hit {

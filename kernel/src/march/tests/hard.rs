@@ -744,3 +744,38 @@ fn ray_starting_within_rounding_inside_a_shells_inner_sphere_on_a_tangent_line_e
     let got = march_s(&[1.16, 2.07], &[0.0, PI], &ONE_PHI, &ray);
     expect(&got, &[([0, 0, 0], 0.0, sphere_exit(&ray, 2.07))], 1e-15);
 }
+
+#[test]
+fn ray_starting_within_rounding_of_a_cone_below_the_equator_and_crossing_it_is_above_it_from_its_start()
+ {
+    // Cones at 1.604 and 2.816. The start lies on the cone 2.816 within rounding (1.5e-16 rad above the stored
+    // breakpoint, by a 200-bit evaluation) and the ray crosses the cone there, into the band above, until θ comes
+    // back below 2.816 at t = 0.344825737659845675; it leaves the ball at t = 1.268180220261427639. The band test
+    // puts the start just below the cone, and the solver's root into the band above lies just before the start:
+    // it is crossed at the start (a zero-length crossing of the band below first), where the ray used to stay in
+    // the band below throughout.
+    let ray = Ray::new(
+        [
+            0.383_584_294_226_147_7,
+            -0.325_588_862_354_782_35,
+            -1.490_294_795_344_858_9,
+        ],
+        [
+            -2.279_543_362_199_768_7,
+            0.623_778_554_590_778_6,
+            0.736_858_007_032_056_6,
+        ],
+    )
+    .unwrap();
+    let got = march_s(&[0.0, 2.61], &[1.604, 2.816, PI], &ONE_PHI, &ray);
+    let (back, out) = (0.344_825_737_659_845_7, 1.268_180_220_261_427_6);
+    expect(
+        &got,
+        &[
+            ([0, 0, 0], 0.0, 0.0),
+            ([0, 1, 0], 0.0, back),
+            ([0, 0, 0], back, out),
+        ],
+        1e-15,
+    );
+}
