@@ -779,3 +779,44 @@ fn ray_starting_within_rounding_of_a_cone_below_the_equator_and_crossing_it_is_a
         1e-15,
     );
 }
+
+#[test]
+fn ray_starting_within_rounding_of_a_cone_above_the_equator_and_crossing_it_is_below_it_from_its_start()
+ {
+    // Cones at 0.491, 1.321 and 2.334. The start lies 3e-17 rad above the cone 1.321 (by a 200-bit evaluation),
+    // and θ falls from there: the ray is in the band below from its start until it leaves the ball at
+    // t = 0.339013285822405165. The band test puts the start above the cone, and the solver's root into the band
+    // below lies just before the start: it is crossed at the start, where the ray used to stay above throughout.
+    let ray = Ray::new(
+        [
+            -0.713_540_398_321_645_8,
+            1.676_585_367_781_244_3,
+            0.464_865_325_119_332_5,
+        ],
+        [
+            -0.191_016_475_646_174_63,
+            1.060_923_210_735_788_2,
+            0.272_249_609_186_612_1,
+        ],
+    )
+    .unwrap();
+    let got = march_s(&[0.0, 2.25], &[0.491, 1.321, 2.334], &ONE_PHI, &ray);
+    let out = 0.339_013_285_822_405_2;
+    expect(&got, &[([0, 1, 0], 0.0, 0.0), ([0, 0, 0], 0.0, out)], 1e-15);
+}
+
+#[test]
+fn ray_grazing_a_cone_below_the_equator_at_its_start_within_rounding_crosses_nothing_there() {
+    // Cones at 0.616, 1.888, 2.107, 2.178 and 2.926, a wedge of φ in [0, 4.56). The start lies on the cone
+    // 1.888 within rounding, at θ's turn (the line tangent to the cone there), and on the plane φ = 0, which the
+    // ray leaves at once (φ falls below 0): one zero-length crossing at the start. The solver's roots of that
+    // cone lie within rounding of the start; θ does not move there, so none of them is crossed at the start.
+    let ray = Ray::new(
+        [0.443_985_799_725_125_53, 0.0, -0.145_755_589_342_567_22],
+        [-0.195_943_748_597_085_52, -1.0, 0.064_326_148_657_100_4],
+    )
+    .unwrap();
+    let th = [0.616, 1.888, 2.107, 2.178, 2.926];
+    let got = march_s(&[0.0, 2.34], &th, &[0.0, 2.65, 4.56], &ray);
+    expect(&got, &[([0, 0, 0], 0.0, 0.0)], 0.0);
+}
