@@ -811,12 +811,54 @@ fn ray_grazing_a_cone_below_the_equator_at_its_start_within_rounding_crosses_not
     // 1.888 within rounding, at θ's turn (the line tangent to the cone there), and on the plane φ = 0, which the
     // ray leaves at once (φ falls below 0): one zero-length crossing at the start. The solver's roots of that
     // cone lie within rounding of the start; θ does not move there, so none of them is crossed at the start.
-    let ray = Ray::new(
-        [0.443_985_799_725_125_53, 0.0, -0.145_755_589_342_567_22],
-        [-0.195_943_748_597_085_52, -1.0, 0.064_326_148_657_100_4],
-    )
-    .unwrap();
+    // The same scaled by 2^10 (origin, direction and radii, exactly), where θ's rate and its rounding grow as the
+    // cube of the scale.
     let th = [0.616, 1.888, 2.107, 2.178, 2.926];
-    let got = march_s(&[0.0, 2.34], &th, &[0.0, 2.65, 4.56], &ray);
-    expect(&got, &[([0, 0, 0], 0.0, 0.0)], 0.0);
+    for k in [1.0, 1024.0] {
+        let ray = Ray::new(
+            [
+                0.443_985_799_725_125_53 * k,
+                0.0,
+                -0.145_755_589_342_567_22 * k,
+            ],
+            [
+                -0.195_943_748_597_085_52 * k,
+                -k,
+                0.064_326_148_657_100_4 * k,
+            ],
+        )
+        .unwrap();
+        let got = march_s(&[0.0, 2.34 * k], &th, &[0.0, 2.65, 4.56], &ray);
+        expect(&got, &[([0, 0, 0], 0.0, 0.0)], 0.0);
+    }
+}
+
+#[test]
+fn ray_grazing_a_cone_above_the_equator_at_its_start_within_rounding_stays_in_its_band_at_every_scale()
+ {
+    // Cones at 0.491, 1.321 and 2.334. The start lies on the cone 1.321 within rounding, at θ's turn, on the
+    // side of the band above it, where the ray stays until it leaves the ball. The solver's roots of that cone
+    // lie within rounding of the start, and θ's rate there is within its rounding of 0 (but not 0): none is
+    // crossed. The same with the origin and radii, or the direction, scaled by 2^10 (exactly): the rate's
+    // rounding scales as the rate does.
+    let th = [0.491, 1.321, 2.334];
+    let origin = [
+        -0.737_441_231_190_581_4,
+        1.476_846_204_517_984_4,
+        0.421_141_279_484_492_9,
+    ];
+    let dir = [
+        1.542_045_276_192_049_8,
+        -0.849_746_808_975_424_4,
+        -0.369_708_867_441_910_4,
+    ];
+    for (k, m) in [(1.0, 1.0), (1024.0, 1.0), (1.0, 1024.0)] {
+        let ray = Ray::new(origin.map(|x| x * k), dir.map(|x| x * m)).unwrap();
+        let got = march_s(&[0.0, 2.25 * k], &th, &ONE_PHI, &ray);
+        expect(
+            &got,
+            &[([0, 1, 0], 0.0, sphere_exit(&ray, 2.25 * k))],
+            1e-15,
+        );
+    }
 }
