@@ -32,6 +32,7 @@ use curvicast::dd::Dd;
 use curvicast::geodesy::{Ellipsoid, HeightQuadBounds};
 use curvicast::ray::Ray;
 use curvicast::terrain::boxes::NodeBox;
+use curvicast::terrain::windows::WindowBox;
 use curvicast::terrain::{
     Grid, Node, NodeId, Parallel, PickStats, Picker, TerrainCaches, TerrainStorage, quad_bounds,
 };
@@ -56,7 +57,7 @@ fn main() -> anyhow::Result<()> {
         [_, kind, block, n, passes] => (kind, block, n, passes, false),
         [_, kind, block, n, passes, tree] if tree == "multires" => (kind, block, n, passes, true),
         _ => anyhow::bail!(
-            "usage: pick_count camera|orbit|random BLOCK N PASSES [multires] [dem=trinidad|synthetic] [caches=all|no-trig|no-dd|no-boxes|bounds|none]"
+            "usage: pick_count camera|orbit|random BLOCK N PASSES [multires] [dem=trinidad|synthetic] [caches=all|no-trig|no-dd|no-boxes|no-windows|bounds|none]"
         ),
     };
     let (block, n, passes): (usize, usize, usize) = (block.parse()?, n.parse()?, passes.parse()?);
@@ -98,7 +99,12 @@ fn main() -> anyhow::Result<()> {
         "all" => run(&Caches::<ALL>::of(&storage), &rays, passes)?,
         "no-trig" => run(&Caches::<{ ALL & !TRIG }>::of(&storage), &rays, passes)?,
         "no-dd" => run(&Caches::<{ ALL & !DD }>::of(&storage), &rays, passes)?,
-        "no-boxes" => run(&Caches::<{ ALL & !BOXES }>::of(&storage), &rays, passes)?,
+        "no-boxes" => run(
+            &Caches::<{ ALL & !BOXES & !WINDOWS }>::of(&storage),
+            &rays,
+            passes,
+        )?,
+        "no-windows" => run(&Caches::<{ ALL & !WINDOWS }>::of(&storage), &rays, passes)?,
         "bounds" => run(
             &Caches::<{ ALL & !BOXES | BOUNDS }>::of(&storage),
             &rays,
@@ -159,7 +165,8 @@ const TRIG: u8 = 1;
 const DD: u8 = 2;
 const BOXES: u8 = 4;
 const BOUNDS: u8 = 8;
-const ALL: u8 = TRIG | DD | BOXES;
+const WINDOWS: u8 = 16;
+const ALL: u8 = TRIG | DD | BOXES | WINDOWS;
 
 /// The host's storage with only the caches of `M` (bits [`TRIG`], [`DD`], [`BOXES`], [`BOUNDS`]); the others
 /// fall back to the trait's defaults, which compute the value on every call.
@@ -253,6 +260,13 @@ impl<const M: u8> TerrainCaches<f64> for Caches<'_, '_, M> {
             TerrainCaches::<f64>::node_box(self.base, id)
         } else {
             None
+        }
+    }
+    fn window_boxes(&self, id: NodeId) -> &[WindowBox] {
+        if M & WINDOWS != 0 {
+            TerrainCaches::<f64>::window_boxes(self.base, id)
+        } else {
+            &[]
         }
     }
 }

@@ -12,6 +12,7 @@ use curvicast::terrain::boxes::NodeBox;
 use curvicast::terrain::build::{
     self, Buffers, NodeRecord, Parts, TreeStorage, TrigTables, node_slots,
 };
+use curvicast::terrain::windows::WindowBox;
 use curvicast::terrain::{Grid, Node, NodeId, Parallel, TerrainCaches, TerrainStorage};
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -28,6 +29,7 @@ struct DemBuffers<'a> {
     row_parallel: Vec<Parallel<f64>>,
     col_sin_cos_dd: Vec<(Dd<f64>, Dd<f64>)>,
     resident: Vec<AtomicBool>,
+    windows: Vec<WindowBox>,
 }
 
 impl DemBuffers<'_> {
@@ -52,6 +54,7 @@ impl Buffers<f64> for DemBuffers<'_> {
             nodes: &self.nodes,
             trig: Some(self.trig()),
             resident: &self.resident,
+            windows: &self.windows,
         }
     }
 }
@@ -182,6 +185,7 @@ impl<'a> DemStorage<'a> {
             row_parallel: vec![TrigTables::<f64>::UNSET_PARALLEL; rows],
             col_sin_cos_dd: vec![TrigTables::<f64>::UNSET_DD; cols],
             resident: Vec::new(),
+            windows: vec![WindowBox::EMPTY; build::window_slots(grid.rows, grid.cols, block)],
         };
         build::trig_tables(
             e,
@@ -198,6 +202,7 @@ impl<'a> DemStorage<'a> {
             col_sin_cos_dd: &b.col_sin_cos_dd,
         };
         build::build_boxes(e, grid, heights, tree, Some(trig), &mut b.nodes)?;
+        build::build_windows(e, grid, heights, tree, Some(trig), &b.nodes, &mut b.windows)?;
         if multires.is_some() {
             b.resident = (0..slots).map(|_| AtomicBool::new(true)).collect();
         }
@@ -271,13 +276,14 @@ impl<'a> DemStorage<'a> {
     }
 
     /// The memory the tree adds to the heights, in bytes: one record (with its box) per node slot, the residency
-    /// flags, and the per-row / per-column trigonometry tables.
+    /// flags, the leaves' window boxes, and the per-row / per-column trigonometry tables.
     pub fn overhead_bytes(&self) -> usize {
         let Some(b) = self.kernel().map(TreeStorage::buffers) else {
             return 0;
         };
         b.nodes.len() * std::mem::size_of::<Record>()
             + b.resident.len() * std::mem::size_of::<AtomicBool>()
+            + b.windows.len() * std::mem::size_of::<WindowBox>()
             + (b.row_sin_cos.len() + b.col_sin_cos.len()) * std::mem::size_of::<(f64, f64)>()
             + b.row_parallel.len() * std::mem::size_of::<Parallel<f64>>()
             + b.col_sin_cos_dd.len() * std::mem::size_of::<(Dd<f64>, Dd<f64>)>()
@@ -321,6 +327,10 @@ impl TerrainStorage<f64> for DemStorage<'_> {
 }
 
 impl TerrainCaches<f64> for DemStorage<'_> {
+    #[inline]
+    fn window_boxes(&self, id: NodeId) -> &[WindowBox] {
+        self.storage.window_boxes(id)
+    }
     #[inline]
     fn row_sin_cos(&self, i: u32) -> (f64, f64) {
         self.storage.row_sin_cos(i)
@@ -384,6 +394,9 @@ impl TerrainCaches<f32> for DemStorage<'_> {
     fn node_box(&self, id: NodeId) -> Option<NodeBox> {
         self.storage.node_box(id)
     }
+    fn window_boxes(&self, id: NodeId) -> &[WindowBox] {
+        self.storage.window_boxes(id)
+    }
 }
 
 /// A storage whose blocks are the base's plus those paged in while answering one ray ([`pick_paging_in`]).
@@ -428,6 +441,9 @@ impl TerrainCaches<f64> for Paged<'_, '_> {
     }
     fn node_box(&self, id: NodeId) -> Option<NodeBox> {
         TerrainCaches::<f64>::node_box(self.base, id)
+    }
+    fn window_boxes(&self, id: NodeId) -> &[WindowBox] {
+        TerrainCaches::<f64>::window_boxes(self.base, id)
     }
     fn row_parallel(&self, i: u32) -> Parallel<f64> {
         self.base.row_parallel(i)

@@ -1,5 +1,5 @@
-//! Node boxes of [`DemStorage`] ([`curvicast::terrain::boxes`]): every box contains its node's vertices, boxes are
-//! tight, and [`FrameRay::interval`](curvicast::terrain::boxes::FrameRay::interval) never drops a parameter whose point lies in the box.
+//! Node boxes of [`DemStorage`] ([`curvicast::terrain::boxes`]): every box contains its node's vertices (and every
+//! leaf window's box its window's, [`curvicast::terrain::windows`]), boxes are tight, and [`FrameRay::interval`](curvicast::terrain::boxes::FrameRay::interval) never drops a parameter whose point lies in the box.
 //!
 //! The vertices are formed here by a geodetic-to-ECEF conversion of this file's own (radians, `f64`), not by the
 //! kernel's `vertex_ecef`; the two differ by rounding only (nanometres), far below the 1 µm allowed.
@@ -7,6 +7,7 @@
 use curvicast::Ray;
 use curvicast::geodesy::Ellipsoid;
 use curvicast::terrain::boxes::{LocalFrame, NodeBox};
+use curvicast::terrain::windows::{WindowBox, window_ranges, windows_per_leaf};
 use curvicast::terrain::{Node, NodeId, TerrainCaches, TerrainStorage, box_frame};
 use curvicast::vec3::V3;
 use curvicast_cli::formats::real_dem;
@@ -74,7 +75,7 @@ fn check_boxes_contain_vertices(name: &str, dem: &Dem, s: &DemStorage<'_>) -> (u
     let lat: Vec<f64> = (0..dem.rows).map(|i| dem.lat(i)).collect();
     let lon: Vec<f64> = (0..dem.cols).map(|j| dem.lon(j)).collect();
     let mut seen = vec![false; dem.rows * dem.cols];
-    let (mut checks, mut boxed) = (0usize, 0usize);
+    let (mut checks, mut boxed, mut windows) = (0usize, 0usize, 0usize);
     let mut worst = f64::NEG_INFINITY; // largest excess of a vertex over its box (negative: inside)
     for (id, n, anchor) in all_nodes(s) {
         let bx = TerrainCaches::<f64>::node_box(s, id);
@@ -90,6 +91,7 @@ fn check_boxes_contain_vertices(name: &str, dem: &Dem, s: &DemStorage<'_>) -> (u
         };
         boxed += 1;
         let frame = box_frame::<f64, _>(s, &e, anchor.map(|p| node(s, p)).as_ref());
+        windows += check_windows_contain_vertices(name, dem, s, id, &n, &bx, &frame);
         for i in n.rows[0]..=n.rows[1] {
             for j in n.cols[0]..=n.cols[1] {
                 let (i, j) = (i as usize, j as usize);
@@ -132,10 +134,82 @@ fn check_boxes_contain_vertices(name: &str, dem: &Dem, s: &DemStorage<'_>) -> (u
         checks >= with_data,
         "{name}: {checks} checks for {with_data} vertices"
     );
+    // Every full-resolution leaf has windows, so in a tree of those only every vertex is in one (the coarse
+    // leaves of a multi-resolution tree have none).
+    let coarse_leaves = all_nodes(s)
+        .iter()
+        .filter(|(id, n, _)| n.is_leaf() && TerrainStorage::<f64>::block_stride(s, *id) > 1)
+        .count();
+    let want = match (windows_per_leaf(s.block() as u32), coarse_leaves) {
+        (0, _) => 0, // leaves of at most 4 × 4 cells: one window each, none stored
+        (_, 0) => with_data,
+        _ => 1,
+    };
+    assert!(
+        windows >= want && (want > 0 || windows == 0),
+        "{name}: {windows} window checks for {with_data} vertices"
+    );
     eprintln!(
-        "{name}: {boxed} boxes, {checks} vertex checks over {with_data} vertices, worst excess {worst:.3e} m"
+        "{name}: {boxed} boxes, {checks} vertex checks over {with_data} vertices, {windows} in windows, worst \
+         excess {worst:.3e} m"
     );
     (checks, boxed)
+}
+
+/// Checks that each window box of leaf `id` (if it has them) contains every vertex of its window, in the frame
+/// of the leaf's box `bx`, and that the windows partition the leaf's cells; returns the vertex checks.
+fn check_windows_contain_vertices(
+    name: &str,
+    dem: &Dem,
+    s: &DemStorage<'_>,
+    id: NodeId,
+    n: &Node<f64>,
+    bx: &NodeBox,
+    frame: &LocalFrame<f64>,
+) -> usize {
+    let wins = TerrainCaches::<f64>::window_boxes(s, id);
+    if wins.is_empty() {
+        return 0;
+    }
+    assert!(n.is_leaf(), "{name}: node {} has windows", id.0);
+    let mut cells = vec![0u8; ((n.rows[1] - n.rows[0]) * (n.cols[1] - n.cols[0])) as usize];
+    let mut checks = 0;
+    for (k, wb) in wins.iter().enumerate() {
+        let Some((rows, cols)) = window_ranges(n.rows, n.cols, k) else {
+            assert_eq!(*wb, WindowBox::EMPTY, "{name}: node {} window {k}", id.0);
+            continue;
+        };
+        for i in rows[0]..rows[1] {
+            for j in cols[0]..cols[1] {
+                cells[((i - n.rows[0]) * (n.cols[1] - n.cols[0]) + (j - n.cols[0])) as usize] += 1;
+            }
+        }
+        let (lo, hi) = wb.faces::<f64>(bx);
+        for i in rows[0]..=rows[1] {
+            for j in cols[0]..=cols[1] {
+                let (i, j) = (i as usize, j as usize);
+                let Some(h) = dem.height(i, j) else { continue };
+                let q = frame.coords(ecef(dem.a, dem.b, dem.lat(i), dem.lon(j), f64::from(h)));
+                let inside = [q.x, q.y, q.z]
+                    .into_iter()
+                    .zip(lo.iter().zip(&hi))
+                    .all(|(v, (&l, &h))| l - INFLATE <= v && v <= h + INFLATE);
+                assert!(
+                    inside,
+                    "{name}: vertex ({i}, {j}) is outside window {k} ({rows:?}, {cols:?}) of node {}: {q:?}, \
+                     faces {lo:?} {hi:?}",
+                    id.0
+                );
+                checks += 1;
+            }
+        }
+    }
+    assert!(
+        cells.iter().all(|&c| c == 1),
+        "{name}: the windows of node {} do not partition its cells",
+        id.0
+    );
+    checks
 }
 
 /// Makes vertices missing: a rectangle of rows × cols (whole nodes empty) and scattered single vertices.

@@ -314,13 +314,31 @@ impl<T: Real> FrameRay<T> {
     /// gives infinite parameters of the right signs (the origin inside the slab: no clip; outside: empty), or a
     /// NaN on a face itself, which compares false and so clips nothing.
     #[inline]
-    pub fn interval(&self, b: &NodeBox, [mut lo, mut hi]: [T; 2]) -> Option<(T, T)> {
+    pub fn interval(&self, b: &NodeBox, span: [T; 2]) -> Option<(T, T)> {
+        self.clip_box(b.lo, b.hi, |v: f32| T::from_f64(f64::from(v)), span)
+    }
+
+    /// [`FrameRay::interval`] for a box with faces `lo` and `hi` in `T` (a leaf window's,
+    /// [`super::windows::WindowBox::faces`]).
+    #[inline]
+    pub fn interval_of(&self, lo: [T; 3], hi: [T; 3], span: [T; 2]) -> Option<(T, T)> {
+        self.clip_box(lo, hi, |v: T| v, span)
+    }
+
+    /// The slab test of both: the box's faces as `face` gives them in `T`.
+    #[inline(always)]
+    fn clip_box<F: Copy>(
+        &self,
+        b_lo: [F; 3],
+        b_hi: [F; 3],
+        face: impl Fn(F) -> T,
+        [mut lo, mut hi]: [T; 2],
+    ) -> Option<(T, T)> {
         if !self.bounded {
             return Some((lo, hi));
         }
-        let face = |v: f32| T::from_f64(f64::from(v));
         // One axis: the parameters where the ray enters and leaves the slab.
-        let slab = |q_lo: T, q_hi: T, inv: T, bl: f32, bh: f32| {
+        let slab = |q_lo: T, q_hi: T, inv: T, bl: F, bh: F| {
             let t_lo = (face(bl) - q_lo) * inv;
             let t_hi = (face(bh) - q_hi) * inv;
             if inv < T::ZERO {
@@ -339,8 +357,8 @@ impl<T: Real> FrameRay<T> {
             *lo <= *hi
         };
         let (q_lo, q_hi, inv) = (self.q_lo, self.q_hi, self.inv);
-        let [bx, by, bz] = b.lo;
-        let [cx, cy, cz] = b.hi;
+        let [bx, by, bz] = b_lo;
+        let [cx, cy, cz] = b_hi;
         let inside = clip(&mut lo, &mut hi, slab(q_lo.x, q_hi.x, inv.x, bx, cx))
             && clip(&mut lo, &mut hi, slab(q_lo.y, q_hi.y, inv.y, by, cy))
             && clip(&mut lo, &mut hi, slab(q_lo.z, q_hi.z, inv.z, bz, cz));
@@ -348,6 +366,18 @@ impl<T: Real> FrameRay<T> {
             return None;
         }
         Some((lo, hi))
+    }
+
+    /// How far the ray moves along frame axis `k` (0 east, 1 north, 2 up) over `[lo, hi]`: `|hi − lo| · |q_d|`
+    /// (up to rounding; 0 for a zero component, infinite for an infinite interval).
+    #[inline]
+    pub fn travel(&self, k: usize, [lo, hi]: [T; 2]) -> T {
+        let inv = match k {
+            0 => self.inv.x,
+            1 => self.inv.y,
+            _ => self.inv.z,
+        };
+        (hi - lo).abs() / inv.abs()
     }
 }
 

@@ -70,8 +70,8 @@ mod tables;
 mod tree;
 
 pub use storage::{Buffers, Parts, Residency, SliceStorage, TreeStorage};
-pub use tables::{TrigTables, build_boxes, build_boxes_sharing, trig_tables};
+pub use tables::{TrigTables, build_boxes, build_boxes_sharing, build_windows, trig_tables};
 pub use tree::{
     BoxSlot, BuildError, MultiRes, NodeRecord, Tree, build_multires_tree, build_tree,
-    col_table_len, node_slots, row_table_len,
+    col_table_len, node_slots, row_table_len, window_slots,
 };

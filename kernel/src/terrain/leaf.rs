@@ -58,9 +58,28 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
         w: &mut Walk<'_, '_, T>,
     ) -> Result<(), TerrainError> {
         let trace = self.unit_trace(u, w.ray, t_in, t_out);
-        let (k_first, k_end) = self.unit_columns(u, w.ray, t_in, t_out);
         // The cell row last located by `crossed_rows` in this unit.
         let mut row_hint = None;
+        self.trace_window(&trace, (u.rows, u.cols), t_in, t_out, w, &mut row_hint)
+    }
+
+    /// The cells of a unit's window (its rows and columns `win`, the whole unit or one of a leaf's windows,
+    /// `windows.rs`) that the ray crosses within `[t_in, t_out]`, column by column; `row_hint` the cell row last
+    /// located in the unit.
+    pub(super) fn trace_window(
+        &self,
+        trace: &UnitTrace<T>,
+        (rows, cols): ([u32; 2], [u32; 2]),
+        t_in: T,
+        t_out: T,
+        w: &mut Walk<'_, '_, T>,
+        row_hint: &mut Option<i64>,
+    ) -> Result<(), TerrainError> {
+        let u = &trace.unit;
+        let (k_first, k_end) = self.unit_columns(u, w.ray, t_in, t_out);
+        // The window's columns, in cells of the stride from the unit's first column.
+        let k_of = |c: u32| c.saturating_sub(u.cols[0]).div_ceil(u.stride);
+        let (k_first, k_end) = (k_first.max(k_of(cols[0])), k_end.min(k_of(cols[1])));
         // The columns in the order the ray crosses them (longitude grows along the ray when `(o × d)_z > 0`), so
         // that a hit clips the columns after it. (The cells of a column are not: they are few, and walking them
         // in ray order cost more than it saved, measured.)
@@ -71,8 +90,8 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
             } else {
                 k_end.saturating_sub(1).saturating_sub(step)
             };
-            if let Some(column) = self.clip_column(&trace, k, t_in, t_out.min(w.best_t())) {
-                self.trace_column(&trace, &column, w, &mut row_hint)?;
+            if let Some(column) = self.clip_column(trace, k, t_in, t_out.min(w.best_t())) {
+                self.trace_column(trace, &column, rows, w, row_hint)?;
             }
         }
         Ok(())
@@ -80,7 +99,7 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
 
     /// The constants of a unit's trace: the ray, the walls' tolerance, the row cache and the height cull's frame.
     #[inline]
-    fn unit_trace(&self, u: &Unit, ray: &Ray<T>, t_in: T, t_out: T) -> UnitTrace<T> {
+    pub(super) fn unit_trace(&self, u: &Unit, ray: &Ray<T>, t_in: T, t_out: T) -> UnitTrace<T> {
         let (o, d) = (ray.origin(), ray.dir());
         let frame = ranges_frame(self.storage, &self.ellipsoid, u.rows, u.cols);
         let up_tol = T::from_f64(32.0)
@@ -167,6 +186,7 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
         &self,
         tr: &UnitTrace<T>,
         col: &Column<T>,
+        [win_first, win_end]: [u32; 2],
         w: &mut Walk<'_, '_, T>,
         row_hint: &mut Option<i64>,
     ) -> Result<(), TerrainError> {
@@ -175,6 +195,8 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
         let [c0, c1] = u.cols;
         let [j, j1] = col.cols;
         let (first_row, end_row) = self.column_rows(tr, col, row_hint);
+        // Only the window's rows (all of the unit's, or a leaf window's: `windows.rs`).
+        let (first_row, end_row) = (first_row.max(win_first), end_row.min(win_end));
         // A column the ray passes high above is skipped from its heights alone, before its cells are clipped.
         if !tr.stitchable
             && end_row.saturating_sub(first_row) >= 2
@@ -458,10 +480,14 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
             .intersect_with_border(a, b, c, lo, hi, edges)
             .map(|(s, _)| w.ray.t_from_scaled(s))
         {
-            // On a tie (the same `t` exactly, as on an edge two columns share), the lower column of the unit wins,
-            // whichever order the columns were walked in (`trace_unit`): the answer of a walk from west to east.
+            // On a tie (the same `t` exactly, as on an edge two cells share), the lower column of the unit wins,
+            // then the lower row, whichever order the columns and windows were walked in (`trace_unit`,
+            // `windows.rs`): the answer of a walk from west to east and, in a column, from its first row.
             if w.best.as_ref().is_none_or(|h| {
-                t < h.t || (t == h.t && h.unit == *u && cell.get(1) < h.cell.get(1))
+                t < h.t
+                    || (t == h.t
+                        && h.unit == *u
+                        && (cell.get(1), cell.first()) < (h.cell.get(1), h.cell.first()))
             }) {
                 *w.best = Some(Candidate {
                     t,
@@ -532,7 +558,7 @@ fn border_wall<T: Real>(
 }
 
 /// The per-unit constants of a leaf trace (§4).
-struct UnitTrace<T> {
+pub(super) struct UnitTrace<T> {
     unit: Unit,
     origin: V3<T>,
     dir: V3<T>,

@@ -82,6 +82,7 @@ pub mod subset;
 mod traverse;
 pub mod triangle;
 mod walk;
+pub mod windows;
 
 pub use error::TerrainError;
 pub use grid::{DEFAULT_ZONE_COLS, DEFAULT_ZONE_ROWS, Grid, Node, NodeId, zone_cells};

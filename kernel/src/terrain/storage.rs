@@ -9,6 +9,7 @@ use super::boxes::{BoxBuilder, LocalFrame, NodeBox};
 use super::error::TerrainError;
 use super::grid::{Grid, Node, NodeId};
 use super::parallel::{Parallel, col_sin_cos_dd, row_parallel};
+use super::windows::WindowBox;
 use crate::dd::Dd;
 use crate::geodesy::{Ellipsoid, HeightQuadBounds, sin_cos_deg};
 use crate::real::Real;
@@ -126,6 +127,14 @@ pub trait TerrainCaches<T: Real>: TerrainStorage<T> {
     /// smaller box voids the no-miss guarantee.
     fn node_box(&self, _id: NodeId) -> Option<NodeBox> {
         None
+    }
+    /// The boxes of full-resolution leaf `id`'s windows (beyond the paper; [`super::windows`]), in the order of
+    /// [`window_ranges`](super::windows::window_ranges), each containing every vertex of its window with data in the frame of the leaf's
+    /// [`TerrainCaches::node_box`], relative to that box, as [`super::build::build_windows`] forms them (or
+    /// boxes containing those); empty for none (other nodes, or a storage without them). The leaf walk then
+    /// traces only the windows the ray enters. A smaller box voids the no-miss guarantee.
+    fn window_boxes(&self, _id: NodeId) -> &[WindowBox] {
+        &[]
     }
 }
 

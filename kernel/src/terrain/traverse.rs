@@ -266,7 +266,19 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
             let t_out = e.t_out.min(best_t);
             let src = match self.step(e.id, &node, stride, e.src)? {
                 Step::Trace(unit) => {
-                    self.trace_unit(&unit, e.t_in, t_out, w)?;
+                    // A full-resolution leaf by its windows when the storage gives their boxes (`windows.rs`),
+                    // in the frame its own box was tested in.
+                    let windows = self.storage.window_boxes(e.id);
+                    let own = unit.stride == 1 && unit.rows == node.rows && unit.cols == node.cols;
+                    match (
+                        self.storage.node_box(e.id),
+                        frames.get(usize::from(e.frame)),
+                    ) {
+                        (Some(b), Some(f)) if own && !windows.is_empty() => {
+                            self.trace_windows(&unit, &b, f, windows, e.t_in, t_out, w)?;
+                        }
+                        _ => self.trace_unit(&unit, e.t_in, t_out, w)?,
+                    }
                     continue;
                 }
                 Step::Needs => {

@@ -6,7 +6,7 @@
 //! ([`Buffers`]), so that a host can keep them in vectors and still use this implementation.
 
 use super::tables::TrigTables;
-use super::tree::{BoxSlot, BuildError, NodeRecord, Tree, check_records, half_up};
+use super::tree::{BoxSlot, BuildError, NodeRecord, Tree, check_records, half_up, window_slots};
 use crate::dd::Dd;
 use crate::geodesy::Ellipsoid;
 use crate::real::Real;
@@ -14,6 +14,7 @@ use crate::terrain::boxes::NodeBox;
 use crate::terrain::grid::{Grid, Node, NodeId};
 use crate::terrain::parallel::{Parallel, col_sin_cos_dd, row_parallel};
 use crate::terrain::storage::{TerrainCaches, TerrainStorage};
+use crate::terrain::windows::{WindowBox, windows_per_leaf};
 use core::sync::atomic::{AtomicBool, Ordering};
 
 /// The buffers of a [`TreeStorage`], borrowed: the heights (`H`: the samples' own scalar type, converted
@@ -33,6 +34,9 @@ pub struct Parts<'a, T, H, X = (), R = ()> {
     /// the picker reports a block it needs that is not resident as
     /// [`TerrainError::NeedsBlock`](crate::terrain::error::TerrainError::NeedsBlock).
     pub resident: &'a [R],
+    /// The leaves' window boxes of [`build_windows`](super::build_windows), [`window_slots`](super::window_slots)
+    /// of them, or empty (none: each leaf is traced whole).
+    pub windows: &'a [WindowBox],
 }
 
 impl<T, H, X, R> Clone for Parts<'_, T, H, X, R> {
@@ -51,6 +55,7 @@ impl<'a, T, H, X> Parts<'a, T, H, X> {
             nodes,
             trig: None,
             resident: &[],
+            windows: &[],
         }
     }
 
@@ -61,7 +66,15 @@ impl<'a, T, H, X> Parts<'a, T, H, X> {
             nodes: self.nodes,
             trig: self.trig,
             resident,
+            windows: self.windows,
         }
+    }
+}
+
+impl<'a, T, H, X, R> Parts<'a, T, H, X, R> {
+    /// These parts with the leaves' window boxes ([`build_windows`](super::build_windows)).
+    pub fn with_windows(self, windows: &'a [WindowBox]) -> Self {
+        Parts { windows, ..self }
     }
 }
 
@@ -165,7 +178,10 @@ impl<T: Real, B: Buffers<T>> TreeStorage<T, B> {
     ) -> Result<Self, BuildError> {
         let p = buffers.parts();
         check_records(p.heights, &grid, &tree, p.nodes.len())?;
-        if !(p.resident.is_empty() || p.resident.len() == tree.slots()) {
+        if !(p.resident.is_empty() || p.resident.len() == tree.slots())
+            || !(p.windows.is_empty()
+                || p.windows.len() == window_slots(grid.rows, grid.cols, tree.block()))
+        {
             return Err(BuildError::BufferLength);
         }
         if tree.is_multires() && !B::Flag::MULTIRES {
@@ -301,6 +317,16 @@ impl<T: Real, B: Buffers<T>> TerrainCaches<T> for TreeStorage<T, B> {
     #[inline]
     fn node_box(&self, id: NodeId) -> Option<NodeBox> {
         self.record(id).and_then(|r| r.bbox.node_box())
+    }
+    #[inline]
+    fn window_boxes(&self, id: NodeId) -> &[WindowBox] {
+        let n = windows_per_leaf(self.tree.block());
+        let windows = self.buffers.parts().windows;
+        usize::try_from(id.0)
+            .ok()
+            .and_then(|k| k.checked_mul(n))
+            .and_then(|a| windows.get(a..a.checked_add(n)?))
+            .unwrap_or(&[])
     }
 }
 

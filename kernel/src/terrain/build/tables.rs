@@ -7,7 +7,7 @@
 
 use super::tree::{
     BoxSlot, BuildError, Levels, NodeRecord, Tree, check_records, col_table_len, level_slots,
-    row_table_len,
+    row_table_len, window_slots,
 };
 use crate::dd::Dd;
 use crate::geodesy::{Ellipsoid, sin_cos_deg};
@@ -16,8 +16,9 @@ use crate::terrain::boxes::{BoxBuilder, NodeBox, shares_frame_with_children};
 use crate::terrain::grid::{Grid, Node, NodeId};
 use crate::terrain::parallel::{self, Parallel};
 use crate::terrain::storage::{
-    TerrainCaches, TerrainStorage, box_frame, node_box_of_vertices, node_frame,
+    TerrainCaches, TerrainStorage, box_frame, node_box_of_vertices, node_frame, vertex_ecef,
 };
+use crate::terrain::windows::{WindowBox, window_ranges, windows_per_leaf};
 
 /// The per-row and per-column trigonometry of a grid ([`trig_tables`]), borrowed: for every vertex row `i`,
 /// [`TerrainCaches::row_sin_cos`] and [`TerrainCaches::row_parallel`]; for every column `j`,
@@ -149,7 +150,97 @@ pub fn build_boxes_sharing<T: Real, H: Real>(
     nodes: &mut [NodeRecord<H, Option<NodeBox>>],
     share: impl Fn(NodeId, Option<&Node<f64>>) -> bool,
 ) -> Result<(), BuildError> {
-    check_records(heights, grid, &tree, nodes.len())?;
+    let (view, levels) = view_of(ellipsoid, grid, heights, tree, trig, nodes.len())?;
+    // Children have smaller ids than their parents (levels from the leaves up), so their boxes come first.
+    for k in 0..tree.slots() {
+        let id = NodeId(u32::try_from(k).map_err(|_| BuildError::BufferLength)?);
+        let built = box_of(&view, &levels, nodes, id, &share);
+        if let Some(out) = nodes.get_mut(k) {
+            out.bbox = built;
+        }
+    }
+    Ok(())
+}
+
+/// The window boxes of every full-resolution leaf (beyond the paper; [`crate::terrain::windows`]) into `out`
+/// ([`window_slots`] records, [`windows_per_leaf`] per slot of the leaf level): each window's vertices with data
+/// bounded in `f64` from [`vertex_ecef`] in the frame of the leaf's box, as the nodes' boxes are
+/// ([`build_boxes`], which must have filled `nodes`), and quantized against the leaf's box
+/// ([`WindowBox::quantize`]). Slots of leaves without a box, and windows without data, are
+/// [`WindowBox::EMPTY`].
+pub fn build_windows<T: Real, H: Real>(
+    ellipsoid: &Ellipsoid<T>,
+    grid: &Grid<T>,
+    heights: &[H],
+    tree: Tree,
+    trig: Option<TrigTables<'_, T>>,
+    nodes: &[NodeRecord<H, Option<NodeBox>>],
+    out: &mut [WindowBox],
+) -> Result<(), BuildError> {
+    let (view, levels) = view_of(ellipsoid, grid, heights, tree, trig, nodes.len())?;
+    if out.len() != window_slots(grid.rows, grid.cols, tree.block()) {
+        return Err(BuildError::BufferLength);
+    }
+    // The frames the boxes were built in, from the flags `build_boxes` gave them.
+    let shared = |kid: NodeId, _: Option<&Node<f64>>| {
+        usize::try_from(kid.0)
+            .ok()
+            .and_then(|k| nodes.get(k))
+            .and_then(|r| r.bbox)
+            .is_some_and(|b| b.shared_frame)
+    };
+    let per_leaf = windows_per_leaf(tree.block());
+    if per_leaf == 0 {
+        return Ok(());
+    }
+    for (k, windows) in out.chunks_mut(per_leaf).enumerate() {
+        windows.fill(WindowBox::EMPTY);
+        let id = NodeId(u32::try_from(k).map_err(|_| BuildError::BufferLength)?);
+        let (Some(leaf), Some(n)) = (
+            nodes.get(k).and_then(|r| r.bbox),
+            node64(nodes, id).filter(|n| n.heights.is_some() && n.is_leaf()),
+        ) else {
+            continue;
+        };
+        let Some((anchor, _)) = frame_of(nodes, &levels, id, &shared) else {
+            continue;
+        };
+        let frame = box_frame(
+            &view,
+            &view.ellipsoid,
+            anchor.and_then(|a| node64(nodes, a)).as_ref(),
+        );
+        for (w, slot) in windows.iter_mut().enumerate() {
+            let Some((rows, cols)) = window_ranges(n.rows, n.cols, w) else {
+                break;
+            };
+            let mut b = BoxBuilder::default();
+            for i in rows[0]..=rows[1] {
+                for j in cols[0]..=cols[1] {
+                    if let Some(p) = vertex_ecef(&view, &view.ellipsoid, i, j) {
+                        b.add_point(&frame, p);
+                    }
+                }
+            }
+            if let Some(wb) = b.finish() {
+                *slot = WindowBox::quantize(&leaf, &wb);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The DEM in `f64` and the tree's levels, for building boxes, after checking the buffers' lengths (`nodes`
+/// records, and the tables if given).
+fn view_of<'a, T: Real, H: Real>(
+    ellipsoid: &Ellipsoid<T>,
+    grid: &Grid<T>,
+    heights: &'a [H],
+    tree: Tree,
+    trig: Option<TrigTables<'a, T>>,
+    nodes: usize,
+) -> Result<(View64<'a, T, H>, Levels), BuildError> {
+    check_records(heights, grid, &tree, nodes)?;
     if trig.is_some_and(|t| !t.fits(grid)) {
         return Err(BuildError::BufferLength);
     }
@@ -161,15 +252,7 @@ pub fn build_boxes_sharing<T: Real, H: Real>(
         trig: trig.filter(|_| T::MANTISSA_DIGITS == 53),
     };
     let levels = Levels::new(grid.rows, grid.cols, tree.block()).ok_or(BuildError::InvalidBlock)?;
-    // Children have smaller ids than their parents (levels from the leaves up), so their boxes come first.
-    for k in 0..tree.slots() {
-        let id = NodeId(u32::try_from(k).map_err(|_| BuildError::BufferLength)?);
-        let built = box_of(&view, &levels, nodes, id, &share);
-        if let Some(out) = nodes.get_mut(k) {
-            out.bbox = built;
-        }
-    }
-    Ok(())
+    Ok((view, levels))
 }
 
 /// Node `id`'s box (see [`build_boxes`]), its children's boxes already in `nodes`.

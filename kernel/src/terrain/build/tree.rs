@@ -6,6 +6,7 @@ use crate::terrain::boxes::NodeBox;
 use crate::terrain::grid::{Grid, Node, NodeId};
 #[cfg(doc)]
 use crate::terrain::storage::TerrainStorage;
+use crate::terrain::windows::windows_per_leaf;
 
 /// Why [`build_tree`] or [`SliceStorage::new`](crate::terrain::build::SliceStorage::new) refused its input.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -259,6 +260,25 @@ pub const fn node_slots(rows: u32, cols: u32, block: u32) -> usize {
         c = half_up(c);
         k = k.saturating_add(1);
     }
+    if total > usize::MAX as u64 {
+        usize::MAX
+    } else {
+        total as usize
+    }
+}
+
+/// The length of the window buffer [`super::build_windows`] fills for a grid of `rows × cols` vertices and leaf
+/// blocks of `block × block` cells: [`windows_per_leaf`] records per slot of the leaf level (the first slots of
+/// the node buffer, [`node_slots`]). 0 where `node_slots` is.
+pub const fn window_slots(rows: u32, cols: u32, block: u32) -> usize {
+    if rows < 2 || cols < 2 || block == 0 {
+        return 0;
+    }
+    let leaves = level_slots(
+        div_up(rows.saturating_sub(1), block),
+        div_up(cols.saturating_sub(1), block),
+    );
+    let total = leaves.saturating_mul(windows_per_leaf(block) as u64);
     if total > usize::MAX as u64 {
         usize::MAX
     } else {

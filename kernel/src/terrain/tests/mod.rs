@@ -4,6 +4,7 @@
 //! [`same_hit`]), and typed errors. The independent arbitrary-precision oracle lives in the host crate.
 
 use super::triangle::{Edge, WatertightRay};
+use super::windows::WindowBox;
 use super::*;
 use crate::geodesy::{Ellipsoid, GeodesyError, HeightQuadBounds, sin_cos_deg};
 use crate::ray::Ray;
@@ -132,6 +133,8 @@ pub(super) struct TestDem {
     surface: Surface,
     nodes: Vec<build::NodeRecord<f64, Option<boxes::NodeBox>>>,
     tree: build::Tree,
+    /// The leaves' window boxes, with the node boxes ([`build::build_windows`]).
+    windows: Vec<WindowBox>,
 }
 
 impl TestDem {
@@ -166,6 +169,7 @@ impl TestDem {
         let mut nodes =
             std::vec![build::NodeRecord::EMPTY; build::node_slots(grid.rows, grid.cols, block)];
         let tree = build::build_tree(&surface.heights, &grid, block, &mut nodes).unwrap();
+        let mut windows = Vec::new();
         if let Some(share) = share {
             let (e, hs) = (&surface.e, &surface.heights);
             let levels: Vec<u8> = nodes.iter().map(|n| n.level).collect();
@@ -174,16 +178,26 @@ impl TestDem {
                 share(id.0, level(id))
             })
             .unwrap();
+            windows = std::vec![WindowBox::EMPTY; build::window_slots(grid.rows, grid.cols, block)];
+            build::build_windows(e, &grid, hs, tree, None, &nodes, &mut windows).unwrap();
         }
         TestDem {
             surface,
             nodes,
             tree,
+            windows,
         }
     }
 
-    /// The storage over the buffers.
+    /// The storage over the buffers (with the leaves' windows, if built).
     pub(super) fn storage(&self) -> Storage<'_> {
+        let s = &self.surface;
+        let parts = build::Parts::new(&s.heights[..], &self.nodes[..]).with_windows(&self.windows);
+        build::TreeStorage::with_buffers(s.e, s.grid, self.tree, parts).unwrap()
+    }
+
+    /// The storage without the leaves' windows.
+    pub(super) fn storage_without_windows(&self) -> Storage<'_> {
         let s = &self.surface;
         build::SliceStorage::new(s.e, s.grid, &s.heights, &self.nodes, self.tree).unwrap()
     }
@@ -382,4 +396,5 @@ mod picks;
 mod refinement;
 mod rough;
 mod rows;
+mod windows;
 mod work;

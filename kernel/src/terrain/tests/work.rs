@@ -40,7 +40,8 @@ const RAYS: [([f64; 3], [f64; 3]); 4] = [
 /// The hit and the work of each ray on [`rough`] with leaves of 2 × 2, 4 × 4 and 8 × 8 cells, with the three
 /// kinds of volumes (spheroidal, boxes in their parents' frames, in their zones' frames, and mixed), against the brute
 /// force. The rows: volumes, block, ray (index into [`RAYS`]), the hit's cell, and quads visited, triangle pairs
-/// visited, triangles tested.
+/// visited, triangles tested. With node boxes and leaves of 8 × 8 cells the leaves have windows (`windows.rs`):
+/// the ray just above the terrain then crosses 12 triangle pairs instead of the 19 of its leaves' whole walk.
 #[test]
 fn rays_straight_down_shallow_both_ways_and_just_above_the_terrain_do_the_pinned_work() {
     let want: [Pinned; 48] = [
@@ -67,7 +68,7 @@ fn rays_straight_down_shallow_both_ways_and_just_above_the_terrain_do_the_pinned
         (1, 8, 0, Some([15, 15]), [1, 1, 2]),
         (1, 8, 1, Some([13, 13]), [1, 5, 10]),
         (1, 8, 2, Some([15, 15]), [3, 5, 4]),
-        (1, 8, 3, None, [3, 19, 8]),
+        (1, 8, 3, None, [3, 12, 8]),
         (2, 2, 0, Some([15, 15]), [3, 1, 2]),
         (2, 2, 1, Some([13, 13]), [7, 5, 10]),
         (2, 2, 2, Some([15, 15]), [11, 7, 4]),
@@ -79,7 +80,7 @@ fn rays_straight_down_shallow_both_ways_and_just_above_the_terrain_do_the_pinned
         (2, 8, 0, Some([15, 15]), [1, 1, 2]),
         (2, 8, 1, Some([13, 13]), [1, 5, 10]),
         (2, 8, 2, Some([15, 15]), [3, 5, 4]),
-        (2, 8, 3, None, [3, 19, 8]),
+        (2, 8, 3, None, [3, 12, 8]),
         (3, 2, 0, Some([15, 15]), [3, 1, 2]),
         (3, 2, 1, Some([13, 13]), [7, 5, 10]),
         (3, 2, 2, Some([15, 15]), [11, 7, 4]),
@@ -91,7 +92,7 @@ fn rays_straight_down_shallow_both_ways_and_just_above_the_terrain_do_the_pinned
         (3, 8, 0, Some([15, 15]), [1, 1, 2]),
         (3, 8, 1, Some([13, 13]), [1, 5, 10]),
         (3, 8, 2, Some([15, 15]), [3, 5, 4]),
-        (3, 8, 3, None, [3, 19, 8]),
+        (3, 8, 3, None, [3, 12, 8]),
     ];
     // (under Miri, whose interpreter is slow, leaves of 4 × 4 cells under spheroidal volumes and mixed frames only)
     let (kinds, blocks): (&[u8], &[u32]) = if cfg!(miri) {
