@@ -71,23 +71,63 @@ impl WindowBox {
         out
     }
 
-    /// The window's faces `(lo, hi)` in `T`, widened by the rounding of their computation (`8 ε` of the leaf
-    /// box's coordinates), so that they contain the exact faces.
-    #[inline]
+    /// The window's faces `(lo, hi)` in `T` ([`Faces::of`]).
     pub fn faces<T: Real>(&self, leaf: &NodeBox) -> ([T; 3], [T; 3]) {
-        let inv255 = T::from_f64(1.0 / 255.0);
-        let eps8 = T::from_f64(8.0) * T::EPSILON;
-        let mut lo = [T::ZERO; 3];
-        let mut hi = [T::ZERO; 3];
-        for k in 0..3 {
-            let at = |a: &[f32; 3]| a.get(k).map_or(T::NAN, |&v| T::from_f64(f64::from(v)));
-            let (l, h) = (at(&leaf.lo), at(&leaf.hi));
-            let q = |a: &[u8; 3]| a.get(k).map_or(T::NAN, |&v| T::from_f64(f64::from(v)));
-            let (span, slack) = (h - l, eps8 * (l.abs() + h.abs()));
-            if let (Some(a), Some(b)) = (lo.get_mut(k), hi.get_mut(k)) {
-                *a = l + span * (q(&self.lo) * inv255) - slack;
-                *b = l + span * (q(&self.hi) * inv255) + slack;
+        Faces::new(leaf).of(self)
+    }
+}
+
+/// A leaf box's constants for decoding its windows' faces in `T`: per axis its low face, a 255th of its extent,
+/// and the rounding of a face so computed (`8 ε` of the box's coordinates).
+#[derive(Debug, Clone, Copy)]
+pub struct Faces<T> {
+    base: [T; 3],
+    step: [T; 3],
+    slack: [T; 3],
+}
+
+impl<T: Real> Faces<T> {
+    /// The constants of `leaf`.
+    #[inline]
+    pub fn new(leaf: &NodeBox) -> Self {
+        let at = |v: f32| T::from_f64(f64::from(v));
+        let (inv255, eps8) = (T::from_f64(1.0 / 255.0), T::from_f64(8.0) * T::EPSILON);
+        let (lo, hi) = (leaf.lo.map(at), leaf.hi.map(at));
+        let mut f = Faces {
+            base: lo,
+            step: [T::ZERO; 3],
+            slack: [T::ZERO; 3],
+        };
+        for (k, (&l, &h)) in lo.iter().zip(&hi).enumerate() {
+            if let (Some(step), Some(slack)) = (f.step.get_mut(k), f.slack.get_mut(k)) {
+                *step = (h - l) * inv255;
+                *slack = eps8 * (l.abs() + h.abs());
             }
+        }
+        f
+    }
+
+    /// Window `w`'s faces `(lo, hi)`, widened by their rounding so that they contain the exact faces
+    /// `lo + (hi − lo)·q/255`.
+    #[inline]
+    pub fn of(&self, w: &WindowBox) -> ([T; 3], [T; 3]) {
+        let face = |k: usize, q: u8, sign: T| match (
+            self.base.get(k),
+            self.step.get(k),
+            self.slack.get(k),
+        ) {
+            (Some(&b), Some(&s), Some(&e)) => b + s * T::from_f64(f64::from(q)) + sign * e,
+            _ => T::NAN,
+        };
+        let (mut lo, mut hi) = ([T::ZERO; 3], [T::ZERO; 3]);
+        for (k, ((l, h), (&ql, &qh))) in lo
+            .iter_mut()
+            .zip(hi.iter_mut())
+            .zip(w.lo.iter().zip(&w.hi))
+            .enumerate()
+        {
+            *l = face(k, ql, -T::ONE);
+            *h = face(k, qh, T::ONE);
         }
         (lo, hi)
     }
@@ -115,28 +155,61 @@ pub const fn windows_per_leaf(block: u32) -> usize {
 }
 
 /// The cell ranges `(rows, cols)` of window `k` (row-major) of a leaf with cell ranges `rows` and `cols`, or
-/// `None` past its last window: each side cut into [`windows_per_side`] nearly equal parts.
+/// `None` past its last window: each side cut into [`windows_per_side`] nearly equal parts ([`WindowGrid`]).
 pub fn window_ranges(rows: [u32; 2], cols: [u32; 2], k: usize) -> Option<([u32; 2], [u32; 2])> {
-    let (nr, nc) = (
-        windows_per_side(rows[1].saturating_sub(rows[0])),
-        windows_per_side(cols[1].saturating_sub(cols[0])),
-    );
-    let k = u32::try_from(k).ok()?;
-    let (a, b) = (k.checked_div(nc)?, k.checked_rem(nc)?);
-    if a >= nr {
-        return None;
+    WindowGrid::new(rows, cols).ranges(k)
+}
+
+/// How a leaf's cells split into windows: the cuts along each side, `lo + (hi − lo)·i/n` for `i` in `0..=n`.
+#[derive(Debug, Clone, Copy)]
+pub struct WindowGrid {
+    rows: [u32; WINDOWS_PER_SIDE as usize + 1],
+    cols: [u32; WINDOWS_PER_SIDE as usize + 1],
+    /// Windows along the rows and along the columns.
+    n: [u32; 2],
+}
+
+impl WindowGrid {
+    /// The split of a leaf with cell ranges `rows` and `cols`.
+    pub fn new(rows: [u32; 2], cols: [u32; 2]) -> Self {
+        let cuts = |[lo, hi]: [u32; 2]| {
+            let n = windows_per_side(hi.saturating_sub(lo));
+            // in u64, so that it cannot overflow; `i ≤ n` keeps the result in `[lo, hi]`
+            let cut = |i: u32| {
+                let step = u64::from(hi.saturating_sub(lo))
+                    .saturating_mul(u64::from(i.min(n)))
+                    .checked_div(u64::from(n))
+                    .unwrap_or(0);
+                lo.saturating_add(u32::try_from(step).unwrap_or(u32::MAX))
+            };
+            (
+                core::array::from_fn(|i| cut(u32::try_from(i).unwrap_or(u32::MAX))),
+                n,
+            )
+        };
+        let ((rows, nr), (cols, nc)) = (cuts(rows), cuts(cols));
+        WindowGrid {
+            rows,
+            cols,
+            n: [nr, nc],
+        }
     }
-    // `lo + (hi − lo)·i/n`, in u64 so that it cannot overflow.
-    let cut = |[lo, hi]: [u32; 2], n: u32, i: u32| -> Option<u32> {
-        let step = u64::from(hi.saturating_sub(lo))
-            .checked_mul(u64::from(i))?
-            .checked_div(u64::from(n))?;
-        u32::try_from(u64::from(lo).checked_add(step)?).ok()
-    };
-    Some((
-        [cut(rows, nr, a)?, cut(rows, nr, a.checked_add(1)?)?],
-        [cut(cols, nc, b)?, cut(cols, nc, b.checked_add(1)?)?],
-    ))
+
+    /// The number of windows.
+    pub fn count(&self) -> usize {
+        usize::try_from(self.n[0].saturating_mul(self.n[1])).unwrap_or(0)
+    }
+
+    /// Window `k`'s cell ranges `(rows, cols)`, or `None` past the last.
+    pub fn ranges(&self, k: usize) -> Option<([u32; 2], [u32; 2])> {
+        let nc = usize::try_from(self.n[1]).ok()?;
+        let (a, b) = (k.checked_div(nc)?, k.checked_rem(nc)?);
+        if a >= usize::try_from(self.n[0]).ok()? {
+            return None;
+        }
+        let pair = |cuts: &[u32], i: usize| Some([*cuts.get(i)?, *cuts.get(i.checked_add(1)?)?]);
+        Some((pair(&self.rows, a)?, pair(&self.cols, b)?))
+    }
 }
 
 impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
@@ -157,21 +230,20 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
     ) -> Result<(), TerrainError> {
         let ray = w.ray;
         let span = [t_in.max(ray.t_min()), t_out.max(t_in).min(ray.t_max())];
-        let cells = |[a, b]: [u32; 2]| b.saturating_sub(a);
-        let (rows, cols) = (cells(u.rows), cells(u.cols));
-        let sideways = |k: usize, n: u32| {
+        let sideways = |k: usize, [a, b]: [u32; 2]| {
+            let n = windows_per_side(b.saturating_sub(a));
             let at = |a: &[f32; 3]| a.get(k).map_or(T::NAN, |&v| T::from_f64(f64::from(v)));
             let width = (at(&leaf.hi) - at(&leaf.lo)) / T::from_f64(f64::from(n));
-            frame.travel(k, span) >= T::HALF * width
+            n > 1 && frame.travel(k, span) >= T::HALF * width
         };
-        let (nr, nc) = (windows_per_side(rows), windows_per_side(cols));
-        if nr.saturating_mul(nc) < 2 || !(sideways(0, nc) || sideways(1, nr)) {
+        if !(sideways(0, u.cols) || sideways(1, u.rows)) {
             return self.trace_unit(u, t_in, t_out, w);
         }
+        let grid = WindowGrid::new(u.rows, u.cols);
+        let faces = Faces::new(leaf);
         let mut hits: heapless::Vec<(T, T, u8), 16> = heapless::Vec::new();
-        let count = usize::try_from(nr.saturating_mul(nc)).unwrap_or(0);
-        for (k, wb) in windows.iter().enumerate().take(count) {
-            let (lo, hi) = wb.faces::<T>(leaf);
+        for (k, wb) in windows.iter().enumerate().take(grid.count()) {
+            let (lo, hi) = faces.of(wb);
             if let (Some((a, c)), Ok(k)) = (frame.interval_of(lo, hi, span), u8::try_from(k)) {
                 // At most 16 windows, so the push cannot fail.
                 let _ = hits.push((a, c, k));
@@ -185,7 +257,7 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
             if a > best_t {
                 break;
             }
-            let Some(win) = window_ranges(u.rows, u.cols, usize::from(k)) else {
+            let Some(win) = grid.ranges(usize::from(k)) else {
                 continue;
             };
             self.trace_window(&trace, win, a, c.min(best_t), w, &mut row_hint)?;
