@@ -23,8 +23,8 @@
 //! `dem=synthetic`; and optionally which of the storage's caches
 //! ([`TerrainCaches`]) the picker sees, to measure what each saves: `caches=all` (the default), `no-trig` (no
 //! per-row and per-column sines and cosines), `no-dd` (no double-double parallels and meridians), `no-boxes` (no
-//! node boxes: the spheroidal volumes, each built on every visit), `bounds` (no node boxes, the volumes cached
-//! per node) or `none`. The last line printed is a checksum of every
+//! node boxes, so no leaf windows either: the spheroidal volumes, each built on every visit), `no-windows` (node
+//! boxes, but each leaf walked whole), `bounds` (no node boxes, the volumes cached per node) or `none`. The last line printed is a checksum of every
 //! answer of the first pass (each hit's `t`, ECEF point, geodetic coordinates, cell, level and stride, bit for
 //! bit), for comparing two builds of the kernel.
 

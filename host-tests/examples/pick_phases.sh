@@ -32,7 +32,7 @@ phase_of() {
         if (f ~ /terrain\/boxes\.rs|terrain::boxes::/) return "quads: box test"
         if (f ~ /geodesy\/(bounds|relaxed)|geodesy::(bounds|relaxed)|kernel\/src\/surface\/|curvicast::surface::/) return "quads: spheroidal volumes"
         if (f ~ /terrain\/traverse\.rs|terrain::traverse::/) return "quads: visit and order"
-        if (f ~ /terrain\/(leaf|stitch|subset|parallel)|terrain::(leaf|stitch|subset|parallel)/) return "leaf cells walked"
+        if (f ~ /terrain\/(leaf|stitch|subset|parallel|windows)|terrain::(leaf|stitch|subset|parallel|windows)/) return "leaf cells walked"
         if (f ~ /terrain\/triangle\.rs|terrain::triangle::/) return "triangles tested"
         if (f ~ /terrain\/(refine|hit)\.rs|terrain::(refine|hit)::/) return "refinement"
         if (f ~ /geodesy\/ellipsoid|geodesy::ellipsoid|geodesy\/mod\.rs/) return "geodetic output"

@@ -1,6 +1,6 @@
 //! The host's terrain storage for the kernel: [`DemStorage`], a thin owner of vectors around the kernel's
 //! storage ([`curvicast::terrain::build::TreeStorage`]) over a [`Dem`]: the node records of the kernel's
-//! builder with their boxes, the per-row and per-column trigonometry tables and, for a multi-resolution tree,
+//! builder with their boxes, the leaves' window boxes, the per-row and per-column trigonometry tables and, for a multi-resolution tree,
 //! the residency flags (single- and multi-resolution, with paging for the multi-resolution experiments). It sits
 //! beside the scenes and the oracle, not in either: it uses both (the scenes' DEM model; the multi-resolution
 //! oracle's tree description for [`DemStorage::tree`]).

@@ -16,7 +16,8 @@
 //! wholly above (or below) its four corners in the unit's local frame — the triangles are their convex hull
 //! (`cull.rs`; a cell the ray passes high above is skipped from its corner heights alone, before its vertices
 //! are formed).
-//! A coarse unit's border cells are stitched to finer neighbours (`stitch.rs`).
+//! A coarse unit's border cells are stitched to finer neighbours (`stitch.rs`). A full-resolution leaf whose
+//! storage gives its windows' boxes is walked window by window, only those the ray enters (`windows.rs`).
 //!
 //! # Cost
 //!

@@ -17,7 +17,9 @@
 //!    [`crate::geodesy::relaxed_interval`]) or node boxes in local frames ([`boxes`]). `traverse.rs` also states
 //!    what is proven: the returned hit is the nearest one.
 //! 3. **Leaf blocks** (§4; `leaf.rs`): the triangle pairs of a leaf, each in a volume bounded by two meridian
-//!    planes and two row planes, walked column by column; the watertight triangle test ([`triangle`]).
+//!    planes and two row planes, walked column by column; the watertight triangle test ([`triangle`]). With
+//!    node boxes, a leaf may also have the boxes of its *windows* ([`windows`], beyond the paper): then only the
+//!    windows the ray enters are walked.
 //! 4. **Stitching** (§6; `stitch.rs`): a coarse cell next to finer data is re-triangulated so that no ray
 //!    passes through the crack.
 //! 5. **Refinement and the hit** (beyond the paper; `hit.rs`, `refine.rs`): the hit triangle's vertices
