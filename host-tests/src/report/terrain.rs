@@ -264,7 +264,8 @@ pub fn section(opts: &Options) -> anyhow::Result<Section> {
         ));
     }
     md.push_str("\nMemory. Ours: one 72-byte record per quadtree node (cell ranges, height range, child ids, level, \
-                 the node's box in a local frame as six f32 and a flag; siblings' records adjacent) plus the zone list, the sine/cosine of every grid \
+                 the node's box in a local frame as six f32 and a flag; siblings' records adjacent), the boxes of \
+                 the leaves' windows (6 bytes for about 4 × 4 cells, none with 4 × 4 blocks) plus the zone list, the sine/cosine of every grid \
                  row and column (two f64 each) and their double-double forms for the refinement (64 bytes per \
                  row, 32 per column) — the heights themselves are the DEM's and are needed by every method. parry: \
                  its own `TriMesh::total_memory_size()` estimate (vertex array of f64 triples, index triples, BVH \
