@@ -14,7 +14,8 @@
 //! size) makes the storage provide node boxes (`TerrainCaches::node_box`, built into the node records by
 //! `build_boxes_sharing` from every vertex of each node; otherwise the records' box slots stay empty), so that half of the inputs run the traversal's box tests and half its spheroidal
 //! volumes (the shipped seeds keep the volumes); bits 4–7 choose which boxes are in their parent's box frame
-//! rather than their parent's own.
+//! rather than their parent's own. With boxes, a leaf of 8 × 8 cells also has its windows' boxes
+//! (`build_windows`: a leaf of at least 5 cells a side is walked by windows).
 #![no_main]
 
 use arbitrary::Arbitrary;
@@ -22,8 +23,10 @@ use curvicast::Ray;
 use curvicast::geodesy::Ellipsoid;
 use curvicast::terrain::boxes::NodeBox;
 use curvicast::terrain::build::{
-    NodeRecord, SliceStorage, build_boxes_sharing, build_tree, node_slots,
+    NodeRecord, Parts, TreeStorage, build_boxes_sharing, build_tree, build_windows, node_slots,
+    window_slots,
 };
+use curvicast::terrain::windows::WindowBox;
 use curvicast::terrain::{Grid, Node, NodeId, Picker};
 use libfuzzer_sys::fuzz_target;
 
@@ -153,14 +156,20 @@ fuzz_target!(|inp: Input| {
         return;
     };
     let e = Ellipsoid::<f64>::wgs84();
+    let mut windows = Vec::new();
     if inp.rows & 0x08 != 0 {
         let share = inp.rows >> 4;
         let shared = |id: NodeId, _: Option<&Node<f64>>| (share >> (id.0 % 4)) & 1 == 1;
         if build_boxes_sharing(&e, &grid, &h, tree, None, &mut nodes, shared).is_err() {
             return;
         }
+        windows = vec![WindowBox::EMPTY; window_slots(rows, cols, block)];
+        if build_windows(&e, &grid, &h, tree, None, &nodes, &mut windows).is_err() {
+            return;
+        }
     }
-    let Ok(t) = SliceStorage::new(e, grid, &h, &nodes, tree) else {
+    let parts = Parts::new(&h[..], &nodes[..]).with_windows(&windows);
+    let Ok(t) = TreeStorage::with_buffers(e, grid, tree, parts) else {
         return;
     };
     let Ok(picker) = Picker::<'_, f64, _>::new(&t) else {
