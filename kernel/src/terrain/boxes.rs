@@ -431,6 +431,30 @@ mod tests {
         assert_eq!(anchor_of(0, 2, |k| Some(1 - k), |_| true), None);
     }
 
+    /// A ray's travel along each axis of a frame over an interval: `|hi − lo|` times its direction's component
+    /// in the frame, 0 along an axis it is perpendicular to.
+    #[test]
+    fn travel_is_the_interval_times_the_directions_component_along_each_axis() {
+        let f = LocalFrame::<f64>::at(6_378_137.0, (0.6, 0.8), (0.0, 1.0));
+        // a direction of frame components (3, −4, 0.5) from a point of the frame
+        let (o, d) = (f.point(V3::new(10.0, 20.0, 30.0)), V3::new(3.0, -4.0, 0.5));
+        let dir = f.point(d).minus(f.point(V3::new(0.0, 0.0, 0.0)));
+        let ray = Ray::new(o, dir).unwrap();
+        let fr = f.ray(&ray, [-10.0, 10.0]);
+        for (k, want) in [(0, 3.0), (1, 4.0), (2, 0.5)] {
+            let got = fr.travel(k, [2.0, -0.5]);
+            assert!((got - 2.5 * want).abs() < 1e-6, "axis {k}: {got}");
+        }
+        // along the frame's north axis only: no travel east or up
+        let north = f
+            .point(V3::new(0.0, 1.0, 0.0))
+            .minus(f.point(V3::new(0.0, 0.0, 0.0)));
+        let fr = f.ray(&Ray::new(o, north).unwrap(), [0.0, 5.0]);
+        // (the direction is a difference of points 6 400 km from the centre: a few 1e-10 off in each component)
+        assert!(fr.travel(0, [0.0, 5.0]) < 1e-6 && fr.travel(2, [0.0, 5.0]) < 1e-6);
+        assert!((fr.travel(1, [0.0, 5.0]) - 5.0).abs() < 1e-6);
+    }
+
     #[test]
     fn frame_point_inverts_coords_and_up_is_the_normal() {
         let e = Ellipsoid::<f64>::wgs84();

@@ -267,9 +267,10 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
             let src = match self.step(e.id, &node, stride, e.src)? {
                 Step::Trace(unit) => {
                     // A full-resolution leaf by its windows when the storage gives their boxes (`windows.rs`),
-                    // in the frame its own box was tested in.
+                    // in the frame its own box was tested in. (Every traced unit has its node's ranges, `step`;
+                    // a coarser stride is a source's block, whose cells the windows do not follow.)
                     let windows = self.storage.window_boxes(e.id);
-                    let own = unit.stride == 1 && unit.rows == node.rows && unit.cols == node.cols;
+                    let own = unit.stride == 1;
                     match (
                         self.storage.node_box(e.id),
                         frames.get(usize::from(e.frame)),

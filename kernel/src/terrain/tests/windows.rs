@@ -93,6 +93,17 @@ fn quantized_window_faces_contain_the_window_and_stay_near_the_leaf() {
         for k in 0..3 {
             let (wl, wh) = (f64::from(win.lo[k]), f64::from(win.hi[k]));
             let (l, h) = (f64::from(leaf.lo[k]), f64::from(leaf.hi[k]));
+            // The exact faces `l + (h − l)·q/255` hold the window: `(h − l)·q` against `255 (w − l)`, both
+            // exact in f64 for f32 boxes (differences of f32 values, times 8-bit integers).
+            let (ql, qh) = (f64::from(q.lo[k]), f64::from(q.hi[k]));
+            assert!(
+                (h - l) * ql <= 255.0 * (wl - l),
+                "case {case} axis {k}: exact low face {q:?}"
+            );
+            assert!(
+                (h - l) * qh >= 255.0 * (wh - l),
+                "case {case} axis {k}: exact high face {q:?}"
+            );
             assert!(
                 lo64[k] <= wl && hi64[k] >= wh,
                 "case {case} axis {k}: {q:?}"
