@@ -16,6 +16,14 @@ fn window_ranges_partition_leaves_of_every_size_into_at_most_four_by_four() {
     );
     assert_eq!(
         (
+            windows_per_side(0),
+            windows_per_side(1),
+            windows_per_side(17)
+        ),
+        (1, 1, 4)
+    );
+    assert_eq!(
+        (
             windows_per_leaf(8),
             windows_per_leaf(16),
             windows_per_leaf(64)
@@ -123,6 +131,90 @@ fn quantized_window_faces_contain_the_window_and_stay_near_the_leaf() {
                 "case {case} axis {k}"
             );
         }
+    }
+    // Window faces one f32 step inside a 255th of the leaf, where the first guess's rounding can land on the
+    // wrong side of the face: the exact faces still hold the window.
+    for span in [7.0f32, 3.0, 1.0e-3, 4097.0, 123_456.79] {
+        let leaf = NodeBox {
+            lo: [0.0, -span, 1000.0],
+            hi: [span, 0.0, 1000.0 + span],
+            shared_frame: false,
+        };
+        for q in 1..255u8 {
+            let (mut lo, mut hi) = ([0.0f32; 3], [0.0f32; 3]);
+            for k in 0..3 {
+                let (l, h) = (f64::from(leaf.lo[k]), f64::from(leaf.hi[k]));
+                let face = l + (h - l) * f64::from(q) / 255.0;
+                // the f32 just inside the face from each side
+                let f = face as f32;
+                lo[k] = if f64::from(f) >= face {
+                    f.next_down()
+                } else {
+                    f
+                };
+                hi[k] = if f64::from(f) <= face { f.next_up() } else { f };
+            }
+            for win in [
+                NodeBox {
+                    lo,
+                    hi: leaf.hi,
+                    shared_frame: false,
+                },
+                NodeBox {
+                    lo: leaf.lo,
+                    hi,
+                    shared_frame: false,
+                },
+            ] {
+                let w = WindowBox::quantize(&leaf, &win);
+                for k in 0..3 {
+                    let (l, h) = (f64::from(leaf.lo[k]), f64::from(leaf.hi[k]));
+                    let (wl, wh) = (f64::from(win.lo[k]), f64::from(win.hi[k]));
+                    let (ql, qh) = (f64::from(w.lo[k]), f64::from(w.hi[k]));
+                    assert!(
+                        (h - l) * ql <= 255.0 * (wl - l),
+                        "span {span}, q {q}, axis {k}: {w:?}"
+                    );
+                    assert!(
+                        (h - l) * qh >= 255.0 * (wh - l),
+                        "span {span}, q {q}, axis {k}: {w:?}"
+                    );
+                }
+            }
+        }
+    }
+    // A leaf box from ∓2^-100 to 255, whose extent rounds to 255 in f64: a window face on the integer `q` lies just
+    // outside the exact face `q` of 255ths (by 2^-100 (1 − q/255)), though the face computed in f64 is `q`
+    // itself; the builder's slack moves it one step out.
+    let tiny = 2.0f32.powi(-100);
+    for q in 1..255u8 {
+        let v = f32::from(q);
+        let below = NodeBox {
+            lo: [-tiny; 3],
+            hi: [255.0; 3],
+            shared_frame: false,
+        };
+        let w = WindowBox::quantize(
+            &below,
+            &NodeBox {
+                hi: [v; 3],
+                ..below
+            },
+        );
+        assert!(w.hi.iter().all(|&h| h > q), "q {q}: {w:?}");
+        let above = NodeBox {
+            lo: [tiny; 3],
+            hi: [255.0; 3],
+            shared_frame: false,
+        };
+        let w = WindowBox::quantize(
+            &above,
+            &NodeBox {
+                lo: [v; 3],
+                ..above
+            },
+        );
+        assert!(w.lo.iter().all(|&l| l < q), "q {q}: {w:?}");
     }
     // An empty window: no ray enters it, from inside the leaf or outside, along an axis or not.
     let (leaf, _) = leaf_and_window(&mut r, 100.0, 50.0);
