@@ -410,3 +410,25 @@ fn window_buffers_of_the_wrong_length_are_refused() {
         }
     }
 }
+
+/// The window buffer's length: none for a grid of fewer than 2 rows or columns or a block of 0 (as for the
+/// nodes), else `windows_per_leaf` records per slot of the leaf level.
+#[test]
+fn window_slots_count_the_leaf_levels_slots_times_the_windows_per_leaf() {
+    assert_eq!(
+        build::window_slots(2, 9, 8),
+        16,
+        "one 1 × 8-cell leaf in a group of 2 × 2 slots"
+    );
+    assert_eq!(build::window_slots(9, 2, 8), 16);
+    assert_eq!(build::window_slots(2, 2, 16), 64);
+    assert_eq!(build::window_slots(1, 9, 8), 0);
+    assert_eq!(build::window_slots(9, 1, 8), 0);
+    assert_eq!(build::window_slots(9, 9, 0), 0);
+    assert_eq!(
+        build::window_slots(9, 9, 4),
+        0,
+        "leaves of 4 × 4 cells have no windows"
+    );
+    assert_eq!(build::window_slots(1025, 1025, 8), 128 * 128 * 4);
+}
