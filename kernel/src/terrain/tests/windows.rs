@@ -323,8 +323,8 @@ fn picks_by_leaf_windows_equal_picks_of_whole_leaves_on_rough_terrain() {
 /// Shallow rays in the equator's plane (`z = 0`, as are the vertices of the equator's row) onto a DEM whose leaves
 /// of 8 × 8 one-degree cells have a window border on the equator: a ray meets the edge that rows 3 and 4 share,
 /// often at exactly the same `t` in both cells' triangles, and its windows may be walked upper one first. The
-/// tie still goes to the lower row, as in a walk of the whole leaf (before that rule, 123 of these 4 000 rays got row 4
-/// by windows).
+/// tie still goes to the lower row, as in a walk of the whole leaf (before that rule, 123 of these 4 000 rays got
+/// row 4 by windows).
 #[test]
 fn rays_in_the_equators_plane_across_a_window_border_row_keep_the_lower_row_on_an_exact_tie() {
     let mut r = Lcg(9);
