@@ -131,8 +131,9 @@ pub trait TerrainCaches<T: Real>: TerrainStorage<T> {
     /// The boxes of full-resolution leaf `id`'s windows (beyond the paper; [`super::windows`]), in the order of
     /// [`window_ranges`](super::windows::window_ranges), each containing every vertex of its window with data in the frame of the leaf's
     /// [`TerrainCaches::node_box`], relative to that box, as [`super::build::build_windows`] forms them (or
-    /// boxes containing those); empty for none (other nodes, or a storage without them). The leaf walk then
-    /// traces only the windows the ray enters. A smaller box voids the no-miss guarantee.
+    /// boxes containing those); empty for none (other nodes, or a storage without them), and a leaf given fewer
+    /// boxes than it has windows is walked whole. The leaf walk then traces only the windows the ray enters. A
+    /// smaller box voids the no-miss guarantee.
     fn window_boxes(&self, _id: NodeId) -> &[WindowBox] {
         &[]
     }

@@ -243,6 +243,10 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
             return self.trace_unit(u, t_in, t_out, w);
         }
         let grid = WindowGrid::new(u.rows, u.cols);
+        // A storage that gives fewer boxes than the leaf has windows has its leaf walked whole.
+        if windows.len() < grid.count() {
+            return self.trace_unit(u, t_in, t_out, w);
+        }
         let faces = Faces::new(leaf);
         let mut hits: heapless::Vec<(T, T, u8), 16> = heapless::Vec::new();
         for (k, wb) in windows.iter().enumerate().take(grid.count()) {

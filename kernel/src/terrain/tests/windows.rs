@@ -432,3 +432,61 @@ fn window_slots_count_the_leaf_levels_slots_times_the_windows_per_leaf() {
     );
     assert_eq!(build::window_slots(1025, 1025, 8), 128 * 128 * 4);
 }
+
+/// A storage that gives only the first `n` window boxes of each leaf (a caller's storage may hold fewer than
+/// the leaf has windows).
+struct FewWindows<'a>(Storage<'a>, usize);
+
+impl TerrainStorage<f64> for FewWindows<'_> {
+    fn ellipsoid(&self) -> Ellipsoid<f64> {
+        self.0.ellipsoid()
+    }
+    fn grid(&self) -> Grid<f64> {
+        self.0.grid()
+    }
+    fn zone_count(&self) -> usize {
+        self.0.zone_count()
+    }
+    fn zone(&self, k: usize) -> Option<NodeId> {
+        self.0.zone(k)
+    }
+    fn node(&self, id: NodeId) -> Option<Node<f64>> {
+        self.0.node(id)
+    }
+    fn height(&self, i: u32, j: u32) -> Option<f64> {
+        self.0.height(i, j)
+    }
+}
+
+impl TerrainCaches<f64> for FewWindows<'_> {
+    fn node_box(&self, id: NodeId) -> Option<NodeBox> {
+        self.0.node_box(id)
+    }
+    fn window_boxes(&self, id: NodeId) -> &[WindowBox] {
+        let all = self.0.window_boxes(id);
+        all.get(..self.1.min(all.len())).unwrap_or(&[])
+    }
+}
+
+/// A leaf whose storage gives fewer window boxes than it has windows is walked whole: no window's cells are lost.
+#[test]
+fn a_leaf_with_fewer_window_boxes_than_windows_is_walked_whole() {
+    let mut r = Lcg(17);
+    let (g, hs) = rough(&mut r, (45.0, 7.0, 0.01, 0.01), 25, 25);
+    let dem = TestDem::with_boxes(g, hs, 8, |_, _| false);
+    let whole = dem.storage_without_windows();
+    let q: Picker<'_, f64, Storage<'_>> = Picker::new(&whole).unwrap();
+    let e = dem.surface.e;
+    let rays = rays(&mut r, &e, &g, if cfg!(miri) { 4 } else { 400 });
+    for n in [1, 3] {
+        let few = FewWindows(dem.storage(), n);
+        let p: Picker<'_, f64, FewWindows<'_>> = Picker::new(&few).unwrap();
+        for (k, ray) in rays.iter().enumerate() {
+            assert_eq!(
+                p.pick(ray).unwrap(),
+                q.pick(ray).unwrap(),
+                "{n} boxes, ray {k}"
+            );
+        }
+    }
+}
