@@ -79,7 +79,7 @@ impl<T: Real, S: TerrainCaches<T>, const STACK: usize, const ZONES: usize>
         let u = &trace.unit;
         let (k_first, k_end) = self.unit_columns(u, w.ray, t_in, t_out);
         // The window's columns, in cells of the stride from the unit's first column.
-        let k_of = |c: u32| c.saturating_sub(u.cols[0]).div_ceil(u.stride);
+        let k_of = |c: u32| div_ceil_pow2(c.saturating_sub(u.cols[0]), u.stride);
         let (k_first, k_end) = (k_first.max(k_of(cols[0])), k_end.min(k_of(cols[1])));
         // The columns in the order the ray crosses them (longitude grows along the ray when `(o × d)_z > 0`), so
         // that a hit clips the columns after it. (The cells of a column are not: they are few, and walking them

@@ -193,7 +193,7 @@ pub fn build_windows<T: Real, H: Real>(
     if per_leaf == 0 {
         return Ok(());
     }
-    for (k, windows) in out.chunks_mut(per_leaf).enumerate() {
+    for (k, windows) in out.chunks_mut(per_leaf.max(1)).enumerate() {
         windows.fill(WindowBox::EMPTY);
         let id = NodeId(u32::try_from(k).map_err(|_| BuildError::BufferLength)?);
         let (Some(leaf), Some(n)) = (
